@@ -1,0 +1,264 @@
+//! Stage: echo synthesis. Bins scattering contributions into band-limited impulse responses,
+//! grouped by object and by direction cell so that each beam only rescales and adds groups.
+//!
+//! The received baseband of one pulse is `r(t) = Σ_i g_i·a_i·s(t − τ_i)` (PHYSICS-NOTES §1),
+//! with `a_i` the contribution's peak-gain voltage (carrier phase `exp(−j2πf0τ_i)` included)
+//! and `g_i` the two-way antenna voltage weight of the beam. Because `s` is band-limited,
+//! `r = h ⊛ s` where `h[n] = Σ_i g_i·a_i·k(n − τ_i·fs)` and `k` is a band-limited
+//! fractional-delay kernel (Kaiser-windowed sinc, Laakso et al., "Splitting the unit delay",
+//! IEEE SP Magazine 13(1), 1996). Nearest-sample rounding would cost up to 0.9 dB of peak.
+//!
+//! Contributions are grouped by (object, transmit-azimuth cell, receive-azimuth cell), cells
+//! `θaz/64` wide, so the azimuth weight is evaluated once per group and beam (error < 0.05 dB
+//! inside the main lobe). The elevation weight does not change as the antenna turns and is
+//! applied exactly per contribution.
+
+use crate::antenna::Antenna;
+use crate::constants::SPEED_OF_LIGHT_M_PER_S;
+use crate::scattering::Contribution;
+use num_complex::{Complex32, Complex64};
+
+/// Taps of the fractional-delay kernel.
+pub const KERNEL_TAPS: usize = 16;
+/// Fractional phases tabulated.
+const KERNEL_PHASES: usize = 512;
+/// Kaiser window shape β of the kernel.
+const KERNEL_KAISER_BETA: f64 = 7.0;
+/// Azimuth cells per beamwidth used to group contributions.
+pub const AZIMUTH_CELLS_PER_BEAMWIDTH: f64 = 64.0;
+
+/// Tabulated Kaiser-windowed-sinc fractional-delay kernel.
+#[derive(Debug, Clone)]
+pub struct FractionalDelayKernel {
+    table: Vec<f32>,
+}
+
+fn bessel_i0(x: f64) -> f64 {
+    let mut sum = 1.0;
+    let mut term = 1.0;
+    let q = x * x / 4.0;
+    for k in 1..64 {
+        term *= q / (k as f64 * k as f64);
+        sum += term;
+        if term < 1e-17 * sum {
+            break;
+        }
+    }
+    sum
+}
+
+impl Default for FractionalDelayKernel {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl FractionalDelayKernel {
+    /// Builds the table: for each fraction μ, taps at offsets `1 − TAPS/2 ..= TAPS/2`.
+    pub fn new() -> Self {
+        let half = (KERNEL_TAPS / 2) as f64;
+        let i0_beta = bessel_i0(KERNEL_KAISER_BETA);
+        let mut table = Vec::with_capacity(KERNEL_PHASES * KERNEL_TAPS);
+        for p in 0..KERNEL_PHASES {
+            let mu = p as f64 / KERNEL_PHASES as f64;
+            let taps: Vec<f64> = (0..KERNEL_TAPS)
+                .map(|t| {
+                    let x = (t as f64 + 1.0 - half) - mu;
+                    let sinc = if x.abs() < 1e-12 {
+                        1.0
+                    } else {
+                        (std::f64::consts::PI * x).sin() / (std::f64::consts::PI * x)
+                    };
+                    let r = (x / half).clamp(-1.0, 1.0);
+                    sinc * bessel_i0(KERNEL_KAISER_BETA * (1.0 - r * r).sqrt()) / i0_beta
+                })
+                .collect();
+            let dc: f64 = taps.iter().sum();
+            table.extend(taps.iter().map(|v| (v / dc) as f32));
+        }
+        FractionalDelayKernel { table }
+    }
+
+    /// Offset of the first tap relative to `floor(delay)`.
+    pub const FIRST_TAP_OFFSET: i64 = 1 - (KERNEL_TAPS as i64) / 2;
+
+    /// Taps for a delay of `delay_samples`: returns (index of the first tap, taps).
+    #[inline]
+    pub fn taps(&self, delay_samples: f64) -> (i64, &[f32]) {
+        let base = delay_samples.floor();
+        let mut idx = ((delay_samples - base) * KERNEL_PHASES as f64).round() as usize;
+        let mut first = base as i64 + Self::FIRST_TAP_OFFSET;
+        if idx == KERNEL_PHASES {
+            idx = 0;
+            first += 1;
+        }
+        (
+            first,
+            &self.table[idx * KERNEL_TAPS..(idx + 1) * KERNEL_TAPS],
+        )
+    }
+}
+
+/// A group of contributions sharing object and azimuth cells, as one short impulse response.
+#[derive(Debug, Clone, Copy)]
+pub struct EchoGroup {
+    /// Object index.
+    pub object: u32,
+    /// Mean transmit azimuth, rad.
+    pub az_tx_rad: f64,
+    /// Mean receive azimuth, rad.
+    pub az_rx_rad: f64,
+    /// Sample index of the first stored value.
+    pub first_sample: usize,
+    /// Number of stored samples.
+    pub len: usize,
+    /// Offset into the sample arena.
+    offset: usize,
+    /// Largest |h| in the group (noise-rms units).
+    pub peak: f32,
+}
+
+/// All groups of one scene state, impulse responses in units of the noise rms voltage.
+#[derive(Debug, Clone, Default)]
+pub struct EchoGroups {
+    /// Groups sorted by key.
+    pub groups: Vec<EchoGroup>,
+    arena: Vec<Complex32>,
+}
+
+impl EchoGroups {
+    /// Groups `contributions`, applying the elevation pattern, dividing by the noise rms
+    /// voltage `noise_rms_v` and spreading each over the fractional-delay kernel.
+    /// Contributions whose delay falls at or beyond `num_samples` are dropped.
+    pub fn build(
+        contributions: &[Contribution],
+        antenna: &Antenna,
+        sample_rate_hz: f64,
+        num_samples: usize,
+        noise_rms_v: f64,
+        kernel: &FractionalDelayKernel,
+    ) -> EchoGroups {
+        let cell_rad = antenna.az_beamwidth_rad / AZIMUTH_CELLS_PER_BEAMWIDTH;
+        let cells = (std::f64::consts::TAU / cell_rad).ceil() as u64;
+        let key = |c: &Contribution| -> u64 {
+            let tx =
+                ((c.az_tx_rad.rem_euclid(std::f64::consts::TAU) / cell_rad) as u64).min(cells - 1);
+            let rx =
+                ((c.az_rx_rad.rem_euclid(std::f64::consts::TAU) / cell_rad) as u64).min(cells - 1);
+            ((c.object as u64) << 40) | (tx << 20) | rx
+        };
+        let mut order: Vec<(u64, u32)> = contributions
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.delay_s() * sample_rate_hz < num_samples as f64)
+            .map(|(i, c)| (key(c), i as u32))
+            .collect();
+        order.sort_unstable();
+        let mut groups = Vec::new();
+        let mut arena: Vec<Complex32> = Vec::new();
+        let mut start = 0;
+        let inv_noise = 1.0 / noise_rms_v;
+        while start < order.len() {
+            let k = order[start].0;
+            let mut end = start;
+            while end < order.len() && order[end].0 == k {
+                end += 1;
+            }
+            let members = &order[start..end];
+            let mut lo = i64::MAX;
+            let mut hi = i64::MIN;
+            let (mut az_tx_sum, mut az_rx_sum) =
+                (Complex64::new(0.0, 0.0), Complex64::new(0.0, 0.0));
+            for &(_, i) in members {
+                let c = &contributions[i as usize];
+                let d = c.delay_s() * sample_rate_hz;
+                let (first, _) = kernel.taps(d);
+                lo = lo.min(first.max(0));
+                hi = hi.max(first + KERNEL_TAPS as i64);
+                az_tx_sum += Complex64::from_polar(1.0, c.az_tx_rad);
+                az_rx_sum += Complex64::from_polar(1.0, c.az_rx_rad);
+            }
+            let lo = lo as usize;
+            let len = (hi.max(lo as i64 + 1) as usize) - lo;
+            let offset = arena.len();
+            arena.resize(offset + len, Complex32::new(0.0, 0.0));
+            let slot = &mut arena[offset..offset + len];
+            let mut acc = vec![Complex64::new(0.0, 0.0); len];
+            for &(_, i) in members {
+                let c = &contributions[i as usize];
+                let el_weight = (antenna.elevation_pattern(c.el_tx_rad)
+                    * antenna.elevation_pattern(c.el_rx_rad))
+                .sqrt();
+                let a = c.amplitude_v * (el_weight * inv_noise);
+                let (first, taps) = kernel.taps(c.delay_s() * sample_rate_hz);
+                for (t, &w) in taps.iter().enumerate() {
+                    let n = first + t as i64;
+                    if n >= lo as i64 {
+                        acc[(n - lo as i64) as usize] += a * w as f64;
+                    }
+                }
+            }
+            let mut peak = 0f32;
+            for (dst, src) in slot.iter_mut().zip(&acc) {
+                *dst = Complex32::new(src.re as f32, src.im as f32);
+                peak = peak.max(dst.norm());
+            }
+            let c0 = &contributions[members[0].1 as usize];
+            groups.push(EchoGroup {
+                object: c0.object,
+                az_tx_rad: az_tx_sum.arg().rem_euclid(std::f64::consts::TAU),
+                az_rx_rad: az_rx_sum.arg().rem_euclid(std::f64::consts::TAU),
+                first_sample: lo,
+                len,
+                offset,
+                peak,
+            });
+            start = end;
+        }
+        EchoGroups { groups, arena }
+    }
+
+    /// Adds every group, weighted by the azimuth pattern for a beam at `beam_az_rad`, into
+    /// `impulse_response` (which must be long enough). Groups whose weighted peak is below
+    /// `min_amplitude` (noise-rms units) are skipped. Returns the earliest sample written.
+    pub fn accumulate(
+        &self,
+        antenna: &Antenna,
+        beam_az_rad: f64,
+        min_amplitude: f32,
+        impulse_response: &mut [Complex32],
+    ) -> Option<usize> {
+        let mut earliest: Option<usize> = None;
+        for g in &self.groups {
+            let w = (antenna.azimuth_pattern(g.az_tx_rad - beam_az_rad)
+                * antenna.azimuth_pattern(g.az_rx_rad - beam_az_rad))
+            .sqrt() as f32;
+            if w * g.peak < min_amplitude {
+                continue;
+            }
+            let end = (g.first_sample + g.len).min(impulse_response.len());
+            if g.first_sample >= end {
+                continue;
+            }
+            let dst = &mut impulse_response[g.first_sample..end];
+            for (d, s) in dst
+                .iter_mut()
+                .zip(&self.arena[g.offset..g.offset + (end - g.first_sample)])
+            {
+                *d += s * w;
+            }
+            earliest = Some(earliest.map_or(g.first_sample, |e: usize| e.min(g.first_sample)));
+        }
+        earliest
+    }
+
+    /// Number of stored impulse-response samples.
+    pub fn arena_len(&self) -> usize {
+        self.arena.len()
+    }
+}
+
+/// Sample index of a two-way path, `ℓ/c·fs`.
+pub fn path_to_samples(path_m: f64, sample_rate_hz: f64) -> f64 {
+    path_m / SPEED_OF_LIGHT_M_PER_S * sample_rate_hz
+}

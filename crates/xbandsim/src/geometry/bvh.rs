@@ -1,0 +1,276 @@
+//! Bounding-volume hierarchy with binned SAH construction and stack traversal.
+//!
+//! Why our own BVH rather than a crate: our primitives are exact analytic shapes (spheres,
+//! cylinders, disks, parallelograms) mixed with triangles, and SBR needs f64 hit distances
+//! for the carrier phase. A small, allocation-free traversal over an enum of primitives does
+//! that directly; `benches/raycast.rs` measures it against brute force (docs/performance.md).
+
+use super::{Aabb, Hit, Primitive, Ray};
+use glam::DVec3;
+
+const NUM_BINS: usize = 16;
+const MAX_LEAF_SIZE: usize = 4;
+const TRAVERSAL_STACK: usize = 64;
+
+#[derive(Debug, Clone, Copy)]
+struct Node {
+    bounds: Aabb,
+    /// Interior: index of the left child (right = left + 1). Leaf: first primitive.
+    first: u32,
+    /// Number of primitives in a leaf; 0 for an interior node.
+    count: u32,
+}
+
+/// A BVH owning its (reordered) primitives.
+#[derive(Debug, Clone)]
+pub struct Bvh {
+    nodes: Vec<Node>,
+    primitives: Vec<Primitive>,
+}
+
+impl Bvh {
+    /// Builds the hierarchy over `primitives` (order is not kept).
+    pub fn build(mut primitives: Vec<Primitive>) -> Self {
+        if primitives.is_empty() {
+            return Bvh {
+                nodes: Vec::new(),
+                primitives,
+            };
+        }
+        let bounds: Vec<Aabb> = primitives.iter().map(|p| p.bounds()).collect();
+        let centres: Vec<DVec3> = bounds.iter().map(|b| b.centre()).collect();
+        let mut order: Vec<u32> = (0..primitives.len() as u32).collect();
+        let mut nodes = Vec::with_capacity(2 * primitives.len());
+        nodes.push(Node {
+            bounds: Aabb::EMPTY,
+            first: 0,
+            count: primitives.len() as u32,
+        });
+        let mut stack = vec![0usize];
+        while let Some(ni) = stack.pop() {
+            let first = nodes[ni].first as usize;
+            let count = nodes[ni].count as usize;
+            let slice = &mut order[first..first + count];
+            let mut nb = Aabb::EMPTY;
+            let mut cb = Aabb::EMPTY;
+            for &i in slice.iter() {
+                nb = nb.union(&bounds[i as usize]);
+                cb.grow(centres[i as usize]);
+            }
+            nodes[ni].bounds = nb;
+            if count <= MAX_LEAF_SIZE {
+                continue;
+            }
+            let Some((axis, split_pos)) = best_split(slice, &bounds, &centres, &cb, &nb) else {
+                continue;
+            };
+            let mut left = 0;
+            for j in 0..slice.len() {
+                if centres[slice[j] as usize][axis] < split_pos {
+                    slice.swap(left, j);
+                    left += 1;
+                }
+            }
+            if left == 0 || left == count {
+                left = count / 2;
+                slice.sort_by(|a, b| {
+                    centres[*a as usize][axis].total_cmp(&centres[*b as usize][axis])
+                });
+            }
+            let li = nodes.len();
+            nodes.push(Node {
+                bounds: Aabb::EMPTY,
+                first: first as u32,
+                count: left as u32,
+            });
+            nodes.push(Node {
+                bounds: Aabb::EMPTY,
+                first: (first + left) as u32,
+                count: (count - left) as u32,
+            });
+            nodes[ni].first = li as u32;
+            nodes[ni].count = 0;
+            stack.push(li);
+            stack.push(li + 1);
+        }
+        let reordered: Vec<Primitive> = order.iter().map(|&i| primitives[i as usize]).collect();
+        primitives.clear();
+        Bvh {
+            nodes,
+            primitives: reordered,
+        }
+    }
+
+    /// The primitives, in the hierarchy's order (hit indices refer to this order).
+    pub fn primitives(&self) -> &[Primitive] {
+        &self.primitives
+    }
+
+    /// Number of nodes.
+    pub fn num_nodes(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Bounds of the whole scene (EMPTY when there are no primitives).
+    pub fn bounds(&self) -> Aabb {
+        self.nodes.first().map_or(Aabb::EMPTY, |n| n.bounds)
+    }
+
+    /// Closest intersection before `t_max_m`.
+    pub fn closest_hit(&self, ray: &Ray, t_max_m: f64) -> Option<Hit> {
+        if self.nodes.is_empty() {
+            return None;
+        }
+        let inv = ray.dir.recip();
+        let mut t_best = t_max_m;
+        let mut best: Option<Hit> = None;
+        let mut stack = [0u32; TRAVERSAL_STACK];
+        let mut sp = 0usize;
+        if self.nodes[0]
+            .bounds
+            .hit_distance(ray.origin_m, inv, t_best)
+            .is_none()
+        {
+            return None;
+        }
+        stack[sp] = 0;
+        sp += 1;
+        while sp > 0 {
+            sp -= 1;
+            let node = &self.nodes[stack[sp] as usize];
+            if node.count > 0 {
+                let first = node.first as usize;
+                for (k, p) in self.primitives[first..first + node.count as usize]
+                    .iter()
+                    .enumerate()
+                {
+                    if let Some((t, n)) = p.intersect(ray, t_best) {
+                        t_best = t;
+                        best = Some(Hit {
+                            t_m: t,
+                            normal: n,
+                            primitive: (first + k) as u32,
+                            object: p.object,
+                        });
+                    }
+                }
+                continue;
+            }
+            let l = node.first as usize;
+            let dl = self.nodes[l].bounds.hit_distance(ray.origin_m, inv, t_best);
+            let dr = self.nodes[l + 1]
+                .bounds
+                .hit_distance(ray.origin_m, inv, t_best);
+            match (dl, dr) {
+                (Some(a), Some(b)) => {
+                    let (near, far) = if a <= b { (l, l + 1) } else { (l + 1, l) };
+                    if sp + 2 > TRAVERSAL_STACK {
+                        // Degenerate depth: fall back to testing both subtrees in order.
+                        stack[sp] = far as u32;
+                        sp += 1;
+                    } else {
+                        stack[sp] = far as u32;
+                        stack[sp + 1] = near as u32;
+                        sp += 2;
+                    }
+                }
+                (Some(_), None) => {
+                    stack[sp] = l as u32;
+                    sp += 1;
+                }
+                (None, Some(_)) => {
+                    stack[sp] = (l + 1) as u32;
+                    sp += 1;
+                }
+                (None, None) => {}
+            }
+        }
+        best
+    }
+
+    /// Whether anything blocks the ray before `t_max_m` (shadow test).
+    pub fn any_hit(&self, ray: &Ray, t_max_m: f64) -> bool {
+        if self.nodes.is_empty() {
+            return false;
+        }
+        let inv = ray.dir.recip();
+        let mut stack = [0u32; TRAVERSAL_STACK];
+        let mut sp = 1usize;
+        while sp > 0 {
+            sp -= 1;
+            let node = &self.nodes[stack[sp] as usize];
+            if node
+                .bounds
+                .hit_distance(ray.origin_m, inv, t_max_m)
+                .is_none()
+            {
+                continue;
+            }
+            if node.count > 0 {
+                let first = node.first as usize;
+                if self.primitives[first..first + node.count as usize]
+                    .iter()
+                    .any(|p| p.intersect(ray, t_max_m).is_some())
+                {
+                    return true;
+                }
+                continue;
+            }
+            if sp + 2 <= TRAVERSAL_STACK {
+                stack[sp] = node.first;
+                stack[sp + 1] = node.first + 1;
+                sp += 2;
+            }
+        }
+        false
+    }
+}
+
+/// Binned SAH: the axis and split position with the lowest cost, if any beats a leaf.
+fn best_split(
+    slice: &[u32],
+    bounds: &[Aabb],
+    centres: &[DVec3],
+    centre_bounds: &Aabb,
+    node_bounds: &Aabb,
+) -> Option<(usize, f64)> {
+    let mut best: Option<(f64, usize, f64)> = None;
+    for axis in 0..3 {
+        let lo = centre_bounds.min[axis];
+        let hi = centre_bounds.max[axis];
+        if hi - lo <= 1e-12 {
+            continue;
+        }
+        let mut bin_bounds = [Aabb::EMPTY; NUM_BINS];
+        let mut bin_counts = [0usize; NUM_BINS];
+        let scale = NUM_BINS as f64 / (hi - lo);
+        for &i in slice {
+            let b = (((centres[i as usize][axis] - lo) * scale) as usize).min(NUM_BINS - 1);
+            bin_counts[b] += 1;
+            bin_bounds[b] = bin_bounds[b].union(&bounds[i as usize]);
+        }
+        let mut left_area = [0.0; NUM_BINS];
+        let mut left_count = [0usize; NUM_BINS];
+        let mut acc = Aabb::EMPTY;
+        let mut n = 0;
+        for b in 0..NUM_BINS - 1 {
+            acc = acc.union(&bin_bounds[b]);
+            n += bin_counts[b];
+            left_area[b] = acc.surface_area();
+            left_count[b] = n;
+        }
+        let mut acc = Aabb::EMPTY;
+        let mut n = 0;
+        for b in (1..NUM_BINS).rev() {
+            acc = acc.union(&bin_bounds[b]);
+            n += bin_counts[b];
+            let cost = left_area[b - 1] * left_count[b - 1] as f64 + acc.surface_area() * n as f64;
+            if left_count[b - 1] > 0 && n > 0 && best.is_none_or(|(c, _, _)| cost < c) {
+                best = Some((cost, axis, lo + b as f64 / scale));
+            }
+        }
+    }
+    let (cost, axis, pos) = best?;
+    let leaf_cost = node_bounds.surface_area() * slice.len() as f64;
+    (cost < leaf_cost || slice.len() > 16).then_some((axis, pos))
+}

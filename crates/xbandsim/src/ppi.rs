@@ -1,0 +1,189 @@
+//! Stage: display. Polar (spokes × range bins) to Cartesian PPI scan conversion, colour maps
+//! and range rings.
+//!
+//! The PPI is north-up with the radar at the centre: pixel (col, row) of an image of side
+//! `S` covering ±R is at east `x = (col + ½ − S/2)·2R/S`, north `y = (S/2 − row − ½)·2R/S`;
+//! its azimuth `atan2(x, y)` picks the nearest spoke and its range `√(x²+y²)` is
+//! interpolated linearly between range bins.
+
+use crate::scene::Colormap;
+
+/// Precomputed mapping from PPI pixels to polar samples.
+#[derive(Debug, Clone)]
+pub struct ScanConverter {
+    size_px: u32,
+    display_range_m: f64,
+    num_bins: usize,
+    /// Per pixel: polar index of the lower bin (u32::MAX outside the display) and the weight
+    /// of the upper bin.
+    lut: Vec<(u32, f32)>,
+}
+
+impl ScanConverter {
+    /// Mapping for a square image of `size_px` covering ±`display_range_m`.
+    pub fn new(
+        size_px: u32,
+        display_range_m: f64,
+        spokes: usize,
+        num_bins: usize,
+        range_bin_m: f64,
+    ) -> ScanConverter {
+        let s = size_px as usize;
+        let px_m = 2.0 * display_range_m / size_px as f64;
+        let spoke_rad = std::f64::consts::TAU / spokes as f64;
+        let mut lut = Vec::with_capacity(s * s);
+        for row in 0..s {
+            for col in 0..s {
+                let x = (col as f64 + 0.5 - s as f64 / 2.0) * px_m;
+                let y = (s as f64 / 2.0 - row as f64 - 0.5) * px_m;
+                let r = x.hypot(y);
+                if r > display_range_m {
+                    lut.push((u32::MAX, 0.0));
+                    continue;
+                }
+                let az = x.atan2(y).rem_euclid(std::f64::consts::TAU);
+                let spoke = ((az / spoke_rad).round() as usize) % spokes;
+                let fb = r / range_bin_m;
+                let b0 = fb.floor() as usize;
+                if b0 + 1 >= num_bins {
+                    lut.push((u32::MAX, 0.0));
+                    continue;
+                }
+                lut.push(((spoke * num_bins + b0) as u32, (fb - b0 as f64) as f32));
+            }
+        }
+        ScanConverter {
+            size_px,
+            display_range_m,
+            num_bins,
+            lut,
+        }
+    }
+
+    /// Image side, px.
+    pub fn size_px(&self) -> u32 {
+        self.size_px
+    }
+
+    /// Half-width of the image, m.
+    pub fn display_range_m(&self) -> f64 {
+        self.display_range_m
+    }
+
+    /// Scan-converts `polar` (spokes × bins) into `out` (size² pixels, row-major);
+    /// pixels outside the display get `outside`.
+    pub fn convert(&self, polar: &[f32], outside: f32, out: &mut [f32]) {
+        debug_assert_eq!(out.len(), self.lut.len());
+        let _ = self.num_bins;
+        for (o, &(idx, w)) in out.iter_mut().zip(&self.lut) {
+            *o = if idx == u32::MAX {
+                outside
+            } else {
+                let i = idx as usize;
+                polar[i] * (1.0 - w) + polar[i + 1] * w
+            };
+        }
+    }
+
+    /// Pixel coordinates (col, row, fractional) of a point at east/north metres from the radar.
+    pub fn pixel_of(&self, east_m: f64, north_m: f64) -> (f64, f64) {
+        let s = self.size_px as f64;
+        let px_m = 2.0 * self.display_range_m / s;
+        (east_m / px_m + s / 2.0, s / 2.0 - north_m / px_m)
+    }
+}
+
+const VIRIDIS: [[f32; 3]; 9] = [
+    [68.0, 1.0, 84.0],
+    [71.0, 44.0, 122.0],
+    [59.0, 81.0, 139.0],
+    [44.0, 113.0, 142.0],
+    [33.0, 144.0, 141.0],
+    [39.0, 173.0, 129.0],
+    [92.0, 200.0, 99.0],
+    [170.0, 220.0, 50.0],
+    [253.0, 231.0, 37.0],
+];
+
+/// Colour of a normalised value `t ∈ [0, 1]`.
+pub fn colour(colormap: Colormap, t: f32) -> [u8; 3] {
+    let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
+    match colormap {
+        Colormap::Gray => {
+            let v = (t * 255.0).round() as u8;
+            [v, v, v]
+        }
+        Colormap::Green => [
+            (t * t * 120.0) as u8,
+            (t * 255.0).round() as u8,
+            (t * t * 60.0) as u8,
+        ],
+        Colormap::Viridis => {
+            let x = t * (VIRIDIS.len() - 1) as f32;
+            let i = (x.floor() as usize).min(VIRIDIS.len() - 2);
+            let f = x - i as f32;
+            let a = VIRIDIS[i];
+            let b = VIRIDIS[i + 1];
+            [
+                (a[0] + (b[0] - a[0]) * f).round() as u8,
+                (a[1] + (b[1] - a[1]) * f).round() as u8,
+                (a[2] + (b[2] - a[2]) * f).round() as u8,
+            ]
+        }
+    }
+}
+
+/// Normalises dB values to `[0, 1]` over `[min_db, max_db]`.
+#[inline]
+pub fn normalise_db(v: f32, min_db: f64, max_db: f64) -> f32 {
+    ((v as f64 - min_db) / (max_db - min_db)) as f32
+}
+
+/// 8-bit gray image from PPI dB values.
+pub fn gray_image(ppi_db: &[f32], min_db: f64, max_db: f64) -> Vec<u8> {
+    ppi_db
+        .iter()
+        .map(|&v| (normalise_db(v, min_db, max_db).clamp(0.0, 1.0) * 255.0).round() as u8)
+        .collect()
+}
+
+/// RGB image from PPI dB values with range rings every `ring_spacing_m` (0 = none).
+pub fn colour_image(
+    conv: &ScanConverter,
+    ppi_db: &[f32],
+    colormap: Colormap,
+    min_db: f64,
+    max_db: f64,
+    ring_spacing_m: f64,
+) -> Vec<u8> {
+    let s = conv.size_px as usize;
+    let mut rgb = Vec::with_capacity(s * s * 3);
+    for &v in ppi_db {
+        let c = if v.is_nan() {
+            [0, 0, 0]
+        } else {
+            colour(colormap, normalise_db(v, min_db, max_db))
+        };
+        rgb.extend_from_slice(&c);
+    }
+    if ring_spacing_m > 0.0 {
+        let px_m = 2.0 * conv.display_range_m / s as f64;
+        let ring = [40u8, 220, 40];
+        for row in 0..s {
+            for col in 0..s {
+                let x = (col as f64 + 0.5 - s as f64 / 2.0) * px_m;
+                let y = (s as f64 / 2.0 - row as f64 - 0.5) * px_m;
+                let r = x.hypot(y);
+                if r > conv.display_range_m + 0.5 * px_m {
+                    continue;
+                }
+                let k = (r / ring_spacing_m).round();
+                if k >= 1.0 && (r - k * ring_spacing_m).abs() < 0.5 * px_m {
+                    let i = (row * s + col) * 3;
+                    rgb[i..i + 3].copy_from_slice(&ring);
+                }
+            }
+        }
+    }
+    rgb
+}

@@ -1,0 +1,271 @@
+//! Matched filter by FFT, with the echo synthesis that feeds it.
+//!
+//! Reference `h = w·s/‖w·s‖` (PHYSICS-NOTES §1): white noise of variance N keeps variance N at
+//! the output and a point echo `a·s(t−τ)` peaks at `|a|·Σw/√Σw²` in bin `τ·fs`.
+//! Correlation `y[n] = Σ_m r[n+m]·h*[m]` is computed as `y = IFFT(R·H*)` (Richards,
+//! *Fundamentals of Radar Signal Processing*, 2nd ed., §4.3), on an FFT length that holds the
+//! record plus a pulse so nothing wraps into the output bins.
+//!
+//! Received record: `r = h_ir ⊛ s + n`, zeroed for `n < N_T` when the receiver is blanked
+//! while transmitting. When no echo starts inside the blanked interval the echo part is
+//! computed directly in the frequency domain, `Y = H_ir·(S·H*) + N·H*` (3 FFTs); otherwise
+//! `r` is formed in time, blanked and transformed (4 FFTs). Plans and scratch are reused.
+
+use crate::waveform::{LfmChirp, Window};
+use num_complex::{Complex32, Complex64};
+use rustfft::{Fft, FftPlanner};
+use std::sync::Arc;
+
+/// Smallest `2^a·3^b·5^c ≥ n` (fast sizes for rustfft).
+pub fn fast_fft_len(n: usize) -> usize {
+    let mut best = n.next_power_of_two();
+    let mut p5 = 1usize;
+    while p5 < best {
+        let mut p35 = p5;
+        while p35 < best {
+            let mut p = p35;
+            while p < n {
+                p *= 2;
+            }
+            best = best.min(p);
+            p35 *= 3;
+        }
+        p5 *= 5;
+    }
+    best
+}
+
+/// FFT plans and spectra for one waveform and record length.
+pub struct PulseCompressor {
+    fft_len: usize,
+    pulse_len: usize,
+    num_bins: usize,
+    forward: Arc<dyn Fft<f32>>,
+    inverse: Arc<dyn Fft<f32>>,
+    /// `FFT(s)/n`: multiplies `FFT(h_ir)` to give the echo record after the inverse FFT.
+    chirp_spectrum: Vec<Complex32>,
+    /// `conj(FFT(h))/n`: the matched filter.
+    filter_spectrum: Vec<Complex32>,
+    /// `FFT(s)·conj(FFT(h))/n`: echo synthesis and matched filter in one.
+    combined_spectrum: Vec<Complex32>,
+    /// Peak gain of the filter on a unit echo, `Σw/√Σw²`.
+    peak_gain: f64,
+}
+
+impl std::fmt::Debug for PulseCompressor {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PulseCompressor")
+            .field("fft_len", &self.fft_len)
+            .field("pulse_len", &self.pulse_len)
+            .field("num_bins", &self.num_bins)
+            .finish()
+    }
+}
+
+/// Per-thread buffers for [`PulseCompressor::process`].
+pub struct SpokeScratch {
+    /// Impulse response / spectrum buffer (FFT length).
+    pub buffer: Vec<Complex32>,
+    /// Noise buffer (FFT length).
+    pub noise: Vec<Complex32>,
+    fft_scratch: Vec<Complex32>,
+}
+
+impl PulseCompressor {
+    /// Plans for `chirp` with `window`, producing `num_bins` output range bins.
+    pub fn new(chirp: &LfmChirp, window: Window, num_bins: usize) -> PulseCompressor {
+        let s = chirp.samples();
+        let pulse_len = s.len();
+        let fft_len = fast_fft_len(num_bins + 2 * pulse_len);
+        let mut planner = FftPlanner::<f32>::new();
+        let forward = planner.plan_fft_forward(fft_len);
+        let inverse = planner.plan_fft_inverse(fft_len);
+        let w = window.coefficients(pulse_len);
+        let norm: f64 = s
+            .iter()
+            .zip(&w)
+            .map(|(x, wi)| (x * wi).norm_sqr())
+            .sum::<f64>()
+            .sqrt();
+        let sum_w: f64 = w.iter().sum();
+        let sum_w2: f64 = w.iter().map(|x| x * x).sum();
+        let to32 = |c: Complex64| Complex32::new(c.re as f32, c.im as f32);
+        let inv_n = 1.0 / fft_len as f64;
+        let mut s_buf: Vec<Complex64> = vec![Complex64::new(0.0, 0.0); fft_len];
+        s_buf[..pulse_len].copy_from_slice(&s);
+        let mut h_buf: Vec<Complex64> = vec![Complex64::new(0.0, 0.0); fft_len];
+        for i in 0..pulse_len {
+            h_buf[i] = s[i] * (w[i] / norm);
+        }
+        // Spectra in f64 for accuracy, stored as f32.
+        let mut planner64 = FftPlanner::<f64>::new();
+        let fwd64 = planner64.plan_fft_forward(fft_len);
+        fwd64.process(&mut s_buf);
+        fwd64.process(&mut h_buf);
+        let chirp_spectrum: Vec<Complex32> = s_buf.iter().map(|x| to32(x * inv_n)).collect();
+        let filter_spectrum: Vec<Complex32> =
+            h_buf.iter().map(|x| to32(x.conj() * inv_n)).collect();
+        let combined_spectrum: Vec<Complex32> = s_buf
+            .iter()
+            .zip(&h_buf)
+            .map(|(a, b)| to32(a * b.conj() * inv_n))
+            .collect();
+        PulseCompressor {
+            fft_len,
+            pulse_len,
+            num_bins,
+            forward,
+            inverse,
+            chirp_spectrum,
+            filter_spectrum,
+            combined_spectrum,
+            peak_gain: sum_w / sum_w2.sqrt(),
+        }
+    }
+
+    /// FFT length used.
+    pub fn fft_len(&self) -> usize {
+        self.fft_len
+    }
+
+    /// Samples in the pulse, `N_T`.
+    pub fn pulse_len(&self) -> usize {
+        self.pulse_len
+    }
+
+    /// Output range bins.
+    pub fn num_bins(&self) -> usize {
+        self.num_bins
+    }
+
+    /// Samples recorded per pulse: every sample any output bin depends on, `bins + N_T − 1`.
+    pub fn record_len(&self) -> usize {
+        self.num_bins + self.pulse_len - 1
+    }
+
+    /// Peak amplitude gain of the filter on a unit echo, `Σw/√Σw²`.
+    pub fn peak_gain(&self) -> f64 {
+        self.peak_gain
+    }
+
+    /// Fresh buffers for one worker.
+    pub fn scratch(&self) -> SpokeScratch {
+        let n = self
+            .forward
+            .get_inplace_scratch_len()
+            .max(self.inverse.get_inplace_scratch_len());
+        SpokeScratch {
+            buffer: vec![Complex32::new(0.0, 0.0); self.fft_len],
+            noise: vec![Complex32::new(0.0, 0.0); self.fft_len],
+            fft_scratch: vec![Complex32::new(0.0, 0.0); n],
+        }
+    }
+
+    /// Runs the receive chain on `scratch.buffer` (the impulse response, FFT length; samples
+    /// at and beyond `record_len()` must be zero) and, if `with_noise`, on `scratch.noise`
+    /// (noise samples for the first `record_len()` samples, zeros elsewhere). `blank` zeroes the
+    /// record for `n < N_T`; `echo_in_blanking` says whether any echo sample is earlier than
+    /// `N_T` (then the slower exact path is taken). On return `scratch.buffer[..num_bins]`
+    /// holds the compressed output.
+    pub fn process(
+        &self,
+        scratch: &mut SpokeScratch,
+        with_noise: bool,
+        blank: bool,
+        echo_in_blanking: bool,
+    ) {
+        let SpokeScratch {
+            buffer,
+            noise,
+            fft_scratch,
+        } = scratch;
+        if blank && with_noise {
+            noise[..self.pulse_len.min(self.fft_len)].fill(Complex32::new(0.0, 0.0));
+        }
+        self.forward.process_with_scratch(buffer, fft_scratch);
+        if blank && echo_in_blanking {
+            for (b, s) in buffer.iter_mut().zip(&self.chirp_spectrum) {
+                *b *= s;
+            }
+            self.inverse.process_with_scratch(buffer, fft_scratch);
+            buffer[..self.pulse_len].fill(Complex32::new(0.0, 0.0));
+            if with_noise {
+                for (b, n) in buffer.iter_mut().zip(noise.iter()) {
+                    *b += n;
+                }
+            }
+            self.forward.process_with_scratch(buffer, fft_scratch);
+            for (b, h) in buffer.iter_mut().zip(&self.filter_spectrum) {
+                *b *= h;
+            }
+        } else {
+            for (b, c) in buffer.iter_mut().zip(&self.combined_spectrum) {
+                *b *= c;
+            }
+            if with_noise {
+                self.forward.process_with_scratch(noise, fft_scratch);
+                for ((b, n), h) in buffer
+                    .iter_mut()
+                    .zip(noise.iter())
+                    .zip(&self.filter_spectrum)
+                {
+                    *b += n * h;
+                }
+            }
+        }
+        self.inverse.process_with_scratch(buffer, fft_scratch);
+    }
+
+    /// Matched filter alone on a received record (`record` FFT length, zero-padded), in place.
+    pub fn compress_record(&self, record: &mut [Complex32], scratch: &mut SpokeScratch) {
+        self.forward
+            .process_with_scratch(record, &mut scratch.fft_scratch);
+        for (b, h) in record.iter_mut().zip(&self.filter_spectrum) {
+            *b *= h;
+        }
+        self.inverse
+            .process_with_scratch(record, &mut scratch.fft_scratch);
+    }
+
+    /// Echo synthesis alone: impulse response (FFT length) → received record `h_ir ⊛ s`, in place.
+    pub fn synthesize_record(
+        &self,
+        impulse_response: &mut [Complex32],
+        scratch: &mut SpokeScratch,
+    ) {
+        self.forward
+            .process_with_scratch(impulse_response, &mut scratch.fft_scratch);
+        for (b, s) in impulse_response.iter_mut().zip(&self.chirp_spectrum) {
+            *b *= s;
+        }
+        self.inverse
+            .process_with_scratch(impulse_response, &mut scratch.fft_scratch);
+    }
+}
+
+/// Direct (naive) matched filter `y[n] = Σ_m r[n+m]·h*[m]` with `h = w·s/‖w·s‖`, for
+/// `n < num_bins`: the reference the FFT path is tested against.
+pub fn direct_correlation(
+    record: &[Complex64],
+    chirp: &LfmChirp,
+    window: Window,
+    num_bins: usize,
+) -> Vec<Complex64> {
+    let s = chirp.samples();
+    let w = window.coefficients(s.len());
+    let norm: f64 = s
+        .iter()
+        .zip(&w)
+        .map(|(x, wi)| (x * wi).norm_sqr())
+        .sum::<f64>()
+        .sqrt();
+    let h: Vec<Complex64> = s.iter().zip(&w).map(|(x, wi)| x * (wi / norm)).collect();
+    (0..num_bins)
+        .map(|n| {
+            h.iter()
+                .enumerate()
+                .filter_map(|(m, hm)| record.get(n + m).map(|r| r * hm.conj()))
+                .sum()
+        })
+        .collect()
+}

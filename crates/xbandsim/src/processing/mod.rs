@@ -1,0 +1,6 @@
+//! Stage: signal processing. Pulse compression (matched filter by FFT) and the per-pulse
+//! receive chain that turns an impulse response into a compressed range profile.
+
+mod matched_filter;
+
+pub use matched_filter::{direct_correlation, fast_fft_len, PulseCompressor, SpokeScratch};

@@ -1,0 +1,130 @@
+//! Stage: scattering. Turns the scene into a list of complex scattering contributions
+//! `(amplitude, two-way path, transmit and receive directions, object)`, traced once per scene
+//! state and reused by every beam (DESIGN.md §3, "Key efficiency idea").
+//!
+//! Two amplitude models (swappable, chosen by `[scattering] model`):
+//! - [`po`]: shooting-and-bouncing rays with physical-optics ray tubes (Ling, Chou & Lee,
+//!   IEEE TAP 37(2), 1989), each tube giving a complex root-RCS `S` (m) such that an isolated
+//!   object's RCS is `σ = |Σ S|²`, converted to volts with the radar equation
+//!   (PHYSICS-NOTES §2, docs/physics.md §Scattering).
+//! - [`paper`]: the seed paper's law `A = 1/(1 + ℓ²/1000)` on a uniform az × el grid of rays
+//!   (uncalibrated, kept to reproduce the paper's figures and for like-for-like benchmarks).
+
+pub mod paper;
+pub mod po;
+
+use crate::constants::SPEED_OF_LIGHT_M_PER_S;
+use crate::geometry::{Bvh, Primitive};
+use crate::scene::{Radar, ScatteringModel, Scene};
+use glam::DVec3;
+use num_complex::Complex64;
+
+/// One scattering path, seen at the radar.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Contribution {
+    /// Received voltage (V, across 1 Ω) at the antenna's peak gain, carrier phase included;
+    /// the antenna pattern is applied per beam.
+    pub amplitude_v: Complex64,
+    /// Root-RCS `S` of this path (m, complex); zero for the `paper` model.
+    pub root_rcs_m: Complex64,
+    /// Total two-way path length ℓ (radar → … → radar), m.
+    pub path_m: f64,
+    /// Azimuth of the first (transmit) segment, rad.
+    pub az_tx_rad: f64,
+    /// Elevation of the first segment, rad.
+    pub el_tx_rad: f64,
+    /// Azimuth from the radar to the last hit (receive direction), rad.
+    pub az_rx_rad: f64,
+    /// Elevation from the radar to the last hit, rad.
+    pub el_rx_rad: f64,
+    /// Index of the scene object the path belongs to.
+    pub object: u32,
+    /// Number of reflections along the path (0 for an ideal point scatterer).
+    pub bounces: u8,
+}
+
+impl Contribution {
+    /// Round-trip delay `ℓ/c`, s.
+    #[inline]
+    pub fn delay_s(&self) -> f64 {
+        self.path_m / SPEED_OF_LIGHT_M_PER_S
+    }
+}
+
+/// The contributions of one scene state, and how many rays it took.
+#[derive(Debug, Clone, Default)]
+pub struct ScatterSet {
+    /// All contributions, in a deterministic order.
+    pub contributions: Vec<Contribution>,
+    /// Rays cast (including bounce and shadow rays).
+    pub rays_cast: u64,
+}
+
+impl ScatterSet {
+    /// Coherent monostatic RCS of each object, `|Σ S|²` over its contributions, m².
+    pub fn rcs_per_object_m2(&self, num_objects: usize) -> Vec<f64> {
+        let mut sums = vec![Complex64::new(0.0, 0.0); num_objects];
+        for c in &self.contributions {
+            if let Some(s) = sums.get_mut(c.object as usize) {
+                *s += c.root_rcs_m;
+            }
+        }
+        sums.iter().map(|s| s.norm_sqr()).collect()
+    }
+}
+
+/// Nautical azimuth (0 = north = +y, clockwise) and elevation of a direction, rad.
+#[inline]
+pub fn azimuth_elevation_rad(dir: DVec3) -> (f64, f64) {
+    let az = dir.x.atan2(dir.y).rem_euclid(std::f64::consts::TAU);
+    let el = dir.z.atan2(dir.x.hypot(dir.y));
+    (az, el)
+}
+
+/// Unit direction for a nautical azimuth and elevation, rad.
+#[inline]
+pub fn direction_from_az_el(az_rad: f64, el_rad: f64) -> DVec3 {
+    DVec3::new(
+        az_rad.sin() * el_rad.cos(),
+        az_rad.cos() * el_rad.cos(),
+        el_rad.sin(),
+    )
+}
+
+/// Radar-equation voltage factor `sqrt(Pt·G0²·λ²/((4π)³·L)) / (R_tx·R_rx)`, V per m of root-RCS
+/// (PHYSICS-NOTES §2): multiplying a path's `S` by it gives its peak-gain voltage.
+#[inline]
+pub fn radar_equation_volts_per_root_m2(radar: &Radar, range_tx_m: f64, range_rx_m: f64) -> f64 {
+    let lambda = radar.wavelength_m();
+    let g0 = radar.antenna.peak_gain_linear;
+    let four_pi_cubed = (4.0 * std::f64::consts::PI).powi(3);
+    (radar.peak_power_w * g0 * g0 * lambda * lambda / (four_pi_cubed * radar.system_loss_linear))
+        .sqrt()
+        / (range_tx_m * range_rx_m)
+}
+
+/// Carrier phase term `exp(−j2πℓ/λ)`, computed so that f64 keeps the phase at long ranges.
+#[inline]
+pub fn carrier_phase(path_m: f64, wavelength_m: f64) -> Complex64 {
+    let cycles = (path_m / wavelength_m).fract();
+    Complex64::from_polar(1.0, -std::f64::consts::TAU * cycles)
+}
+
+/// Builds the ray-tracing acceleration structure of a scene (all objects' primitives).
+pub fn build_scene_bvh(scene: &Scene) -> Bvh {
+    let prims: Vec<Primitive> = scene
+        .objects
+        .iter()
+        .enumerate()
+        .flat_map(|(i, o)| o.shape.primitives(o.position_m, o.rotation, i as u32))
+        .collect();
+    Bvh::build(prims)
+}
+
+/// Traces the scene with its configured model.
+pub fn trace_scene(scene: &Scene, bvh: &Bvh) -> ScatterSet {
+    match scene.scattering.model {
+        ScatteringModel::PhysicalOptics => po::trace(scene, bvh),
+        ScatteringModel::Paper => paper::trace(scene, bvh),
+    }
+}

@@ -1,0 +1,77 @@
+//! The seed paper's scattering law (paper §III.E, eq. 4), kept as the named model `paper`.
+//!
+//! Rays leave the radar on a uniform grid: `rays_per_degree_az × 360` azimuths by
+//! `rays_elevation` elevations across the elevation beamwidth (the paper's 360 beams × 100 × 100
+//! = 3.6 M rays). Each ray's first hit at one-way distance ℓ gives a contribution of amplitude
+//! `V_ref · A(ℓ)`, `A = 1/(1 + ℓ²/1000)`, delay `2ℓ/c` and carrier phase `exp(−j4πℓ/λ)`.
+//! It is not calibrated: `V_ref` (`paper_reference_voltage_uv`) sets the level against noise.
+
+use super::{azimuth_elevation_rad, carrier_phase, direction_from_az_el, Contribution, ScatterSet};
+use crate::geometry::{Bvh, Ray};
+use crate::scene::Scene;
+use num_complex::Complex64;
+use rayon::prelude::*;
+
+/// The paper's amplitude law `A = 1/(1 + ℓ²/1000)`, ℓ one-way path in metres.
+#[inline]
+pub fn paper_amplitude(one_way_path_m: f64) -> f64 {
+    1.0 / (1.0 + one_way_path_m * one_way_path_m / 1000.0)
+}
+
+/// Directions of the paper's uniform scan grid, azimuth-major: (az, el) for `index`.
+pub fn grid_direction(scene: &Scene, index: usize) -> (f64, f64) {
+    let n_el = scene.scattering.paper_rays_elevation;
+    let n_az = scene.scattering.paper_rays_per_degree_az * 360;
+    let (ia, ie) = (index / n_el, index % n_el);
+    let ant = &scene.radar.antenna;
+    let az = std::f64::consts::TAU * (ia as f64 + 0.5) / n_az as f64;
+    let el = ant.tilt_rad - ant.el_beamwidth_rad / 2.0
+        + ant.el_beamwidth_rad * (ie as f64 + 0.5) / n_el as f64;
+    (az, el)
+}
+
+/// Number of rays in the paper's grid.
+pub fn grid_size(scene: &Scene) -> usize {
+    scene.scattering.paper_rays_per_degree_az * 360 * scene.scattering.paper_rays_elevation
+}
+
+/// Traces the uniform grid and applies the paper's amplitude law.
+pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
+    let radar = &scene.radar;
+    let lambda = radar.wavelength_m();
+    let v_ref = scene.scattering.paper_reference_voltage_v;
+    let n_el = scene.scattering.paper_rays_elevation;
+    let n_az = scene.scattering.paper_rays_per_degree_az * 360;
+    let origin = radar.position_m;
+    let mut contributions: Vec<Contribution> = (0..n_az)
+        .into_par_iter()
+        .flat_map_iter(|ia| {
+            (0..n_el).filter_map(move |ie| {
+                let (az, el) = grid_direction(scene, ia * n_el + ie);
+                let ray = Ray {
+                    origin_m: origin,
+                    dir: direction_from_az_el(az, el),
+                };
+                let hit = bvh.closest_hit(&ray, f64::INFINITY)?;
+                let (az_h, el_h) = azimuth_elevation_rad(ray.dir);
+                let path_m = 2.0 * hit.t_m;
+                Some(Contribution {
+                    amplitude_v: carrier_phase(path_m, lambda) * (v_ref * paper_amplitude(hit.t_m)),
+                    root_rcs_m: Complex64::new(0.0, 0.0),
+                    path_m,
+                    az_tx_rad: az_h,
+                    el_tx_rad: el_h,
+                    az_rx_rad: az_h,
+                    el_rx_rad: el_h,
+                    object: hit.object,
+                    bounces: 1,
+                })
+            })
+        })
+        .collect();
+    contributions.shrink_to_fit();
+    ScatterSet {
+        contributions,
+        rays_cast: (n_az * n_el) as u64,
+    }
+}

@@ -1,0 +1,784 @@
+//! Stage: scene. Parses a TOML scene file ([`SceneSpec`]) and validates it into the runtime
+//! [`Scene`] in SI units: the radar (preset + overrides), environment switches, display
+//! settings, scattering settings and objects with their shapes and poses.
+//!
+//! Every bad value is reported as an [`Error`] that names the field and the value; nothing
+//! here panics on user input.
+
+mod spec;
+
+pub use spec::{DisplaySpec, EnvironmentSpec, ObjectSpec, RadarSpec, ScatteringSpec, SceneSpec};
+
+use crate::antenna::{uniform_aperture_gain, Antenna};
+use crate::constants::{
+    db_to_linear, wavelength_m, BOLTZMANN_J_PER_K, REFERENCE_TEMPERATURE_K, SPEED_OF_LIGHT_M_PER_S,
+};
+use crate::error::{Error, Result};
+use crate::geometry::{object_frame, ShapeGeometry};
+use crate::waveform::{LfmChirp, Window};
+use glam::{DMat3, DVec3};
+use std::path::Path;
+
+/// Names of the radar presets.
+pub const RADAR_PRESETS: &[&str] = &["drs4d-nxt"];
+
+/// Names of the object shapes.
+pub const SHAPES: &[&str] = &[
+    "point",
+    "sphere",
+    "plate",
+    "trihedral",
+    "dihedral",
+    "cylinder",
+    "box",
+];
+
+/// Largest number of spokes per revolution.
+pub const MAX_SPOKES: usize = 8192;
+
+/// The radar, in SI units.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Radar {
+    /// Antenna phase centre, ENU m.
+    pub position_m: DVec3,
+    /// Carrier frequency f0, Hz.
+    pub carrier_freq_hz: f64,
+    /// The transmitted LFM pulse (bandwidth, pulse width, sample rate).
+    pub chirp: LfmChirp,
+    /// Matched-filter reference window.
+    pub window: Window,
+    /// Peak transmit power Pt, W.
+    pub peak_power_w: f64,
+    /// Noise figure F (linear).
+    pub noise_figure_linear: f64,
+    /// System loss L (linear, ≥ 1).
+    pub system_loss_linear: f64,
+    /// Antenna beamwidths, gain and tilt.
+    pub antenna: Antenna,
+    /// Pulse repetition frequency, Hz.
+    pub prf_hz: f64,
+    /// Rotation rate, rev/min.
+    pub rotation_rpm: f64,
+    /// Largest range in the outputs, m.
+    pub max_range_m: f64,
+    /// Spokes per revolution.
+    pub spokes: usize,
+    /// Receiver blanked while transmitting.
+    pub receiver_blanking: bool,
+    /// Transmit and receive polarisation.
+    pub polarisation: Polarisation,
+}
+
+/// Linear polarisation used for both transmit and receive.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Polarisation {
+    /// Horizontal transmit, horizontal receive.
+    Hh,
+    /// Vertical transmit, vertical receive.
+    Vv,
+}
+
+impl Polarisation {
+    /// Parses "HH" or "VV" (any case); `field` names the source in the error.
+    pub fn parse(field: &str, text: &str) -> Result<Polarisation> {
+        match text.to_ascii_uppercase().as_str() {
+            "HH" | "H" => Ok(Polarisation::Hh),
+            "VV" | "V" => Ok(Polarisation::Vv),
+            _ => Err(Error::invalid(
+                field,
+                format!("\"{text}\""),
+                "expected \"HH\" or \"VV\"",
+            )),
+        }
+    }
+}
+
+impl Radar {
+    /// Carrier wavelength λ, m.
+    pub fn wavelength_m(&self) -> f64 {
+        wavelength_m(self.carrier_freq_hz)
+    }
+
+    /// Complex sample rate fs, Hz.
+    pub fn sample_rate_hz(&self) -> f64 {
+        self.chirp.sample_rate_hz
+    }
+
+    /// Thermal noise power per complex sample, `k·T0·F·fs`, W.
+    pub fn noise_power_w(&self) -> f64 {
+        BOLTZMANN_J_PER_K
+            * REFERENCE_TEMPERATURE_K
+            * self.noise_figure_linear
+            * self.sample_rate_hz()
+    }
+
+    /// Range spacing of output bins, `c/(2·fs)`, m.
+    pub fn range_bin_m(&self) -> f64 {
+        SPEED_OF_LIGHT_M_PER_S / (2.0 * self.sample_rate_hz())
+    }
+
+    /// Number of range bins: bin j is at `j·c/(2·fs)`, up to `max_range_m`.
+    pub fn num_range_bins(&self) -> usize {
+        (self.max_range_m / self.range_bin_m()).floor() as usize + 1
+    }
+
+    /// Range inside which echoes arrive while the pulse is still being sent, `c·T/2`, m.
+    pub fn eclipse_range_m(&self) -> f64 {
+        SPEED_OF_LIGHT_M_PER_S * self.chirp.pulse_width_s / 2.0
+    }
+
+    /// Radar-equation single-pulse SNR of a point target (linear), at the beam peak,
+    /// before any window loss: `Pt·T·G0²·λ²·σ / ((4π)³·R⁴·k·T0·F·L)`
+    /// (Skolnik, *Introduction to Radar Systems*, 3rd ed., eq. 2.51 with pulse compression).
+    pub fn point_target_snr(&self, rcs_m2: f64, range_m: f64) -> f64 {
+        let lambda = self.wavelength_m();
+        let g0 = self.antenna.peak_gain_linear;
+        let four_pi_cubed = (4.0 * std::f64::consts::PI).powi(3);
+        self.peak_power_w * self.chirp.pulse_width_s * g0 * g0 * lambda * lambda * rcs_m2
+            / (four_pi_cubed
+                * range_m.powi(4)
+                * BOLTZMANN_J_PER_K
+                * REFERENCE_TEMPERATURE_K
+                * self.noise_figure_linear
+                * self.system_loss_linear)
+    }
+
+    /// The samples actually realised for the pulse (`N_T/fs`), s.
+    pub fn sampled_pulse_width_s(&self) -> f64 {
+        self.chirp.num_samples() as f64 / self.sample_rate_hz()
+    }
+
+    /// Azimuth of spoke `k`, rad (nautical: 0 = north, clockwise).
+    pub fn spoke_azimuth_rad(&self, k: usize) -> f64 {
+        std::f64::consts::TAU * k as f64 / self.spokes as f64
+    }
+}
+
+/// Environment switches.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Environment {
+    /// Add thermal noise.
+    pub noise: bool,
+}
+
+/// Colour map for `ppi.png`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Colormap {
+    /// Perceptually uniform blue–green–yellow.
+    Viridis,
+    /// Black to green, like a phosphor display.
+    Green,
+    /// Black to white.
+    Gray,
+}
+
+/// PPI drawing settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Display {
+    /// Square image side, px.
+    pub image_size_px: u32,
+    /// Range-ring spacing, m (0 = none).
+    pub range_ring_spacing_m: f64,
+    /// Colour map.
+    pub colormap: Colormap,
+    /// Bottom of the colour scale, dB over noise.
+    pub min_db: f64,
+    /// Top of the colour scale, dB over noise.
+    pub max_db: f64,
+}
+
+/// Which scattering amplitude model turns ray hits into echoes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ScatteringModel {
+    /// Physical-optics ray tubes calibrated to the radar equation.
+    PhysicalOptics,
+    /// The seed paper's law `A = 1/(1 + ℓ²/1000)` on a uniform scan grid (uncalibrated).
+    Paper,
+}
+
+/// Scattering settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScatteringConfig {
+    /// The model.
+    pub model: ScatteringModel,
+    /// PO ray-tube spacing, wavelengths.
+    pub ray_spacing_wavelengths: f64,
+    /// PO cap on rays per object.
+    pub max_rays_per_object: usize,
+    /// Maximum bounces.
+    pub max_bounces: usize,
+    /// Paper model: rays per degree of azimuth.
+    pub paper_rays_per_degree_az: usize,
+    /// Paper model: rays across the elevation beamwidth.
+    pub paper_rays_elevation: usize,
+    /// Paper model: volts of a unit-amplitude ray.
+    pub paper_reference_voltage_v: f64,
+}
+
+/// A validated scene object.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneObject {
+    /// Unique name.
+    pub name: String,
+    /// Class label.
+    pub class: String,
+    /// Shape name as in the file.
+    pub shape_name: String,
+    /// Shape and sizes.
+    pub shape: ShapeGeometry,
+    /// Reference position, ENU m.
+    pub position_m: DVec3,
+    /// Object-to-world rotation.
+    pub rotation: DMat3,
+}
+
+impl SceneObject {
+    /// Centre of the object's bounding sphere, ENU m.
+    pub fn bounding_centre_m(&self) -> DVec3 {
+        let local = match self.shape {
+            ShapeGeometry::Trihedral { edge_m } => DVec3::new(0.0, edge_m / 3f64.sqrt(), 0.0) * 0.5,
+            ShapeGeometry::Dihedral { width_m, .. } => {
+                DVec3::new(0.0, width_m / 2f64.sqrt(), 0.0) * 0.5
+            }
+            _ => DVec3::ZERO,
+        };
+        self.position_m + self.rotation * local
+    }
+}
+
+/// A validated scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// The radar.
+    pub radar: Radar,
+    /// Environment.
+    pub environment: Environment,
+    /// Display settings.
+    pub display: Display,
+    /// Scattering settings.
+    pub scattering: ScatteringConfig,
+    /// Objects.
+    pub objects: Vec<SceneObject>,
+}
+
+impl Scene {
+    /// Reads and validates a scene file.
+    pub fn load(path: &Path) -> Result<Scene> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        Scene::from_toml_str(&text, &path.display().to_string())
+    }
+
+    /// Parses and validates scene TOML; `origin` names the source in errors.
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<Scene> {
+        let spec: SceneSpec = toml::from_str(text).map_err(|e| Error::SceneSyntax {
+            path: origin.to_string(),
+            message: e.to_string().trim_end().to_string(),
+        })?;
+        Scene::from_spec(&spec)
+    }
+
+    /// Validates a parsed scene description.
+    pub fn from_spec(spec: &SceneSpec) -> Result<Scene> {
+        let radar = build_radar(&spec.radar)?;
+        let environment = Environment {
+            noise: spec.environment.noise.unwrap_or(true),
+        };
+        let display = build_display(&spec.display)?;
+        let scattering = build_scattering(&spec.scattering)?;
+        let mut objects = Vec::with_capacity(spec.objects.len());
+        for (i, o) in spec.objects.iter().enumerate() {
+            let obj = build_object(i, o)?;
+            if objects.iter().any(|p: &SceneObject| p.name == obj.name) {
+                return Err(Error::invalid(
+                    format!("object[{i}].name"),
+                    format!("\"{}\"", obj.name),
+                    "another object already has this name",
+                ));
+            }
+            let clearance = obj.shape.bounding_radius_m().max(0.5);
+            let dist = (obj.bounding_centre_m() - radar.position_m).length();
+            if dist < clearance {
+                return Err(Error::invalid(
+                    format!("object \"{}\".position_m", obj.name),
+                    fmt_vec(obj.position_m),
+                    format!("the object is at the radar's position (radar.position_m = {}); it must be at least {clearance:.2} m away", fmt_vec(radar.position_m)),
+                ));
+            }
+            objects.push(obj);
+        }
+        Ok(Scene {
+            radar,
+            environment,
+            display,
+            scattering,
+            objects,
+        })
+    }
+}
+
+fn fmt_vec(v: DVec3) -> String {
+    format!("[{}, {}, {}]", v.x, v.y, v.z)
+}
+
+/// A finite number, else an error naming the field.
+fn finite(field: &str, v: f64) -> Result<f64> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(Error::invalid(field, v, "must be a finite number"))
+    }
+}
+
+/// A finite number > 0.
+fn positive(field: &str, v: f64) -> Result<f64> {
+    finite(field, v)?;
+    if v > 0.0 {
+        Ok(v)
+    } else {
+        Err(Error::invalid(field, v, "must be greater than zero"))
+    }
+}
+
+fn finite_vec(field: &str, v: [f64; 3]) -> Result<DVec3> {
+    for (k, x) in v.iter().enumerate() {
+        if !x.is_finite() {
+            return Err(Error::invalid(
+                field,
+                format!("{v:?}"),
+                format!("component {k} must be a finite number"),
+            ));
+        }
+    }
+    Ok(DVec3::from_array(v))
+}
+
+fn build_radar(s: &RadarSpec) -> Result<Radar> {
+    let preset = s.preset.as_deref().unwrap_or("drs4d-nxt");
+    if !RADAR_PRESETS.contains(&preset) {
+        return Err(Error::invalid(
+            "radar.preset",
+            format!("\"{preset}\""),
+            format!(
+                "unknown preset; known presets: {}",
+                RADAR_PRESETS.join(", ")
+            ),
+        ));
+    }
+    // drs4d-nxt: Furuno DRS4D-NXT-like figures from the seed paper (f0, B, beamwidths, Pt,
+    // fs); PRF, noise figure, mast height, range and rotation are typical values, assumed.
+    let position_m = finite_vec("radar.position_m", s.position_m.unwrap_or([0.0, 0.0, 4.0]))?;
+    let frequency_ghz = positive("radar.frequency_ghz", s.frequency_ghz.unwrap_or(9.41))?;
+    let bandwidth_mhz = positive("radar.bandwidth_mhz", s.bandwidth_mhz.unwrap_or(50.0))?;
+    let pulse_width_us = positive("radar.pulse_width_us", s.pulse_width_us.unwrap_or(1.0))?;
+    let sample_rate_mhz = positive("radar.sample_rate_mhz", s.sample_rate_mhz.unwrap_or(100.0))?;
+    let peak_power_w = positive("radar.peak_power_w", s.peak_power_w.unwrap_or(25.0))?;
+    let noise_figure_db = finite("radar.noise_figure_db", s.noise_figure_db.unwrap_or(5.0))?;
+    if noise_figure_db < 0.0 {
+        return Err(Error::invalid(
+            "radar.noise_figure_db",
+            noise_figure_db,
+            "a noise figure cannot be below 0 dB",
+        ));
+    }
+    let system_loss_db = finite("radar.system_loss_db", s.system_loss_db.unwrap_or(0.0))?;
+    if system_loss_db < 0.0 {
+        return Err(Error::invalid(
+            "radar.system_loss_db",
+            system_loss_db,
+            "a loss must be 0 dB or more",
+        ));
+    }
+    let az_bw_deg = positive(
+        "radar.azimuth_beamwidth_deg",
+        s.azimuth_beamwidth_deg.unwrap_or(3.9),
+    )?;
+    let el_bw_deg = positive(
+        "radar.elevation_beamwidth_deg",
+        s.elevation_beamwidth_deg.unwrap_or(25.0),
+    )?;
+    if az_bw_deg >= 180.0 {
+        return Err(Error::invalid(
+            "radar.azimuth_beamwidth_deg",
+            az_bw_deg,
+            "must be less than 180",
+        ));
+    }
+    if el_bw_deg >= 180.0 {
+        return Err(Error::invalid(
+            "radar.elevation_beamwidth_deg",
+            el_bw_deg,
+            "must be less than 180",
+        ));
+    }
+    let tilt_deg = finite("radar.tilt_deg", s.tilt_deg.unwrap_or(0.0))?;
+    if tilt_deg.abs() > 90.0 {
+        return Err(Error::invalid(
+            "radar.tilt_deg",
+            tilt_deg,
+            "must be within -90..90",
+        ));
+    }
+    let az_bw = az_bw_deg.to_radians();
+    let el_bw = el_bw_deg.to_radians();
+    let peak_gain_linear = match s.gain_dbi {
+        Some(g) => db_to_linear(finite("radar.gain_dbi", g)?),
+        None => uniform_aperture_gain(az_bw, el_bw),
+    };
+    let prf_hz = positive("radar.prf_hz", s.prf_hz.unwrap_or(1200.0))?;
+    let rotation_rpm = positive("radar.rotation_rpm", s.rotation_rpm.unwrap_or(24.0))?;
+    let max_range_m = positive("radar.max_range_m", s.max_range_m.unwrap_or(1500.0))?;
+    let spokes = s.spokes.unwrap_or(360);
+    if spokes == 0 || spokes > MAX_SPOKES {
+        return Err(Error::invalid(
+            "radar.spokes",
+            spokes,
+            format!("must be between 1 and {MAX_SPOKES}"),
+        ));
+    }
+    let window = match s.window.as_deref().unwrap_or("none") {
+        "none" | "rectangular" => Window::None,
+        "hamming" => Window::Hamming,
+        "taylor" => {
+            let nbar = s.taylor_nbar.unwrap_or(4);
+            if !(2..=32).contains(&nbar) {
+                return Err(Error::invalid(
+                    "radar.taylor_nbar",
+                    nbar,
+                    "must be between 2 and 32",
+                ));
+            }
+            let sll = finite(
+                "radar.taylor_sidelobe_db",
+                s.taylor_sidelobe_db.unwrap_or(-35.0),
+            )?;
+            if !(-120.0..=-13.5).contains(&sll) {
+                return Err(Error::invalid(
+                    "radar.taylor_sidelobe_db",
+                    sll,
+                    "must be between -120 and -13.5 dB",
+                ));
+            }
+            Window::Taylor {
+                nbar,
+                sidelobe_db: sll,
+            }
+        }
+        other => {
+            return Err(Error::invalid(
+                "radar.window",
+                format!("\"{other}\""),
+                "expected \"none\", \"hamming\" or \"taylor\"",
+            ))
+        }
+    };
+    let pulse_width_s = pulse_width_us * 1e-6;
+    let pri_s = 1.0 / prf_hz;
+    if pulse_width_s >= pri_s {
+        return Err(Error::invalid(
+            "radar.pulse_width_us",
+            pulse_width_us,
+            format!("the pulse must be shorter than the pulse repetition interval 1/prf_hz = {:.3} us (prf_hz = {prf_hz})", pri_s * 1e6),
+        ));
+    }
+    let sample_rate_hz = sample_rate_mhz * 1e6;
+    let bandwidth_hz = bandwidth_mhz * 1e6;
+    if bandwidth_hz > sample_rate_hz {
+        return Err(Error::invalid(
+            "radar.bandwidth_mhz",
+            bandwidth_mhz,
+            format!("complex sampling needs sample_rate_mhz ({sample_rate_mhz}) at least equal to the bandwidth"),
+        ));
+    }
+    let samples = (pulse_width_s * sample_rate_hz).round();
+    if samples < 2.0 {
+        return Err(Error::invalid(
+            "radar.pulse_width_us",
+            pulse_width_us,
+            format!("the pulse is under two samples at sample_rate_mhz = {sample_rate_mhz}"),
+        ));
+    }
+    if samples > 4.0e6 {
+        return Err(Error::invalid(
+            "radar.pulse_width_us",
+            pulse_width_us,
+            "the pulse is over 4 million samples; lower the pulse width or sample rate",
+        ));
+    }
+    let range_bin_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * sample_rate_hz);
+    if max_range_m / range_bin_m > 4.0e6 {
+        return Err(Error::invalid(
+            "radar.max_range_m",
+            max_range_m,
+            "over 4 million range bins; lower max_range_m or sample_rate_mhz",
+        ));
+    }
+    if frequency_ghz * 1e9 <= bandwidth_hz {
+        return Err(Error::invalid(
+            "radar.frequency_ghz",
+            frequency_ghz,
+            "the carrier must be above the bandwidth",
+        ));
+    }
+    Ok(Radar {
+        position_m,
+        carrier_freq_hz: frequency_ghz * 1e9,
+        chirp: LfmChirp {
+            bandwidth_hz,
+            pulse_width_s,
+            sample_rate_hz,
+        },
+        window,
+        peak_power_w,
+        noise_figure_linear: db_to_linear(noise_figure_db),
+        system_loss_linear: db_to_linear(system_loss_db),
+        antenna: Antenna {
+            az_beamwidth_rad: az_bw,
+            el_beamwidth_rad: el_bw,
+            peak_gain_linear,
+            tilt_rad: tilt_deg.to_radians(),
+        },
+        prf_hz,
+        rotation_rpm,
+        max_range_m,
+        spokes,
+        receiver_blanking: s.receiver_blanking.unwrap_or(true),
+        polarisation: Polarisation::parse(
+            "radar.polarisation",
+            s.polarisation.as_deref().unwrap_or("HH"),
+        )?,
+    })
+}
+
+fn build_display(s: &DisplaySpec) -> Result<Display> {
+    let image_size_px = s.image_size_px.unwrap_or(1024);
+    if !(16..=16384).contains(&image_size_px) {
+        return Err(Error::invalid(
+            "display.image_size_px",
+            image_size_px,
+            "must be between 16 and 16384",
+        ));
+    }
+    let range_ring_spacing_m = finite(
+        "display.range_ring_spacing_m",
+        s.range_ring_spacing_m.unwrap_or(100.0),
+    )?;
+    if range_ring_spacing_m < 0.0 {
+        return Err(Error::invalid(
+            "display.range_ring_spacing_m",
+            range_ring_spacing_m,
+            "must be 0 (no rings) or more",
+        ));
+    }
+    let colormap = match s.colormap.as_deref().unwrap_or("viridis") {
+        "viridis" => Colormap::Viridis,
+        "green" => Colormap::Green,
+        "gray" | "grey" => Colormap::Gray,
+        other => {
+            return Err(Error::invalid(
+                "display.colormap",
+                format!("\"{other}\""),
+                "expected \"viridis\", \"green\" or \"gray\"",
+            ))
+        }
+    };
+    let min_db = finite("display.min_db", s.min_db.unwrap_or(0.0))?;
+    let max_db = finite("display.max_db", s.max_db.unwrap_or(60.0))?;
+    if max_db <= min_db {
+        return Err(Error::invalid(
+            "display.max_db",
+            max_db,
+            format!("must be above display.min_db ({min_db})"),
+        ));
+    }
+    Ok(Display {
+        image_size_px,
+        range_ring_spacing_m,
+        colormap,
+        min_db,
+        max_db,
+    })
+}
+
+fn build_scattering(s: &ScatteringSpec) -> Result<ScatteringConfig> {
+    let model = match s.model.as_deref().unwrap_or("po") {
+        "po" | "physical-optics" => ScatteringModel::PhysicalOptics,
+        "paper" => ScatteringModel::Paper,
+        other => {
+            return Err(Error::invalid(
+                "scattering.model",
+                format!("\"{other}\""),
+                "expected \"po\" or \"paper\"",
+            ))
+        }
+    };
+    let ray_spacing_wavelengths = positive(
+        "scattering.ray_spacing_wavelengths",
+        s.ray_spacing_wavelengths.unwrap_or(0.5),
+    )?;
+    let max_rays_per_object = s.max_rays_per_object.unwrap_or(65_536);
+    if max_rays_per_object == 0 {
+        return Err(Error::invalid(
+            "scattering.max_rays_per_object",
+            0,
+            "must be at least 1",
+        ));
+    }
+    let max_bounces = s.max_bounces.unwrap_or(3);
+    if !(1..=16).contains(&max_bounces) {
+        return Err(Error::invalid(
+            "scattering.max_bounces",
+            max_bounces,
+            "must be between 1 and 16",
+        ));
+    }
+    let paper_rays_per_degree_az = s.paper_rays_per_degree_az.unwrap_or(100);
+    if !(1..=1000).contains(&paper_rays_per_degree_az) {
+        return Err(Error::invalid(
+            "scattering.paper_rays_per_degree_az",
+            paper_rays_per_degree_az,
+            "must be between 1 and 1000",
+        ));
+    }
+    let paper_rays_elevation = s.paper_rays_elevation.unwrap_or(100);
+    if !(1..=10_000).contains(&paper_rays_elevation) {
+        return Err(Error::invalid(
+            "scattering.paper_rays_elevation",
+            paper_rays_elevation,
+            "must be between 1 and 10000",
+        ));
+    }
+    let paper_reference_voltage_v = positive(
+        "scattering.paper_reference_voltage_uv",
+        s.paper_reference_voltage_uv.unwrap_or(1.0),
+    )? * 1e-6;
+    Ok(ScatteringConfig {
+        model,
+        ray_spacing_wavelengths,
+        max_rays_per_object,
+        max_bounces,
+        paper_rays_per_degree_az,
+        paper_rays_elevation,
+        paper_reference_voltage_v,
+    })
+}
+
+fn build_object(i: usize, o: &ObjectSpec) -> Result<SceneObject> {
+    let name = o.name.clone().unwrap_or_else(|| format!("object-{i}"));
+    if name.trim().is_empty() {
+        return Err(Error::invalid(
+            format!("object[{i}].name"),
+            "\"\"",
+            "must not be empty",
+        ));
+    }
+    let prefix = format!("object \"{name}\"");
+    let f = |field: &str| format!("{prefix}.{field}");
+    let shape_name = o.shape.clone().ok_or_else(|| {
+        Error::missing(
+            f("shape"),
+            format!("every object needs a shape, one of: {}", SHAPES.join(", ")),
+        )
+    })?;
+    let need = |field: &str, v: Option<f64>| -> Result<f64> {
+        let v = v.ok_or_else(|| {
+            Error::missing(f(field), format!("shape \"{shape_name}\" needs `{field}`"))
+        })?;
+        positive(&f(field), v)
+    };
+    let shape = match shape_name.as_str() {
+        "point" => ShapeGeometry::Point {
+            rcs_m2: need("rcs_m2", o.rcs_m2)?,
+        },
+        "sphere" => ShapeGeometry::Sphere {
+            radius_m: need("radius_m", o.radius_m)?,
+        },
+        "plate" => ShapeGeometry::Plate {
+            width_m: need("width_m", o.width_m)?,
+            height_m: need("height_m", o.height_m)?,
+        },
+        "trihedral" => ShapeGeometry::Trihedral {
+            edge_m: need("edge_m", o.edge_m)?,
+        },
+        "dihedral" => ShapeGeometry::Dihedral {
+            width_m: need("width_m", o.width_m)?,
+            height_m: need("height_m", o.height_m)?,
+        },
+        "cylinder" => ShapeGeometry::Cylinder {
+            radius_m: need("radius_m", o.radius_m)?,
+            height_m: need("height_m", o.height_m)?,
+        },
+        "box" => {
+            let s = o.size_m.ok_or_else(|| {
+                Error::missing(f("size_m"), "shape \"box\" needs `size_m = [x, y, z]`")
+            })?;
+            for (k, v) in s.iter().enumerate() {
+                if !v.is_finite() || *v <= 0.0 {
+                    return Err(Error::invalid(
+                        f("size_m"),
+                        format!("{s:?}"),
+                        format!("component {k} must be a finite number greater than zero"),
+                    ));
+                }
+            }
+            ShapeGeometry::Box {
+                size_m: DVec3::from_array(s),
+            }
+        }
+        other => {
+            return Err(Error::invalid(
+                f("shape"),
+                format!("\"{other}\""),
+                format!("unknown shape; expected one of: {}", SHAPES.join(", ")),
+            ))
+        }
+    };
+    // Fields that this shape does not use are reported rather than silently ignored.
+    let used: &[&str] = match shape {
+        ShapeGeometry::Point { .. } => &["rcs_m2"],
+        ShapeGeometry::Sphere { .. } => &["radius_m"],
+        ShapeGeometry::Plate { .. } | ShapeGeometry::Dihedral { .. } => &["width_m", "height_m"],
+        ShapeGeometry::Trihedral { .. } => &["edge_m"],
+        ShapeGeometry::Cylinder { .. } => &["radius_m", "height_m"],
+        ShapeGeometry::Box { .. } => &["size_m"],
+    };
+    let present = [
+        ("rcs_m2", o.rcs_m2.is_some()),
+        ("radius_m", o.radius_m.is_some()),
+        ("width_m", o.width_m.is_some()),
+        ("height_m", o.height_m.is_some()),
+        ("edge_m", o.edge_m.is_some()),
+        ("size_m", o.size_m.is_some()),
+    ];
+    for (field, is_set) in present {
+        if is_set && !used.contains(&field) {
+            return Err(Error::invalid(
+                f(field),
+                "(set)",
+                format!(
+                    "shape \"{shape_name}\" does not use `{field}`; it uses {}",
+                    used.join(", ")
+                ),
+            ));
+        }
+    }
+    let position_m = finite_vec(
+        &f("position_m"),
+        o.position_m.ok_or_else(|| {
+            Error::missing(
+                f("position_m"),
+                "every object needs position_m = [east, north, up]",
+            )
+        })?,
+    )?;
+    let yaw = finite(&f("yaw_deg"), o.yaw_deg.unwrap_or(0.0))?.to_radians();
+    let pitch = finite(&f("pitch_deg"), o.pitch_deg.unwrap_or(0.0))?.to_radians();
+    let roll = finite(&f("roll_deg"), o.roll_deg.unwrap_or(0.0))?.to_radians();
+    Ok(SceneObject {
+        class: o.class.clone().unwrap_or_else(|| "object".to_string()),
+        name,
+        shape_name,
+        shape,
+        position_m,
+        rotation: object_frame(yaw, pitch, roll),
+    })
+}

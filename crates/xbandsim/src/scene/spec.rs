@@ -1,0 +1,154 @@
+//! The scene file as written by users (TOML), before validation. Friendly units, each in the
+//! field's name. `docs/formats.md` documents every field; `xbandsim schema` prints the JSON
+//! Schema generated from these types.
+
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+/// A whole scene file: radar, environment, display, scattering settings and objects.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SceneSpec {
+    /// The radar: a preset and any overrides.
+    #[serde(default)]
+    pub radar: RadarSpec,
+    /// Noise and (later) sea, rain and propagation.
+    #[serde(default)]
+    pub environment: EnvironmentSpec,
+    /// How the PPI pictures are drawn.
+    #[serde(default)]
+    pub display: DisplaySpec,
+    /// Which scattering model and how many rays.
+    #[serde(default)]
+    pub scattering: ScatteringSpec,
+    /// The objects in the scene (`[[object]]` tables).
+    #[serde(default, rename = "object")]
+    pub objects: Vec<ObjectSpec>,
+}
+
+/// `[radar]`: every field overrides the preset's value.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RadarSpec {
+    /// Preset to start from: "drs4d-nxt" (default).
+    pub preset: Option<String>,
+    /// Antenna phase centre, ENU metres; z is the height above the sea.
+    pub position_m: Option<[f64; 3]>,
+    /// Carrier frequency, GHz.
+    pub frequency_ghz: Option<f64>,
+    /// LFM swept bandwidth, MHz.
+    pub bandwidth_mhz: Option<f64>,
+    /// Pulse width, microseconds.
+    pub pulse_width_us: Option<f64>,
+    /// Matched-filter reference window: "none", "hamming" or "taylor".
+    pub window: Option<String>,
+    /// Taylor window: number of nearly constant sidelobes n̄ (default 4).
+    pub taylor_nbar: Option<usize>,
+    /// Taylor window: peak sidelobe level, dB (default -35).
+    pub taylor_sidelobe_db: Option<f64>,
+    /// Peak transmit power, W.
+    pub peak_power_w: Option<f64>,
+    /// Receiver noise figure, dB.
+    pub noise_figure_db: Option<f64>,
+    /// Total system loss L, dB (≥ 0).
+    pub system_loss_db: Option<f64>,
+    /// Peak antenna gain, dBi (default: from the beamwidths, uniform aperture).
+    pub gain_dbi: Option<f64>,
+    /// Azimuth 3-dB beamwidth, degrees.
+    pub azimuth_beamwidth_deg: Option<f64>,
+    /// Elevation 3-dB beamwidth, degrees.
+    pub elevation_beamwidth_deg: Option<f64>,
+    /// Beam axis elevation above horizontal, degrees.
+    pub tilt_deg: Option<f64>,
+    /// Complex (I/Q) sample rate, MHz.
+    pub sample_rate_mhz: Option<f64>,
+    /// Pulse repetition frequency, Hz.
+    pub prf_hz: Option<f64>,
+    /// Antenna rotation rate, revolutions per minute.
+    pub rotation_rpm: Option<f64>,
+    /// Largest range written to the outputs, m.
+    pub max_range_m: Option<f64>,
+    /// Number of spokes (beam positions) per revolution, 1..=8192.
+    pub spokes: Option<usize>,
+    /// Blank the receiver while transmitting (targets nearer than c·T/2 are eclipsed).
+    pub receiver_blanking: Option<bool>,
+    /// Transmit/receive polarisation: "HH" (default) or "VV".
+    pub polarisation: Option<String>,
+}
+
+/// `[environment]`.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct EnvironmentSpec {
+    /// Add receiver thermal noise (default true).
+    pub noise: Option<bool>,
+}
+
+/// `[display]`.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DisplaySpec {
+    /// Side of the square PPI images, pixels (default 1024).
+    pub image_size_px: Option<u32>,
+    /// Spacing of the range rings drawn on ppi.png, m (default 100; 0 for none).
+    pub range_ring_spacing_m: Option<f64>,
+    /// Colour map of ppi.png: "viridis" (default), "green" or "gray".
+    pub colormap: Option<String>,
+    /// Power mapped to the bottom of the colour scale, dB over noise (default 0).
+    pub min_db: Option<f64>,
+    /// Power mapped to the top of the colour scale, dB over noise (default 60).
+    pub max_db: Option<f64>,
+}
+
+/// `[scattering]`.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ScatteringSpec {
+    /// "po" (physical-optics ray tubes, calibrated; default) or "paper" (the seed paper's
+    /// amplitude law A = 1/(1 + l²/1000) on a uniform scan grid of rays).
+    pub model: Option<String>,
+    /// Ray-tube spacing in wavelengths for the "po" model (default 0.5).
+    pub ray_spacing_wavelengths: Option<f64>,
+    /// Cap on rays per object for the "po" model (default 65536); spacing grows to respect it.
+    pub max_rays_per_object: Option<usize>,
+    /// Maximum number of bounces traced (default 3).
+    pub max_bounces: Option<usize>,
+    /// "paper" model: rays per degree of azimuth in the scan grid (default 100).
+    pub paper_rays_per_degree_az: Option<usize>,
+    /// "paper" model: rays across the elevation beamwidth (default 100).
+    pub paper_rays_elevation: Option<usize>,
+    /// "paper" model: voltage of a unit-amplitude ray, microvolts (default 1).
+    pub paper_reference_voltage_uv: Option<f64>,
+}
+
+/// One `[[object]]`.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectSpec {
+    /// Unique name (default "object-N").
+    pub name: Option<String>,
+    /// Class label for ML ground truth (default "object").
+    pub class: Option<String>,
+    /// "point", "sphere", "plate", "trihedral", "dihedral", "cylinder" or "box".
+    pub shape: Option<String>,
+    /// Position in ENU metres (reference point of the shape, see docs/formats.md).
+    pub position_m: Option<[f64; 3]>,
+    /// Heading: turns the object's +y toward +x (clockwise from above), degrees.
+    pub yaw_deg: Option<f64>,
+    /// Raises the object's +y toward +z, degrees.
+    pub pitch_deg: Option<f64>,
+    /// Turns the object's +x toward -z about its +y, degrees.
+    pub roll_deg: Option<f64>,
+    /// point: radar cross-section, m².
+    pub rcs_m2: Option<f64>,
+    /// sphere, cylinder: radius, m.
+    pub radius_m: Option<f64>,
+    /// plate, dihedral: width, m.
+    pub width_m: Option<f64>,
+    /// plate, dihedral, cylinder: height, m.
+    pub height_m: Option<f64>,
+    /// trihedral: edge length, m.
+    pub edge_m: Option<f64>,
+    /// box: edge lengths along x, y, z, m.
+    pub size_m: Option<[f64; 3]>,
+}

@@ -1,0 +1,218 @@
+//! Stage: orchestration. `Simulation` = Scene + its BVH + FFT plans; `render` traces the scene
+//! once, groups the contributions, and for every spoke weights them by the antenna pattern,
+//! adds noise, blanks and compresses (docs/physics.md, "Pipeline"). Nothing else lives here.
+
+use crate::echo::{EchoGroups, FractionalDelayKernel};
+use crate::geometry::Bvh;
+use crate::labels::{object_truth, ObjectTruth};
+use crate::ppi::ScanConverter;
+use crate::processing::PulseCompressor;
+use crate::receiver::{fill_unit_noise, stream_rng};
+use crate::scattering::{build_scene_bvh, trace_scene, ScatterSet};
+use crate::scene::{ScatteringModel, Scene};
+use num_complex::Complex32;
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// Groups weaker than this after the azimuth weight (noise-rms units, −80 dB) are skipped.
+pub const MIN_GROUP_AMPLITUDE: f32 = 1e-4;
+
+/// Smallest power written to the polar output, dB over noise (for noise-free runs).
+pub const POLAR_FLOOR_DB: f32 = -120.0;
+
+/// A scene ready to render.
+pub struct Simulation {
+    scene: Scene,
+    bvh: Bvh,
+    compressor: PulseCompressor,
+    kernel: FractionalDelayKernel,
+}
+
+/// Timings and counts of one frame.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct FrameStats {
+    /// Rays cast by the scattering model.
+    pub rays_cast: u64,
+    /// Scattering contributions.
+    pub contributions: usize,
+    /// Echo groups after binning.
+    pub echo_groups: usize,
+    /// Seconds spent tracing.
+    pub trace_s: f64,
+    /// Seconds spent on echoes, noise and matched filtering.
+    pub synthesis_s: f64,
+}
+
+/// One rendered revolution.
+#[derive(Debug, Clone)]
+pub struct Frame {
+    /// Spokes (rows of `polar_db`).
+    pub spokes: usize,
+    /// Range bins (columns).
+    pub range_bins: usize,
+    /// Range of bin j is `j·range_bin_m`.
+    pub range_bin_m: f64,
+    /// Matched-filter output power over mean noise power, dB, spokes × bins row-major.
+    pub polar_db: Vec<f32>,
+    /// Per-object ground truth.
+    pub truth: Vec<ObjectTruth>,
+    /// Counts and timings.
+    pub stats: FrameStats,
+}
+
+impl Simulation {
+    /// Builds the BVH and the FFT plans.
+    pub fn new(scene: Scene) -> Simulation {
+        let bvh = build_scene_bvh(&scene);
+        let compressor = PulseCompressor::new(
+            &scene.radar.chirp,
+            scene.radar.window,
+            scene.radar.num_range_bins(),
+        );
+        Simulation {
+            scene,
+            bvh,
+            compressor,
+            kernel: FractionalDelayKernel::new(),
+        }
+    }
+
+    /// The scene.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The scene's BVH.
+    pub fn bvh(&self) -> &Bvh {
+        &self.bvh
+    }
+
+    /// The pulse compressor.
+    pub fn compressor(&self) -> &PulseCompressor {
+        &self.compressor
+    }
+
+    /// Traces the scene once.
+    pub fn trace(&self) -> ScatterSet {
+        trace_scene(&self.scene, &self.bvh)
+    }
+
+    /// Bins contributions into per-group impulse responses in noise-rms units.
+    pub fn echo_groups(&self, set: &ScatterSet) -> EchoGroups {
+        let radar = &self.scene.radar;
+        EchoGroups::build(
+            &set.contributions,
+            &radar.antenna,
+            radar.sample_rate_hz(),
+            self.compressor.record_len(),
+            radar.noise_power_w().sqrt(),
+            &self.kernel,
+        )
+    }
+
+    /// Compressed output of one spoke at `beam_az_rad` into `scratch.buffer[..bins]`
+    /// (amplitude in noise-rms units).
+    pub fn compress_spoke(
+        &self,
+        groups: &EchoGroups,
+        beam_az_rad: f64,
+        seed: u64,
+        frame: u64,
+        spoke: u64,
+        scratch: &mut crate::processing::SpokeScratch,
+    ) {
+        let radar = &self.scene.radar;
+        let record = self.compressor.record_len();
+        scratch.buffer.fill(Complex32::new(0.0, 0.0));
+        let earliest = groups.accumulate(
+            &radar.antenna,
+            beam_az_rad,
+            MIN_GROUP_AMPLITUDE,
+            &mut scratch.buffer[..record],
+        );
+        let noise = self.scene.environment.noise;
+        if noise {
+            let mut rng = stream_rng(seed, frame, spoke);
+            fill_unit_noise(&mut rng, &mut scratch.noise[..record]);
+            scratch.noise[record..].fill(Complex32::new(0.0, 0.0));
+        }
+        let in_blanking = earliest.is_some_and(|e| e < self.compressor.pulse_len());
+        self.compressor
+            .process(scratch, noise, radar.receiver_blanking, in_blanking);
+    }
+
+    /// Polar output (spokes × bins, dB over noise) of one revolution from prepared groups.
+    pub fn synthesize(&self, groups: &EchoGroups, seed: u64, frame: u64) -> Vec<f32> {
+        let radar = &self.scene.radar;
+        let bins = self.compressor.num_bins();
+        let mut polar = vec![0f32; radar.spokes * bins];
+        polar.par_chunks_mut(bins).enumerate().for_each_init(
+            || self.compressor.scratch(),
+            |scratch, (k, row)| {
+                self.compress_spoke(
+                    groups,
+                    radar.spoke_azimuth_rad(k),
+                    seed,
+                    frame,
+                    k as u64,
+                    scratch,
+                );
+                for (o, y) in row.iter_mut().zip(&scratch.buffer[..bins]) {
+                    *o = (10.0 * y.norm_sqr().log10()).max(POLAR_FLOOR_DB);
+                }
+            },
+        );
+        polar
+    }
+
+    /// Scan converter for this scene's display settings, covering the radar's max range.
+    pub fn scan_converter(&self) -> ScanConverter {
+        let r = &self.scene.radar;
+        ScanConverter::new(
+            self.scene.display.image_size_px,
+            r.max_range_m,
+            r.spokes,
+            r.num_range_bins(),
+            r.range_bin_m(),
+        )
+    }
+
+    /// Ground truth for a traced scene state.
+    pub fn truth(&self, set: &ScatterSet, converter: &ScanConverter) -> Vec<ObjectTruth> {
+        let n = self.scene.objects.len();
+        let mut has_returns = vec![false; n];
+        for c in &set.contributions {
+            has_returns[c.object as usize] = true;
+        }
+        let rcs = (self.scene.scattering.model == ScatteringModel::PhysicalOptics)
+            .then(|| set.rcs_per_object_m2(n));
+        object_truth(&self.scene, rcs.as_deref(), &has_returns, converter)
+    }
+
+    /// Renders one revolution: trace, group, synthesise every spoke, label.
+    pub fn render(&self, seed: u64) -> Frame {
+        let t0 = Instant::now();
+        let set = self.trace();
+        let trace_s = t0.elapsed().as_secs_f64();
+        let t1 = Instant::now();
+        let groups = self.echo_groups(&set);
+        let polar_db = self.synthesize(&groups, seed, 0);
+        let synthesis_s = t1.elapsed().as_secs_f64();
+        let truth = self.truth(&set, &self.scan_converter());
+        let radar = &self.scene.radar;
+        Frame {
+            spokes: radar.spokes,
+            range_bins: self.compressor.num_bins(),
+            range_bin_m: radar.range_bin_m(),
+            polar_db,
+            truth,
+            stats: FrameStats {
+                rays_cast: set.rays_cast,
+                contributions: set.contributions.len(),
+                echo_groups: groups.groups.len(),
+                trace_s,
+                synthesis_s,
+            },
+        }
+    }
+}
