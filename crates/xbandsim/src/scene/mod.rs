@@ -473,7 +473,8 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
     };
     let pulse_width_s = pulse_width_us * 1e-6;
     let pri_s = 1.0 / prf_hz;
-    if pulse_width_s >= pri_s {
+    // Compared in microseconds, as written, so that 50 us at 20 kHz is caught exactly.
+    if pulse_width_us >= 1e6 / prf_hz {
         return Err(Error::invalid(
             "radar.pulse_width_us",
             pulse_width_us,

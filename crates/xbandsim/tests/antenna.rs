@@ -1,0 +1,79 @@
+//! Antenna pattern against closed forms, alone and through the rotating-beam pipeline.
+
+mod common;
+use common::*;
+use xbandsim::antenna::{sinc2_pattern, uniform_aperture_gain, SINC_BEAMWIDTH_FACTOR};
+use xbandsim::constants::linear_to_db;
+
+/// −3 dB at ±θ3dB/2, first null at π·θ3dB/2.783, first sidelobe −13.26 dB (sinc², e.g.
+/// Balanis, *Antenna Theory*, 4th ed., §12.5; DESIGN.md §3).
+#[test]
+fn sinc2_pattern_landmarks() {
+    for bw_deg in [3.9, 25.0, 1.2] {
+        let bw = f64::to_radians(bw_deg);
+        for sign in [-1.0, 1.0] {
+            let g = linear_to_db(sinc2_pattern(sign * bw / 2.0, bw));
+            assert!(
+                (g + 3.0103).abs() < 0.01,
+                "{bw_deg} deg: {g} dB at half beamwidth"
+            );
+        }
+        let null = std::f64::consts::PI * bw / SINC_BEAMWIDTH_FACTOR;
+        assert!(sinc2_pattern(null, bw) < 1e-12);
+        // First sidelobe: maximum between the first and second nulls.
+        let peak = (0..=2000)
+            .map(|i| null * (1.0 + i as f64 / 2000.0))
+            .map(|t| sinc2_pattern(t, bw))
+            .fold(0.0, f64::max);
+        assert!(
+            (linear_to_db(peak) + 13.26).abs() < 0.02,
+            "first sidelobe {} dB",
+            linear_to_db(peak)
+        );
+    }
+}
+
+/// Peak gain of a uniform aperture with 3.9° × 25° beams: 25.2 dBi (issue #2).
+#[test]
+fn peak_gain_from_beamwidths() {
+    let g = linear_to_db(uniform_aperture_gain(
+        3.9f64.to_radians(),
+        25f64.to_radians(),
+    ));
+    assert!((g - 25.2).abs() < 0.05, "{g} dBi");
+}
+
+/// Through the pipeline: a point target half a beamwidth off a spoke comes back at the
+/// two-way pattern, −6.02 dB (power ∝ Gn²), and one first-null away it vanishes into noise.
+#[test]
+fn rotating_beam_applies_two_way_pattern() {
+    let bw_deg = 3.9;
+    let range_m = bin_range_m(600.0, 100e6);
+    let at = |az_deg: f64| {
+        let (x, y) = (
+            range_m * az_deg.to_radians().sin(),
+            range_m * az_deg.to_radians().cos(),
+        );
+        let text = format!(
+            "{}[environment]\nnoise = false\n[[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 100.0\nposition_m = [{x}, {y}, 4.0]\n",
+            radar_block("spokes = 360\nmax_range_m = 1200.0")
+        );
+        let (_, frame) = render(&text, 1);
+        let (_, v) = argmax(spoke(&frame, 0));
+        v as f64
+    };
+    let on_axis = at(0.0);
+    let half = at(bw_deg / 2.0);
+    assert!(
+        (half - on_axis + 6.02).abs() < 0.1,
+        "two-way loss at half beamwidth {} dB",
+        half - on_axis
+    );
+    let null_deg = 180.0 * bw_deg / SINC_BEAMWIDTH_FACTOR;
+    let at_null = at(null_deg);
+    assert!(
+        at_null < on_axis - 60.0,
+        "first null {} dB below peak",
+        on_axis - at_null
+    );
+}

@@ -1,0 +1,331 @@
+//! The signal chain against closed forms (DESIGN.md §5, docs/validation.md): delay, resolution,
+//! sidelobes, noise floor, radar-equation SNR, eclipsing, FFT vs direct matched filter.
+
+mod common;
+use common::*;
+use num_complex::{Complex32, Complex64};
+use xbandsim::constants::linear_to_db;
+use xbandsim::echo::{EchoGroups, FractionalDelayKernel};
+use xbandsim::processing::{direct_correlation, PulseCompressor};
+use xbandsim::waveform::{LfmChirp, Window};
+
+/// Point target in bin 2R/c·fs (±0.5 bin) at several off-grid ranges (Richards 2014, §4.3).
+#[test]
+fn point_target_lands_in_range_bin() {
+    for range_m in [203.7, 481.25, 777.7, 1302.9] {
+        let text = format!(
+            "{}[environment]\nnoise = false\n{}",
+            radar_block("max_range_m = 1500.0"),
+            point_north("p", range_m, 10.0)
+        );
+        let (sim, frame) = render(&text, 1);
+        let fs = sim.scene().radar.sample_rate_hz();
+        let expected_bin = 2.0 * (range_m - 0.0) / xbandsim::constants::SPEED_OF_LIGHT_M_PER_S * fs;
+        let (bin, _) = argmax(spoke(&frame, 0));
+        assert!(
+            (bin as f64 - expected_bin).abs() <= 0.5,
+            "range {range_m}: peak bin {bin}, expected {expected_bin:.2}"
+        );
+    }
+}
+
+fn fine_profile(window: &str, pulse_us: f64) -> (Vec<f32>, f64) {
+    // 800 MHz sampling: 0.187 m bins, so the 2.66 m response spans ~14 bins.
+    let fs_mhz = 800.0;
+    // Beyond c·T/2 (1.5 km for 10 us) so that the whole chirp is received.
+    let range = bin_range_m(12000.0, fs_mhz * 1e6);
+    let text = format!(
+        "{}[environment]\nnoise = false\n{}",
+        radar_block(&format!("sample_rate_mhz = {fs_mhz}\npulse_width_us = {pulse_us}\nwindow = \"{window}\"\nmax_range_m = 2400.0\nspokes = 90")),
+        point_north("p", range, 1.0)
+    );
+    let (_, frame) = render(&text, 1);
+    (spoke(&frame, 0).to_vec(), frame.range_bin_m)
+}
+
+/// 3-dB width 0.886/B (±3 %) and first null at 1/B, i.e. c/2B in range (±3 %), unweighted
+/// (Richards 2014, Table 4.1 / §4.6.2).
+#[test]
+fn compressed_resolution_and_irw() {
+    let (p, bin_m) = fine_profile("none", 10.0);
+    let (peak, _) = argmax(&p);
+    let irw_m = width_at_db(&p, peak, 3.0103) * bin_m;
+    let b = 50e6;
+    let c = xbandsim::constants::SPEED_OF_LIGHT_M_PER_S;
+    let expected_irw_m = 0.886 / b * c / 2.0;
+    assert!(
+        (irw_m / expected_irw_m - 1.0).abs() < 0.03,
+        "IRW {irw_m:.3} m vs {expected_irw_m:.3} m"
+    );
+    // First null: the first local minimum right of the peak.
+    let mut j = peak + 1;
+    while p[j + 1] < p[j] {
+        j += 1;
+    }
+    let null_m = (j - peak) as f64 * bin_m;
+    let expected_null_m = c / (2.0 * b);
+    assert!(
+        (null_m / expected_null_m - 1.0).abs() < 0.03 + bin_m / expected_null_m,
+        "null at {null_m:.3} m vs {expected_null_m:.3} m"
+    );
+}
+
+fn pslr_db(p: &[f32]) -> f32 {
+    let (peak, pv) = argmax(p);
+    // Walk to the first nulls on both sides, then take the largest value outside.
+    let mut r = peak + 1;
+    while r + 1 < p.len() && p[r + 1] < p[r] {
+        r += 1;
+    }
+    let mut l = peak - 1;
+    while l > 0 && p[l - 1] < p[l] {
+        l -= 1;
+    }
+    let side = p[..l]
+        .iter()
+        .chain(&p[r..])
+        .cloned()
+        .fold(f32::MIN, f32::max);
+    side - pv
+}
+
+/// Peak sidelobe level: −13.26 dB unweighted (±0.5 dB); Hamming ≤ −40 dB (theory −42.7 dB);
+/// Taylor n̄=4/−35 dB at −35 dB (±1.5 dB). For large B·T the compressed LFM response is the
+/// transform of the window (Cook & Bernfeld, *Radar Signals*, 1967, ch. 7).
+#[test]
+fn peak_sidelobe_levels() {
+    let (p, _) = fine_profile("none", 10.0);
+    let pslr = pslr_db(&p);
+    assert!((pslr + 13.26).abs() < 0.5, "unweighted PSLR {pslr}");
+    let (p, _) = fine_profile("hamming", 10.0);
+    let pslr = pslr_db(&p);
+    assert!(pslr < -40.0, "Hamming PSLR {pslr}");
+    let (p, _) = fine_profile("taylor", 10.0);
+    let pslr = pslr_db(&p);
+    assert!((pslr + 35.0).abs() < 1.5, "Taylor PSLR {pslr}");
+}
+
+/// Noise floor: mean output power equals k·T0·F·fs per sample, i.e. 0 dB (±0.1 dB); the
+/// median of exponential power is ln 2 (−1.59 dB).
+#[test]
+fn noise_floor_is_kt0f_fs() {
+    let text = format!("{}", radar_block("max_range_m = 1500.0"));
+    let (sim, frame) = render(&text, 7);
+    let start = sim.compressor().pulse_len() + 2; // past the blanked interval
+    let mut powers: Vec<f64> = Vec::new();
+    for k in 0..frame.spokes {
+        powers.extend(
+            spoke(&frame, k)[start..]
+                .iter()
+                .map(|&d| 10f64.powf(d as f64 / 10.0)),
+        );
+    }
+    let mean_db = linear_to_db(powers.iter().sum::<f64>() / powers.len() as f64);
+    assert!(mean_db.abs() < 0.1, "noise mean {mean_db} dB");
+    powers.sort_by(f64::total_cmp);
+    let median_db = linear_to_db(powers[powers.len() / 2]);
+    assert!(
+        (median_db - linear_to_db(std::f64::consts::LN_2)).abs() < 0.1,
+        "noise median {median_db} dB"
+    );
+}
+
+/// Single-pulse SNR of a point target equals the radar equation minus the window loss
+/// (±0.5 dB), for each window and two pulse widths (Skolnik 2001, eq. 2.51; PHYSICS-NOTES §1).
+#[test]
+fn point_target_snr_matches_radar_equation() {
+    for (window, pulse_us) in [
+        ("none", 1.0),
+        ("hamming", 1.0),
+        ("taylor", 5.0),
+        ("none", 20.0),
+    ] {
+        let fs = 100e6;
+        let range_m = bin_range_m(5400.0, fs); // on a bin centre, beyond c·T/2
+        let text = format!(
+            "{}{}",
+            radar_block(&format!(
+                "window = \"{window}\"\npulse_width_us = {pulse_us}\nmax_range_m = 9000.0"
+            )),
+            point_north("p", range_m, 1e4)
+        );
+        let (sim, frame) = render(&text, 3);
+        let radar = &sim.scene().radar;
+        let expected = linear_to_db(
+            radar.point_target_snr(1e4, range_m)
+                * radar.window.snr_loss_linear(radar.chirp.num_samples()),
+        );
+        let (_, measured) = argmax(&spoke(&frame, 0)[5300..5500]);
+        assert!(
+            (measured as f64 - expected).abs() < 0.5,
+            "{window} {pulse_us} us: measured {measured:.2} dB, radar equation {expected:.2} dB"
+        );
+        assert!(
+            expected > 20.0,
+            "test target too weak to measure: {expected}"
+        );
+    }
+}
+
+/// Blanking while transmitting: an echo from τ < T loses the part sent back while the
+/// receiver is off; only the fraction τ/T of the chirp is received, so the compressed peak
+/// drops by 20·log10(τ/T) (±1 dB) against the same target with blanking off, and the truth
+/// calls it eclipsed.
+#[test]
+fn eclipsing_inside_c_t_over_2() {
+    let pulse_us = 2.0;
+    let fs = 100e6;
+    let c = xbandsim::constants::SPEED_OF_LIGHT_M_PER_S;
+    let pulse_samples = pulse_us * 1e-6 * fs;
+    let run = |bin: f64, blanking: bool| -> (f32, xbandsim::labels::Visibility) {
+        let range_m = bin_range_m(bin, fs);
+        let text = format!(
+            "{}[environment]\nnoise = false\n{}",
+            radar_block(&format!(
+                "pulse_width_us = {pulse_us}\nmax_range_m = 600.0\nreceiver_blanking = {blanking}"
+            )),
+            point_north("p", range_m, 1.0)
+        );
+        let (_, frame) = render(&text, 1);
+        let j = (2.0 * range_m / c * fs).round() as usize;
+        (
+            spoke(&frame, 0)[j - 2..=j + 2]
+                .iter()
+                .cloned()
+                .fold(f32::MIN, f32::max),
+            frame.truth[0].visibility,
+        )
+    };
+    for fraction in [0.2, 0.5, 0.8] {
+        let bin = (fraction * pulse_samples).round();
+        let (whole, vis_whole) = run(bin, false);
+        let (blanked, vis_blanked) = run(bin, true);
+        let expected = 20.0 * (bin / pulse_samples).log10();
+        let loss = (blanked - whole) as f64;
+        assert!(
+            (loss - expected).abs() < 1.0,
+            "tau/T = {fraction}: loss {loss:.2} dB, expected {expected:.2} dB"
+        );
+        assert_eq!(vis_blanked, xbandsim::labels::Visibility::Eclipsed);
+        assert_eq!(vis_whole, xbandsim::labels::Visibility::Visible);
+    }
+    // Beyond c·T/2 nothing is lost.
+    let bin = pulse_samples + 20.0;
+    let (whole, _) = run(bin, false);
+    let (blanked, vis) = run(bin, true);
+    assert!(
+        (blanked - whole).abs() < 0.01,
+        "target beyond c*T/2 lost {} dB",
+        whole - blanked
+    );
+    assert_eq!(vis, xbandsim::labels::Visibility::Visible);
+}
+
+/// The FFT matched filter equals direct correlation (relative error < 1e-4).
+#[test]
+fn fft_matched_filter_equals_direct_correlation() {
+    let chirp = LfmChirp {
+        bandwidth_hz: 50e6,
+        pulse_width_s: 1.3e-6,
+        sample_rate_hz: 100e6,
+    };
+    for window in [Window::None, Window::Hamming, Window::TAYLOR_DEFAULT] {
+        let bins = 300;
+        let pc = PulseCompressor::new(&chirp, window, bins);
+        let mut rng_state = 12345u64;
+        let mut next = || {
+            rng_state = xbandsim::receiver::splitmix64(rng_state);
+            (rng_state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let record: Vec<Complex64> = (0..pc.record_len())
+            .map(|_| Complex64::new(next(), next()))
+            .collect();
+        let direct = direct_correlation(&record, &chirp, window, bins);
+        let mut buf: Vec<Complex32> = vec![Complex32::new(0.0, 0.0); pc.fft_len()];
+        for (b, r) in buf.iter_mut().zip(&record) {
+            *b = Complex32::new(r.re as f32, r.im as f32);
+        }
+        let mut scratch = pc.scratch();
+        pc.compress_record(&mut buf, &mut scratch);
+        let scale: f64 = direct.iter().map(|d| d.norm()).fold(0.0, f64::max);
+        for (j, d) in direct.iter().enumerate() {
+            let f = Complex64::new(buf[j].re as f64, buf[j].im as f64);
+            assert!((f - d).norm() / scale < 1e-4, "bin {j}: fft {f} direct {d}");
+        }
+    }
+}
+
+/// Echo synthesis through the band-limited impulse response and the chirp spectrum equals
+/// the sum of analytically delayed chirps `a·s(t_n − τ)` (relative error < −40 dB) for
+/// sub-sample delays.
+#[test]
+fn echo_synthesis_equals_delayed_chirps() {
+    let chirp = LfmChirp {
+        bandwidth_hz: 50e6,
+        pulse_width_s: 2e-6,
+        sample_rate_hz: 100e6,
+    };
+    let pc = PulseCompressor::new(&chirp, Window::None, 600);
+    let kernel = FractionalDelayKernel::new();
+    let delays_samples = [150.0, 233.37, 401.81];
+    let amps = [
+        Complex64::new(1.0, 0.0),
+        Complex64::new(0.3, -0.4),
+        Complex64::new(-0.2, 0.1),
+    ];
+    let contributions: Vec<_> = delays_samples
+        .iter()
+        .zip(&amps)
+        .enumerate()
+        .map(|(i, (&d, &a))| xbandsim::scattering::Contribution {
+            amplitude_v: a,
+            root_rcs_m: Complex64::new(0.0, 0.0),
+            path_m: d / chirp.sample_rate_hz * xbandsim::constants::SPEED_OF_LIGHT_M_PER_S,
+            az_tx_rad: 0.0,
+            el_tx_rad: 0.0,
+            az_rx_rad: 0.0,
+            el_rx_rad: 0.0,
+            object: i as u32,
+            bounces: 1,
+        })
+        .collect();
+    let antenna = xbandsim::antenna::Antenna {
+        az_beamwidth_rad: 0.1,
+        el_beamwidth_rad: 0.4,
+        peak_gain_linear: 100.0,
+        tilt_rad: 0.0,
+    };
+    let groups = EchoGroups::build(
+        &contributions,
+        &antenna,
+        chirp.sample_rate_hz,
+        pc.record_len(),
+        1.0,
+        &kernel,
+    );
+    let mut scratch = pc.scratch();
+    let mut ir = vec![Complex32::new(0.0, 0.0); pc.fft_len()];
+    groups.accumulate(&antenna, 0.0, 0.0, &mut ir[..pc.record_len()]);
+    pc.synthesize_record(&mut ir, &mut scratch);
+    let mut err = 0.0;
+    let mut total = 0.0;
+    // Compare away from the chirps' switch-on edges, where a band-limited version rings.
+    for n in 0..pc.record_len() {
+        let t = n as f64 / chirp.sample_rate_hz;
+        let mut direct = Complex64::new(0.0, 0.0);
+        let mut near_edge = false;
+        for (&d, &a) in delays_samples.iter().zip(&amps) {
+            direct += a * chirp.value_at(t - d / chirp.sample_rate_hz);
+            let rel = n as f64 - d;
+            near_edge |= rel.abs() < 10.0 || (rel - chirp.num_samples() as f64).abs() < 10.0;
+        }
+        if near_edge {
+            continue;
+        }
+        let got = Complex64::new(ir[n].re as f64, ir[n].im as f64);
+        err += (got - direct).norm_sqr();
+        total += direct.norm_sqr();
+    }
+    let rel_db = linear_to_db(err / total);
+    assert!(rel_db < -40.0, "echo synthesis error {rel_db:.1} dB");
+}
