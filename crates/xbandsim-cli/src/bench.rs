@@ -1,5 +1,200 @@
-#[derive(clap::Args, Debug)]
-pub struct BenchArgs {}
-pub fn run(_a: &BenchArgs) -> anyhow::Result<()> {
+//! `xbandsim bench`: ray-casting throughput, frame times and peak memory, printed so anyone
+//! can reproduce the figures in docs/performance.md.
+
+use anyhow::{Context, Result};
+use clap::Args;
+use glam::DVec3;
+use rayon::prelude::*;
+use std::path::PathBuf;
+use std::time::Instant;
+use xbandsim::geometry::{Bvh, Primitive, PrimitiveKind, Ray};
+use xbandsim::scattering::{build_scene_bvh, direction_from_az_el, paper};
+use xbandsim::scene::{Scene, SceneSpec};
+use xbandsim::sim::Simulation;
+
+/// Arguments of `xbandsim bench`.
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Scene to measure.
+    #[arg(long, default_value = "scenes/paper.toml")]
+    pub scene: PathBuf,
+    /// Timed repetitions of each measurement (the median is printed).
+    #[arg(long, default_value_t = 5)]
+    pub repeats: usize,
+    /// Print the results as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn median_s(repeats: usize, mut f: impl FnMut()) -> f64 {
+    f(); // warm-up
+    let mut t: Vec<f64> = (0..repeats.max(1))
+        .map(|_| {
+            let t0 = Instant::now();
+            f();
+            t0.elapsed().as_secs_f64()
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    t[t.len() / 2]
+}
+
+/// Peak resident set size of this process, MB (Linux `VmHWM`), if known.
+pub fn peak_rss_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
+}
+
+/// Casts the paper's uniform scan grid (closest hit) and returns the number of hits.
+fn cast_scan_grid(scene: &Scene, bvh: &Bvh) -> usize {
+    let n = paper::grid_size(scene);
+    let origin = scene.radar.position_m;
+    (0..n)
+        .into_par_iter()
+        .with_min_len(4096)
+        .filter(|&i| {
+            let (az, el) = paper::grid_direction(scene, i);
+            bvh.closest_hit(
+                &Ray {
+                    origin_m: origin,
+                    dir: direction_from_az_el(az, el),
+                },
+                f64::INFINITY,
+            )
+            .is_some()
+        })
+        .count()
+}
+
+#[derive(serde::Serialize)]
+struct Row {
+    name: String,
+    value: f64,
+    unit: String,
+}
+
+/// Runs `xbandsim bench`.
+pub fn run(a: &BenchArgs) -> Result<()> {
+    let spec: SceneSpec = crate::render::read_spec(&a.scene)?;
+    let scene =
+        Scene::from_spec(&spec).with_context(|| format!("in scene {}", a.scene.display()))?;
+    let mut rows: Vec<Row> = Vec::new();
+    let mut put = |name: &str, value: f64, unit: &str| {
+        if !a.json {
+            println!("{name:<62} {value:>12.3} {unit}");
+        }
+        rows.push(Row {
+            name: name.into(),
+            value,
+            unit: unit.into(),
+        });
+    };
+    let threads = rayon::current_num_threads();
+    if !a.json {
+        println!(
+            "xbandsim bench: scene {}, {threads} threads, median of {} runs",
+            a.scene.display(),
+            a.repeats
+        );
+    }
+
+    // 1. Ray casting, the paper's radar-scan pattern (360 x 100 az x 100 el = 3.6 M rays).
+    let bvh = build_scene_bvh(&scene);
+    let n_rays = paper::grid_size(&scene) as f64;
+    let t = median_s(a.repeats, || {
+        std::hint::black_box(cast_scan_grid(&scene, &bvh));
+    });
+    put(
+        "scan-pattern rays, paper scene (closest hit)",
+        n_rays / t / 1e6,
+        "M rays/s",
+    );
+    // Same with a 20 km sea plane in the BVH, so rays below the horizon hit something too.
+    let mut prims: Vec<Primitive> = bvh.primitives().to_vec();
+    prims.push(Primitive {
+        kind: PrimitiveKind::Parallelogram {
+            corner: DVec3::new(-10_000.0, -10_000.0, 0.0),
+            edge_u: DVec3::new(20_000.0, 0.0, 0.0),
+            edge_v: DVec3::new(0.0, 20_000.0, 0.0),
+        },
+        object: u32::MAX,
+    });
+    let bvh_sea = Bvh::build(prims);
+    let t = median_s(a.repeats, || {
+        std::hint::black_box(cast_scan_grid(&scene, &bvh_sea));
+    });
+    put(
+        "scan-pattern rays, paper scene + sea plane (closest hit)",
+        n_rays / t / 1e6,
+        "M rays/s",
+    );
+
+    // 2. Full frames with the calibrated PO model.
+    let sim = Simulation::new(scene.clone());
+    let mut rays = 0;
+    let t_trace = median_s(a.repeats, || {
+        rays = std::hint::black_box(sim.trace()).rays_cast;
+    });
+    put(
+        "SBR/PO tracing, paper scene (targeted + bounce rays)",
+        rays as f64 / t_trace / 1e6,
+        "M rays/s",
+    );
+    let t = median_s(a.repeats, || {
+        std::hint::black_box(sim.render(1));
+    });
+    put(
+        &format!(
+            "PO frame, paper scene, {} spokes x {} bins",
+            scene.radar.spokes,
+            scene.radar.num_range_bins()
+        ),
+        t * 1e3,
+        "ms",
+    );
+    let mut big = spec.clone();
+    big.radar.max_range_m = Some(3100.0);
+    let big_scene = Scene::from_spec(&big)?;
+    let bins = big_scene.radar.num_range_bins();
+    let sim_big = Simulation::new(big_scene);
+    let t = median_s(a.repeats, || {
+        std::hint::black_box(sim_big.render(1));
+    });
+    put(
+        &format!("PO frame, paper scene, 360 spokes x {bins} bins (1 us)"),
+        t * 1e3,
+        "ms",
+    );
+
+    // 3. Paper-equivalent frames: 3.6 M-ray grid, paper amplitude law, 360 beams, matched
+    //    filter and a 512 x 512 PPI, for 1, 20 and 50 us (compare with the NumPy version).
+    for pw in [1.0, 20.0, 50.0] {
+        let mut p = spec.clone();
+        p.scattering.model = Some("paper".into());
+        p.radar.pulse_width_us = Some(pw);
+        p.display.image_size_px = Some(512);
+        let ps = Scene::from_spec(&p)?;
+        let psim = Simulation::new(ps);
+        let conv = psim.scan_converter();
+        let mut ppi = vec![0f32; 512 * 512];
+        let t = median_s(a.repeats, || {
+            let frame = psim.render(1);
+            conv.convert(&frame.polar_db, f32::NAN, &mut ppi);
+            std::hint::black_box(&ppi);
+        });
+        put(
+            &format!("paper-equivalent frame (3.6 M rays, 512^2 PPI), {pw} us"),
+            t * 1e3,
+            "ms",
+        );
+    }
+    if let Some(mb) = peak_rss_mb() {
+        put("peak resident memory (whole bench process)", mb, "MB");
+    }
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&rows)?);
+    }
     Ok(())
 }

@@ -1,3 +1,413 @@
-pub fn run(_o: &std::path::Path, _s: &std::path::Path, _seed: u64) -> anyhow::Result<()> {
+//! `xbandsim figures`: the seed paper's Fig. 2 (antenna pattern), Fig. 3 (signal chain) and
+//! Fig. 4 (PPIs for 1, 20 and 50 µs pulses), drawn with plotters from the library's outputs.
+
+use anyhow::{anyhow, Context, Result};
+use num_complex::Complex32;
+use plotters::prelude::*;
+use std::path::Path;
+use xbandsim::antenna::sinc2_pattern;
+use xbandsim::constants::linear_to_db;
+use xbandsim::echo::EchoGroups;
+use xbandsim::output::write_png;
+use xbandsim::ppi::{colour_image, ScanConverter};
+use xbandsim::scene::{Scene, SceneSpec};
+use xbandsim::sim::Simulation;
+
+const FONT: &str = "sans-serif";
+
+fn plot_err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
+    anyhow!("drawing failed: {e:?}")
+}
+
+/// Registers the embedded DejaVu Sans font with plotters (no system fonts are needed).
+pub fn register_fonts() -> Result<()> {
+    plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular())
+        .map_err(|_| anyhow!("embedded font is invalid"))?;
+    plotters::style::register_font(FONT, FontStyle::Bold, dejavu::sans::bold())
+        .map_err(|_| anyhow!("embedded font is invalid"))?;
     Ok(())
+}
+
+/// Draws with plotters into an RGB buffer and writes it atomically as PNG.
+fn save_rgb(
+    path: &Path,
+    w: u32,
+    h: u32,
+    draw: impl FnOnce(DrawingArea<BitMapBackend, plotters::coord::Shift>) -> Result<()>,
+) -> Result<()> {
+    let mut buf = vec![255u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        draw(root.clone())?;
+        root.present().map_err(plot_err)?;
+    }
+    write_png(path, w, h, 3, &buf)?;
+    Ok(())
+}
+
+/// Runs `xbandsim figures`.
+pub fn run(out: &Path, scene_path: &Path, seed: u64) -> Result<()> {
+    register_fonts()?;
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let spec = crate::render::read_spec(scene_path)?;
+    let scene =
+        Scene::from_spec(&spec).with_context(|| format!("in scene {}", scene_path.display()))?;
+    let t0 = std::time::Instant::now();
+    fig2(out, &scene)?;
+    println!("wrote {}", out.join("fig2_antenna_pattern.png").display());
+    fig3(out, &scene, seed)?;
+    println!("wrote {}", out.join("fig3_signal_chain.png").display());
+    fig4(out, &spec, seed)?;
+    println!("wrote {}", out.join("fig4_ppi_pulse_widths.png").display());
+    println!("figures done in {:.1} s", t0.elapsed().as_secs_f64());
+    Ok(())
+}
+
+/// Fig. 2: one-way and two-way normalised power patterns in azimuth and elevation.
+fn fig2(out: &Path, scene: &Scene) -> Result<()> {
+    let ant = scene.radar.antenna;
+    save_rgb(&out.join("fig2_antenna_pattern.png"), 1200, 500, |root| {
+        root.fill(&WHITE).map_err(plot_err)?;
+        let (left, right) = root.split_horizontally(600);
+        for (area, name, bw_rad, span_deg) in [
+            (left, "Azimuth", ant.az_beamwidth_rad, 15.0),
+            (right, "Elevation", ant.el_beamwidth_rad, 80.0),
+        ] {
+            let mut chart = ChartBuilder::on(&area)
+                .caption(
+                    format!(
+                        "{name} pattern, 3-dB beamwidth {:.1} deg",
+                        bw_rad.to_degrees()
+                    ),
+                    (FONT, 20),
+                )
+                .margin(12)
+                .x_label_area_size(40)
+                .y_label_area_size(55)
+                .build_cartesian_2d(-span_deg..span_deg, -60f64..2f64)
+                .map_err(plot_err)?;
+            chart
+                .configure_mesh()
+                .x_desc("angle off boresight (deg)")
+                .y_desc("normalised power (dB)")
+                .label_style((FONT, 14))
+                .draw()
+                .map_err(plot_err)?;
+            let pts = |power: i32| -> Vec<(f64, f64)> {
+                (0..=2000)
+                    .map(|i| {
+                        let a = -span_deg + 2.0 * span_deg * i as f64 / 2000.0;
+                        let g = sinc2_pattern(a.to_radians(), bw_rad).powi(power);
+                        (a, linear_to_db(g.max(1e-12)).max(-60.0))
+                    })
+                    .collect()
+            };
+            chart
+                .draw_series(LineSeries::new(pts(1), BLUE.stroke_width(2)))
+                .map_err(plot_err)?
+                .label("one-way Gn = sinc^2(2.783 theta/theta3dB)")
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE.stroke_width(2)));
+            chart
+                .draw_series(LineSeries::new(pts(2), RED.stroke_width(2)))
+                .map_err(plot_err)?
+                .label("two-way Gn^2")
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED.stroke_width(2)));
+            for (level, colour) in [(-3.0103, BLACK.mix(0.5)), (-6.0206, BLACK.mix(0.3))] {
+                chart
+                    .draw_series(LineSeries::new(
+                        vec![(-span_deg, level), (span_deg, level)],
+                        colour,
+                    ))
+                    .map_err(plot_err)?;
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::LowerRight)
+                .label_font((FONT, 13))
+                .background_style(WHITE.mix(0.9))
+                .border_style(BLACK)
+                .draw()
+                .map_err(plot_err)?;
+        }
+        Ok(())
+    })
+}
+
+/// Fig. 3: (a) the chirp, (b) echoes from three ranges, (c) the received record with noise,
+/// (d) the matched-filter output — all from the library's signal chain.
+fn fig3(out: &Path, base: &Scene, seed: u64) -> Result<()> {
+    // Three point targets on the north axis, 1 µs pulse, blanking on.
+    let mut text =
+        String::from("[radar]\npulse_width_us = 1.0\nmax_range_m = 900.0\nspokes = 360\n");
+    for (i, (r, rcs)) in [(250.0, 1.0), (450.0, 10.0), (700.0, 30.0)]
+        .iter()
+        .enumerate()
+    {
+        text.push_str(&format!("[[object]]\nname = \"t{i}\"\nshape = \"point\"\nrcs_m2 = {rcs}\nposition_m = [0.0, {r}, 4.0]\n"));
+    }
+    let mut three = Scene::from_toml_str(&text, "fig3")?;
+    three.radar.carrier_freq_hz = base.radar.carrier_freq_hz;
+    three.radar.chirp.bandwidth_hz = base.radar.chirp.bandwidth_hz;
+    three.radar.chirp.sample_rate_hz = base.radar.chirp.sample_rate_hz;
+    three.radar.peak_power_w = base.radar.peak_power_w;
+    three.radar.noise_figure_linear = base.radar.noise_figure_linear;
+    let sim = Simulation::new(three);
+    let set = sim.trace();
+    let raw = sim.raw_spoke(&sim.echo_groups(&set), 0.0, seed, 0, 0);
+    let radar = &sim.scene().radar;
+    let fs = radar.sample_rate_hz();
+    let chirp = radar.chirp;
+    let range_bin_m = radar.range_bin_m();
+    // Per-target echoes, each alone.
+    let per_target: Vec<Vec<Complex32>> = (0..3u32)
+        .map(|k| {
+            let only: Vec<_> = set
+                .contributions
+                .iter()
+                .filter(|c| c.object == k)
+                .cloned()
+                .collect();
+            let subset = xbandsim::scattering::ScatterSet {
+                contributions: only,
+                rays_cast: 0,
+            };
+            let g: EchoGroups = sim.echo_groups(&subset);
+            sim.raw_spoke(&g, 0.0, seed, 0, 0).echo_iq
+        })
+        .collect();
+    save_rgb(&out.join("fig3_signal_chain.png"), 1400, 1000, |root| {
+        root.fill(&WHITE).map_err(plot_err)?;
+        let panels = root.split_evenly((2, 2));
+        // (a) chirp
+        {
+            let s = chirp.samples();
+            let t_us: Vec<f64> = (0..s.len()).map(|i| i as f64 / fs * 1e6).collect();
+            let mut chart = ChartBuilder::on(&panels[0])
+                .caption(
+                    format!(
+                        "(a) transmitted LFM chirp: B = {:.0} MHz, T = {:.1} us",
+                        chirp.bandwidth_hz / 1e6,
+                        chirp.pulse_width_s * 1e6
+                    ),
+                    (FONT, 18),
+                )
+                .margin(12)
+                .x_label_area_size(40)
+                .y_label_area_size(55)
+                .right_y_label_area_size(55)
+                .build_cartesian_2d(0f64..chirp.pulse_width_s * 1e6, -1.2f64..1.2f64)
+                .map_err(plot_err)?
+                .set_secondary_coord(0f64..chirp.pulse_width_s * 1e6, -30f64..30f64);
+            chart
+                .configure_mesh()
+                .x_desc("time (us)")
+                .y_desc("Re s(t)")
+                .label_style((FONT, 13))
+                .draw()
+                .map_err(plot_err)?;
+            chart
+                .configure_secondary_axes()
+                .y_desc("instantaneous frequency (MHz)")
+                .label_style((FONT, 13))
+                .draw()
+                .map_err(plot_err)?;
+            chart
+                .draw_series(LineSeries::new(
+                    t_us.iter().zip(&s).map(|(&t, v)| (t, v.re)),
+                    BLUE,
+                ))
+                .map_err(plot_err)?;
+            chart
+                .draw_secondary_series(LineSeries::new(
+                    t_us.iter()
+                        .map(|&t| (t, chirp.instantaneous_frequency_hz(t * 1e-6) / 1e6)),
+                    RED.stroke_width(2),
+                ))
+                .map_err(plot_err)?;
+        }
+        // (b) echoes
+        {
+            let n = per_target[0].len();
+            let t_max = n as f64 / fs * 1e6;
+            let peak = per_target
+                .iter()
+                .flat_map(|e| e.iter())
+                .map(|c| c.re.abs())
+                .fold(0f32, f32::max) as f64
+                * 1.1;
+            let mut chart = ChartBuilder::on(&panels[1])
+                .caption(
+                    "(b) echoes from 250 m (1 m2), 450 m (10 m2), 700 m (30 m2)",
+                    (FONT, 18),
+                )
+                .margin(12)
+                .x_label_area_size(40)
+                .y_label_area_size(55)
+                .build_cartesian_2d(0f64..t_max, -peak..peak)
+                .map_err(plot_err)?;
+            chart
+                .configure_mesh()
+                .x_desc("time after transmission (us)")
+                .y_desc("Re r(t) / noise rms")
+                .label_style((FONT, 13))
+                .draw()
+                .map_err(plot_err)?;
+            for (e, colour) in per_target.iter().zip([BLUE, GREEN, RED]) {
+                chart
+                    .draw_series(LineSeries::new(
+                        e.iter()
+                            .enumerate()
+                            .map(|(i, v)| (i as f64 / fs * 1e6, v.re as f64)),
+                        colour,
+                    ))
+                    .map_err(plot_err)?;
+            }
+        }
+        // (c) received record with noise
+        {
+            let n = raw.received_iq.len();
+            let peak = raw
+                .received_iq
+                .iter()
+                .map(|c| c.re.abs())
+                .fold(0f32, f32::max) as f64
+                * 1.1;
+            let mut chart = ChartBuilder::on(&panels[2])
+                .caption(
+                    "(c) received: echoes + thermal noise kT0F fs, blanked while transmitting",
+                    (FONT, 18),
+                )
+                .margin(12)
+                .x_label_area_size(40)
+                .y_label_area_size(55)
+                .build_cartesian_2d(0f64..n as f64 / fs * 1e6, -peak..peak)
+                .map_err(plot_err)?;
+            chart
+                .configure_mesh()
+                .x_desc("time after transmission (us)")
+                .y_desc("Re r(t) / noise rms")
+                .label_style((FONT, 13))
+                .draw()
+                .map_err(plot_err)?;
+            chart
+                .draw_series(LineSeries::new(
+                    raw.received_iq
+                        .iter()
+                        .enumerate()
+                        .map(|(i, v)| (i as f64 / fs * 1e6, v.re as f64)),
+                    BLACK.mix(0.7),
+                ))
+                .map_err(plot_err)?;
+        }
+        // (d) matched-filter output
+        {
+            let db: Vec<f64> = raw
+                .compressed
+                .iter()
+                .map(|c| 10.0 * (c.norm_sqr() as f64).max(1e-12).log10())
+                .collect();
+            let top = db.iter().cloned().fold(0.0, f64::max) + 5.0;
+            let mut chart = ChartBuilder::on(&panels[3])
+                .caption(
+                    "(d) matched-filter output (dB over mean noise power)",
+                    (FONT, 18),
+                )
+                .margin(12)
+                .x_label_area_size(40)
+                .y_label_area_size(55)
+                .build_cartesian_2d(0f64..db.len() as f64 * range_bin_m, -20f64..top)
+                .map_err(plot_err)?;
+            chart
+                .configure_mesh()
+                .x_desc("range (m)")
+                .y_desc("power (dB)")
+                .label_style((FONT, 13))
+                .draw()
+                .map_err(plot_err)?;
+            chart
+                .draw_series(LineSeries::new(
+                    db.iter()
+                        .enumerate()
+                        .map(|(j, &v)| (j as f64 * range_bin_m, v.max(-20.0))),
+                    BLUE,
+                ))
+                .map_err(plot_err)?;
+        }
+        Ok(())
+    })
+}
+
+/// Fig. 4: PPIs for 1, 20 and 50 µs pulses; top row as in the paper (receiver not blanked),
+/// bottom row as a real radar (blanked while transmitting, so targets within c·T/2 eclipse).
+fn fig4(out: &Path, spec: &SceneSpec, seed: u64) -> Result<()> {
+    let panel = 400u32;
+    let pulses = [1.0, 20.0, 50.0];
+    let mut images: Vec<(String, Vec<u8>)> = Vec::new();
+    for blanking in [false, true] {
+        for &pw in &pulses {
+            let mut s = spec.clone();
+            s.radar.pulse_width_us = Some(pw);
+            s.radar.receiver_blanking = Some(blanking);
+            s.display.image_size_px = Some(panel);
+            let scene = Scene::from_spec(&s)
+                .with_context(|| format!("fig. 4 scene with pulse_width_us = {pw}"))?;
+            let sim = Simulation::new(scene);
+            let frame = sim.render(seed);
+            let r = &sim.scene().radar;
+            let d = &sim.scene().display;
+            let conv = ScanConverter::new(
+                panel,
+                r.max_range_m,
+                r.spokes,
+                r.num_range_bins(),
+                r.range_bin_m(),
+            );
+            let mut ppi = vec![0f32; (panel * panel) as usize];
+            conv.convert(&frame.polar_db, f32::NAN, &mut ppi);
+            let rgb = colour_image(
+                &conv,
+                &ppi,
+                d.colormap,
+                d.min_db,
+                d.max_db + 20.0 * f64::log10(pw),
+                d.range_ring_spacing_m,
+            );
+            let title = format!(
+                "{pw} us, {}",
+                if blanking {
+                    "blanked (real receiver)"
+                } else {
+                    "not blanked (as in paper)"
+                }
+            );
+            images.push((title, rgb));
+        }
+    }
+    let (w, h) = (panel * 3 + 40, panel * 2 + 120);
+    save_rgb(&out.join("fig4_ppi_pulse_widths.png"), w, h, |root| {
+        root.fill(&WHITE).map_err(plot_err)?;
+        root.draw(&Text::new("PPI vs pulse width (colour scale 0 .. 70 + 20 log10(T/1us) dB over noise; rings every 100 m)", (20, 8), (FONT, 18))).map_err(plot_err)?;
+        for (i, (title, rgb)) in images.iter().enumerate() {
+            let (col, row) = ((i % 3) as u32, (i / 3) as u32);
+            let x0 = 10 + col * (panel + 10);
+            let y0 = 40 + row * (panel + 40);
+            root.draw(&Text::new(
+                title.clone(),
+                (x0 as i32 + 5, y0 as i32),
+                (FONT, 16),
+            ))
+            .map_err(plot_err)?;
+            for y in 0..panel {
+                for x in 0..panel {
+                    let k = ((y * panel + x) * 3) as usize;
+                    root.draw_pixel(
+                        ((x0 + x) as i32, (y0 + 20 + y) as i32),
+                        &RGBColor(rgb[k], rgb[k + 1], rgb[k + 2]),
+                    )
+                    .map_err(plot_err)?;
+                }
+            }
+        }
+        Ok(())
+    })
 }

@@ -3,7 +3,7 @@
 //! polar (spoke, bin) and PPI pixel coordinates.
 
 use crate::constants::linear_to_db;
-use crate::ppi::ScanConverter;
+use crate::ppi::PpiGeometry;
 use crate::scattering::azimuth_elevation_rad;
 use crate::scene::Scene;
 use serde::Serialize;
@@ -79,7 +79,7 @@ pub fn object_truth(
     scene: &Scene,
     rcs_m2: Option<&[f64]>,
     has_returns: &[bool],
-    converter: &ScanConverter,
+    ppi: &PpiGeometry,
 ) -> Vec<ObjectTruth> {
     let radar = &scene.radar;
     let ant = &radar.antenna;
@@ -144,11 +144,11 @@ pub fn object_truth(
             for k in 0..=32 {
                 let a = az - half_az + 2.0 * half_az * k as f64 / 32.0;
                 for g in [g_lo, g_hi] {
-                    let (px, py) = converter.pixel_of(g * a.sin(), g * a.cos());
+                    let (px, py) = ppi.pixel_of(g * a.sin(), g * a.cos());
                     bx = [bx[0].min(px), bx[1].min(py), bx[2].max(px), bx[3].max(py)];
                 }
             }
-            let size = converter.size_px() as f64;
+            let size = ppi.size_px as f64;
             let ppi_box_px = [
                 bx[0].clamp(0.0, size),
                 bx[1].clamp(0.0, size),

@@ -8,12 +8,29 @@
 
 use crate::scene::Colormap;
 
+/// Geometry of a square north-up PPI image: side in pixels and the range at its edge.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PpiGeometry {
+    /// Image side, px.
+    pub size_px: u32,
+    /// Range from the centre to the image edge, m.
+    pub display_range_m: f64,
+}
+
+impl PpiGeometry {
+    /// Pixel coordinates (col, row, fractional) of a point at east/north metres from the radar.
+    pub fn pixel_of(&self, east_m: f64, north_m: f64) -> (f64, f64) {
+        let s = self.size_px as f64;
+        let px_m = 2.0 * self.display_range_m / s;
+        (east_m / px_m + s / 2.0, s / 2.0 - north_m / px_m)
+    }
+}
+
 /// Precomputed mapping from PPI pixels to polar samples.
 #[derive(Debug, Clone)]
 pub struct ScanConverter {
     size_px: u32,
     display_range_m: f64,
-    num_bins: usize,
     /// Per pixel: polar index of the lower bin (u32::MAX outside the display) and the weight
     /// of the upper bin.
     lut: Vec<(u32, f32)>,
@@ -55,7 +72,6 @@ impl ScanConverter {
         ScanConverter {
             size_px,
             display_range_m,
-            num_bins,
             lut,
         }
     }
@@ -74,7 +90,6 @@ impl ScanConverter {
     /// pixels outside the display get `outside`.
     pub fn convert(&self, polar: &[f32], outside: f32, out: &mut [f32]) {
         debug_assert_eq!(out.len(), self.lut.len());
-        let _ = self.num_bins;
         for (o, &(idx, w)) in out.iter_mut().zip(&self.lut) {
             *o = if idx == u32::MAX {
                 outside
@@ -85,11 +100,12 @@ impl ScanConverter {
         }
     }
 
-    /// Pixel coordinates (col, row, fractional) of a point at east/north metres from the radar.
-    pub fn pixel_of(&self, east_m: f64, north_m: f64) -> (f64, f64) {
-        let s = self.size_px as f64;
-        let px_m = 2.0 * self.display_range_m / s;
-        (east_m / px_m + s / 2.0, s / 2.0 - north_m / px_m)
+    /// The image geometry.
+    pub fn geometry(&self) -> PpiGeometry {
+        PpiGeometry {
+            size_px: self.size_px,
+            display_range_m: self.display_range_m,
+        }
     }
 }
 

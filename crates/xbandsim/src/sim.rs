@@ -5,7 +5,7 @@
 use crate::echo::{EchoGroups, FractionalDelayKernel};
 use crate::geometry::Bvh;
 use crate::labels::{object_truth, ObjectTruth};
-use crate::ppi::ScanConverter;
+use crate::ppi::{PpiGeometry, ScanConverter};
 use crate::processing::PulseCompressor;
 use crate::receiver::{fill_unit_noise, stream_rng};
 use crate::scattering::{build_scene_bvh, trace_scene, ScatterSet};
@@ -41,6 +41,17 @@ pub struct FrameStats {
     pub trace_s: f64,
     /// Seconds spent on echoes, noise and matched filtering.
     pub synthesis_s: f64,
+}
+
+/// The raw signals of one pulse, in units of the noise rms voltage `√(k·T0·F·fs)`.
+#[derive(Debug, Clone)]
+pub struct RawSpoke {
+    /// Echoes alone (no noise, no blanking), `record_len` samples from the start of transmission.
+    pub echo_iq: Vec<Complex32>,
+    /// What the receiver records: echoes + noise, zero while transmitting if blanked.
+    pub received_iq: Vec<Complex32>,
+    /// Matched-filter output, one value per range bin.
+    pub compressed: Vec<Complex32>,
 }
 
 /// One rendered revolution.
@@ -141,6 +152,53 @@ impl Simulation {
             .process(scratch, noise, radar.receiver_blanking, in_blanking);
     }
 
+    /// Raw I/Q of one pulse at `beam_az_rad`, formed explicitly in time (echo record, noise,
+    /// blanking, then the matched filter) — the same signals `compress_spoke` forms in the
+    /// frequency domain, kept for figures, raw-IQ users and tests.
+    pub fn raw_spoke(
+        &self,
+        groups: &EchoGroups,
+        beam_az_rad: f64,
+        seed: u64,
+        frame: u64,
+        spoke: u64,
+    ) -> RawSpoke {
+        let radar = &self.scene.radar;
+        let record = self.compressor.record_len();
+        let mut scratch = self.compressor.scratch();
+        groups.accumulate(
+            &radar.antenna,
+            beam_az_rad,
+            0.0,
+            &mut scratch.buffer[..record],
+        );
+        let mut echo = scratch.buffer.clone();
+        self.compressor.synthesize_record(&mut echo, &mut scratch);
+        echo[record..].fill(Complex32::new(0.0, 0.0));
+        let mut received = echo.clone();
+        if self.scene.environment.noise {
+            let mut rng = stream_rng(seed, frame, spoke);
+            fill_unit_noise(&mut rng, &mut scratch.noise[..record]);
+            for (r, n) in received.iter_mut().zip(&scratch.noise[..record]) {
+                *r += n;
+            }
+        }
+        if radar.receiver_blanking {
+            received[..self.compressor.pulse_len()].fill(Complex32::new(0.0, 0.0));
+        }
+        let mut compressed = received.clone();
+        self.compressor
+            .compress_record(&mut compressed, &mut scratch);
+        echo.truncate(record);
+        received.truncate(record);
+        compressed.truncate(self.compressor.num_bins());
+        RawSpoke {
+            echo_iq: echo,
+            received_iq: received,
+            compressed,
+        }
+    }
+
     /// Polar output (spokes × bins, dB over noise) of one revolution from prepared groups.
     pub fn synthesize(&self, groups: &EchoGroups, seed: u64, frame: u64) -> Vec<f32> {
         let radar = &self.scene.radar;
@@ -177,8 +235,16 @@ impl Simulation {
         )
     }
 
+    /// PPI image geometry from the display settings, covering the radar's max range.
+    pub fn ppi_geometry(&self) -> PpiGeometry {
+        PpiGeometry {
+            size_px: self.scene.display.image_size_px,
+            display_range_m: self.scene.radar.max_range_m,
+        }
+    }
+
     /// Ground truth for a traced scene state.
-    pub fn truth(&self, set: &ScatterSet, converter: &ScanConverter) -> Vec<ObjectTruth> {
+    pub fn truth(&self, set: &ScatterSet) -> Vec<ObjectTruth> {
         let n = self.scene.objects.len();
         let mut has_returns = vec![false; n];
         for c in &set.contributions {
@@ -186,7 +252,12 @@ impl Simulation {
         }
         let rcs = (self.scene.scattering.model == ScatteringModel::PhysicalOptics)
             .then(|| set.rcs_per_object_m2(n));
-        object_truth(&self.scene, rcs.as_deref(), &has_returns, converter)
+        object_truth(
+            &self.scene,
+            rcs.as_deref(),
+            &has_returns,
+            &self.ppi_geometry(),
+        )
     }
 
     /// Renders one revolution: trace, group, synthesise every spoke, label.
@@ -198,7 +269,7 @@ impl Simulation {
         let groups = self.echo_groups(&set);
         let polar_db = self.synthesize(&groups, seed, 0);
         let synthesis_s = t1.elapsed().as_secs_f64();
-        let truth = self.truth(&set, &self.scan_converter());
+        let truth = self.truth(&set);
         let radar = &self.scene.radar;
         Frame {
             spokes: radar.spokes,

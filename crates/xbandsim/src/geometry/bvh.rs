@@ -126,13 +126,9 @@ impl Bvh {
         let mut best: Option<Hit> = None;
         let mut stack = [0u32; TRAVERSAL_STACK];
         let mut sp = 0usize;
-        if self.nodes[0]
+        self.nodes[0]
             .bounds
-            .hit_distance(ray.origin_m, inv, t_best)
-            .is_none()
-        {
-            return None;
-        }
+            .hit_distance(ray.origin_m, inv, t_best)?;
         stack[sp] = 0;
         sp += 1;
         while sp > 0 {

@@ -1,0 +1,144 @@
+//! The `xbandsim` binary as a user runs it.
+
+use std::path::Path;
+use std::process::Command;
+
+fn xbandsim() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_xbandsim"));
+    c.current_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."));
+    c
+}
+
+#[test]
+fn render_writes_the_four_outputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = xbandsim()
+        .args([
+            "render",
+            "scenes/paper.toml",
+            "--seed",
+            "3",
+            "--spokes",
+            "720",
+            "--out",
+        ])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("5 objects") && stdout.contains("rays"),
+        "{stdout}"
+    );
+    for f in ["ppi.png", "ppi_gray.png", "polar.npy", "truth.json"] {
+        assert!(dir.path().join(f).is_file(), "{f} missing");
+    }
+    let (shape, data) = xbandsim::output::read_npy_f32(&dir.path().join("polar.npy")).unwrap();
+    assert_eq!(shape[0], 720);
+    assert_eq!(shape[1], 1000 * 2 * 100_000_000 / 299_792_458 + 1);
+    assert!(data.iter().all(|v| v.is_finite()));
+    let truth: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("truth.json")).unwrap()).unwrap();
+    let objects = truth["objects"].as_array().unwrap();
+    assert_eq!(objects.len(), 5);
+    for key in ["name", "class", "position_m", "range_m", "azimuth_deg"] {
+        assert!(
+            objects.iter().all(|o| !o[key].is_null()),
+            "truth lacks {key}"
+        );
+    }
+    // No temporary files are left behind.
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().contains(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty());
+}
+
+#[test]
+fn bad_scene_gives_a_clear_error_and_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("bad.toml");
+    std::fs::write(&scene, "[[object]]\nname = \"buoy\"\nshape = \"cylinder\"\nradius_m = -0.3\nheight_m = 1.0\nposition_m = [0.0, 100.0, 0.0]\n").unwrap();
+    let out_dir = dir.path().join("out");
+    let out = xbandsim()
+        .args(["render"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("object \"buoy\".radius_m") && err.contains("-0.3"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!out_dir.exists(), "output written for a bad scene");
+    let out = xbandsim()
+        .args(["render", "/nonexistent.toml", "--out"])
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent.toml"));
+    let out = xbandsim()
+        .args([
+            "render",
+            "scenes/paper.toml",
+            "--pulse-width-us",
+            "2000",
+            "--out",
+        ])
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&out.stderr).contains("radar.pulse_width_us"));
+}
+
+#[test]
+fn schema_is_json_and_covers_the_format() {
+    let out = xbandsim().arg("schema").output().unwrap();
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let text = v.to_string();
+    for field in [
+        "pulse_width_us",
+        "position_m",
+        "edge_m",
+        "rcs_m2",
+        "range_ring_spacing_m",
+    ] {
+        assert!(text.contains(field), "schema lacks {field}");
+    }
+}
+
+#[test]
+fn figures_are_drawn() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = xbandsim()
+        .args(["figures", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for f in [
+        "fig2_antenna_pattern.png",
+        "fig3_signal_chain.png",
+        "fig4_ppi_pulse_widths.png",
+    ] {
+        let bytes = std::fs::read(dir.path().join(f)).unwrap();
+        assert!(bytes.starts_with(b"\x89PNG") && bytes.len() > 10_000, "{f}");
+    }
+}
