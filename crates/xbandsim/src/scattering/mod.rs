@@ -12,6 +12,7 @@
 
 pub mod paper;
 pub mod po;
+pub mod rcs;
 
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
 use crate::geometry::{Bvh, Primitive};

@@ -25,7 +25,7 @@ use super::{
     ScatterSet,
 };
 use crate::geometry::{Bvh, Ray, ShapeGeometry};
-use crate::scene::{Polarisation, Scene, SceneObject};
+use crate::scene::{Polarisation, Scene};
 use glam::DVec3;
 use num_complex::Complex64;
 use rayon::prelude::*;
@@ -58,11 +58,28 @@ fn sinc(x: f64) -> f64 {
     }
 }
 
-/// A ray grid aimed at one object: origin, grid centre, transverse axes and spacing.
+/// How the object is lit and where the echo is received.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Illumination {
+    /// Spherical wave from the radar phase centre (scene rendering): rays diverge from it and
+    /// each path's length is measured to it exactly.
+    FromPoint {
+        /// Radar phase centre, m.
+        radar_m: DVec3,
+    },
+    /// Plane wave (far-field RCS): parallel rays arriving along `−toward_radar`; path lengths
+    /// are measured from a reference plane perpendicular to it.
+    PlaneWave {
+        /// Unit vector from the object toward the (distant) radar.
+        toward_radar: DVec3,
+    },
+}
+
+/// A grid of square ray tubes covering one object's bounding sphere as seen by the radar.
 #[derive(Debug, Clone, Copy)]
 pub struct TubeGrid {
-    /// Launch point (radar phase centre), m.
-    pub origin_m: DVec3,
+    /// Illumination.
+    pub illumination: Illumination,
     /// Centre of the object's bounding sphere, m.
     pub centre_m: DVec3,
     /// Transverse unit axes of the grid plane.
@@ -75,18 +92,24 @@ pub struct TubeGrid {
     pub cells_per_side: usize,
     /// Bounding radius covered, m.
     pub radius_m: f64,
+    /// Plane-wave mode: the launch/reference plane's point on the axis, m.
+    plane_origin_m: DVec3,
 }
 
 impl TubeGrid {
-    /// Grid over the bounding sphere (`centre_m`, `radius_m`) seen from `origin_m`.
+    /// Grid over the bounding sphere (`centre_m`, `radius_m`) for `illumination`.
     pub fn new(
-        origin_m: DVec3,
+        illumination: Illumination,
         centre_m: DVec3,
         radius_m: f64,
         spacing_m: f64,
         max_rays: usize,
     ) -> TubeGrid {
-        let d = (centre_m - origin_m).normalize();
+        let toward = match illumination {
+            Illumination::FromPoint { radar_m } => (radar_m - centre_m).normalize(),
+            Illumination::PlaneWave { toward_radar } => toward_radar.normalize(),
+        };
+        let d = -toward;
         let mut u = d.cross(DVec3::Z);
         if u.length_squared() < 1e-24 {
             u = DVec3::X;
@@ -103,23 +126,61 @@ impl TubeGrid {
             cells = max_side;
         }
         TubeGrid {
-            origin_m,
+            illumination,
             centre_m,
             axis_u,
             axis_v,
             spacing_m: 2.0 * radius_m / cells as f64,
             cells_per_side: cells,
             radius_m,
+            plane_origin_m: centre_m + toward * (radius_m + 1.0),
         }
     }
 
-    /// Grid point of cell (i, j), if inside the covered disk (with half a cell of margin).
+    /// Grid point of cell (i, j) on the plane through the centre, if inside the covered disk
+    /// (with half a cell of margin).
     #[inline]
     pub fn point(&self, i: usize, j: usize) -> Option<DVec3> {
         let x = (i as f64 + 0.5) * self.spacing_m - self.radius_m;
         let y = (j as f64 + 0.5) * self.spacing_m - self.radius_m;
         let r_max = self.radius_m + 0.71 * self.spacing_m;
         (x * x + y * y <= r_max * r_max).then(|| self.centre_m + self.axis_u * x + self.axis_v * y)
+    }
+
+    /// Launch of tube (i, j): origin, unit direction, the tube's unit transverse axes, and the
+    /// distance at which its side equals `spacing_m` (None for parallel tubes).
+    #[inline]
+    fn launch(&self, i: usize, j: usize) -> Option<(DVec3, DVec3, DVec3, DVec3, Option<f64>)> {
+        let p = self.point(i, j)?;
+        match self.illumination {
+            Illumination::FromPoint { radar_m } => {
+                let to_p = p - radar_m;
+                let r = to_p.length();
+                let k = to_p / r;
+                let eu = (self.axis_u - k * self.axis_u.dot(k)).normalize();
+                Some((radar_m, k, eu, k.cross(eu), Some(r)))
+            }
+            Illumination::PlaneWave { toward_radar } => {
+                let origin = p + (self.plane_origin_m - self.centre_m);
+                Some((origin, -toward_radar, self.axis_u, self.axis_v, None))
+            }
+        }
+    }
+
+    /// Unit vector from `p` back toward the receiver and the distance to it (for a plane
+    /// wave, to the reference plane).
+    #[inline]
+    fn return_path(&self, p: DVec3) -> (DVec3, f64) {
+        match self.illumination {
+            Illumination::FromPoint { radar_m } => {
+                let v = radar_m - p;
+                let d = v.length();
+                (v / d, d)
+            }
+            Illumination::PlaneWave { toward_radar } => {
+                (toward_radar, (self.plane_origin_m - p).dot(toward_radar))
+            }
+        }
     }
 }
 
@@ -147,17 +208,17 @@ pub struct TubeReturn {
     pub path_m: f64,
     /// Unit direction of the first segment.
     pub tx_dir: DVec3,
-    /// Unit direction from the radar to the last hit.
+    /// Unit direction from the receiver to the last hit.
     pub rx_dir: DVec3,
-    /// Radar to first hit, m.
+    /// Launch to first hit, m.
     pub range_tx_m: f64,
-    /// Last hit to radar, m.
+    /// Last hit back to the receiver, m.
     pub range_rx_m: f64,
     /// Bounces.
     pub bounces: u8,
 }
 
-/// Traces one tube of the grid aimed at `target` and pushes its returns into `out`.
+/// Traces tube (i, j) of `grid` aimed at object `target` and pushes its returns into `out`.
 /// Returns the number of rays cast.
 pub fn trace_tube(
     bvh: &Bvh,
@@ -168,18 +229,13 @@ pub fn trace_tube(
     s: &SbrSettings,
     out: &mut Vec<TubeReturn>,
 ) -> u64 {
-    let Some(p) = grid.point(i, j) else { return 0 };
-    let radar = grid.origin_m;
-    let to_p = p - radar;
-    let r_grid = to_p.length();
-    let k0 = to_p / r_grid;
+    let Some((launch, k0, eu0, ev0, spread_ref_m)) = grid.launch(i, j) else {
+        return 0;
+    };
     let wavenumber = std::f64::consts::TAU / s.wavelength_m;
     let root_4pi_over_lambda = (4.0 * std::f64::consts::PI).sqrt() / s.wavelength_m;
-    // Tube edges perpendicular to the ray (at the grid plane).
-    let eu0 = (grid.axis_u - k0 * grid.axis_u.dot(k0)).normalize();
-    let ev0 = k0.cross(eu0);
     let mut e_field = polarisation_vector(k0, s.polarisation);
-    let mut origin = radar;
+    let mut origin = launch;
     let mut k = k0;
     let mut path_m = 0.0;
     let mut range_tx_m = 0.0;
@@ -202,9 +258,9 @@ pub fn trace_tube(
                 break; // shadowed by another object, which traces its own tubes
             }
             range_tx_m = hit.t_m;
-            let scale = s.spacing_m * hit.t_m / r_grid;
-            edge_u = eu0 * scale;
-            edge_v = ev0 * scale;
+            let side = spread_ref_m.map_or(s.spacing_m, |r| s.spacing_m * hit.t_m / r);
+            edge_u = eu0 * side;
+            edge_v = ev0 * side;
         }
         let hit_p = origin + k * hit.t_m;
         path_m += hit.t_m;
@@ -216,9 +272,7 @@ pub fn trace_tube(
         let n_dot_k = n.dot(k); // < 0
         let k_r = k - n * (2.0 * n_dot_k);
         let e_r = n * (2.0 * n.dot(e_field)) - e_field;
-        let to_radar = radar - hit_p;
-        let range_rx_m = to_radar.length();
-        let s_hat = to_radar / range_rx_m;
+        let (s_hat, range_rx_m) = grid.return_path(hit_p);
         let n_dot_s = n.dot(s_hat);
         if n_dot_s > 0.0 && n_dot_k.abs() > 1e-9 {
             let visible = bounce == 1 || {
@@ -265,33 +319,17 @@ pub fn trace_tube(
     rays
 }
 
-/// SBR settings of a scene.
-pub fn settings_for(scene: &Scene) -> SbrSettings {
-    let lambda = scene.radar.wavelength_m();
-    SbrSettings {
-        wavelength_m: lambda,
-        polarisation: scene.radar.polarisation,
-        max_bounces: scene.scattering.max_bounces,
-        spacing_m: scene.scattering.ray_spacing_wavelengths * lambda,
-        max_rays: scene.scattering.max_rays_per_object,
-    }
-}
-
-/// All returns of one object (rows traced in parallel, collected in order).
+/// All returns of one object lit by `illumination` (rows traced in parallel, collected in
+/// order so the result does not depend on the thread count).
 pub fn trace_object(
     bvh: &Bvh,
-    origin_m: DVec3,
-    object: &SceneObject,
+    illumination: Illumination,
+    centre_m: DVec3,
+    radius_m: f64,
     index: u32,
     s: &SbrSettings,
 ) -> (Vec<TubeReturn>, u64) {
-    let grid = TubeGrid::new(
-        origin_m,
-        object.bounding_centre_m(),
-        object.shape.bounding_radius_m(),
-        s.spacing_m,
-        s.max_rays,
-    );
+    let grid = TubeGrid::new(illumination, centre_m, radius_m, s.spacing_m, s.max_rays);
     let rows: Vec<(Vec<TubeReturn>, u64)> = (0..grid.cells_per_side)
         .into_par_iter()
         .map(|j| {
@@ -306,6 +344,43 @@ pub fn trace_object(
     let rays = rows.iter().map(|r| r.1).sum();
     let returns = rows.into_iter().flat_map(|r| r.0).collect();
     (returns, rays)
+}
+
+/// Monostatic RCS of everything in `bvh` tagged `index`, lit by a plane wave from
+/// `toward_radar` (unit, object → radar): `σ = |Σ S|²`, m².
+pub fn plane_wave_rcs_m2(
+    bvh: &Bvh,
+    toward_radar: DVec3,
+    centre_m: DVec3,
+    radius_m: f64,
+    index: u32,
+    s: &SbrSettings,
+) -> f64 {
+    let (returns, _) = trace_object(
+        bvh,
+        Illumination::PlaneWave { toward_radar },
+        centre_m,
+        radius_m,
+        index,
+        s,
+    );
+    returns
+        .iter()
+        .map(|r| r.root_rcs_m)
+        .sum::<Complex64>()
+        .norm_sqr()
+}
+
+/// SBR settings of a scene.
+pub fn settings_for(scene: &Scene) -> SbrSettings {
+    let lambda = scene.radar.wavelength_m();
+    SbrSettings {
+        wavelength_m: lambda,
+        polarisation: scene.radar.polarisation,
+        max_bounces: scene.scattering.max_bounces,
+        spacing_m: scene.scattering.ray_spacing_wavelengths * lambda,
+        max_rays: scene.scattering.max_rays_per_object,
+    }
 }
 
 /// Traces every object of the scene with SBR/PO and converts to volts.
@@ -345,7 +420,17 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
             });
             continue;
         }
-        let (returns, rays) = trace_object(bvh, radar.position_m, obj, index, &s);
+        let illumination = Illumination::FromPoint {
+            radar_m: radar.position_m,
+        };
+        let (returns, rays) = trace_object(
+            bvh,
+            illumination,
+            obj.bounding_centre_m(),
+            obj.shape.bounding_radius_m(),
+            index,
+            &s,
+        );
         set.rays_cast += rays;
         set.contributions.extend(returns.iter().map(|r| {
             let (az_tx, el_tx) = azimuth_elevation_rad(r.tx_dir);
