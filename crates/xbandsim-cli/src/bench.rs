@@ -83,7 +83,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     let mut rows: Vec<Row> = Vec::new();
     let mut put = |name: &str, value: f64, unit: &str| {
         if !a.json {
-            println!("{name:<62} {value:>12.3} {unit}");
+            crate::say!("{name:<62} {value:>12.3} {unit}");
         }
         rows.push(Row {
             name: name.into(),
@@ -93,7 +93,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     };
     let threads = rayon::current_num_threads();
     if !a.json {
-        println!(
+        crate::say!(
             "xbandsim bench: scene {}, {threads} threads, median of {} runs",
             a.scene.display(),
             a.repeats
@@ -194,7 +194,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         put("peak resident memory (whole bench process)", mb, "MB");
     }
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&rows)?);
+        crate::say!("{}", serde_json::to_string_pretty(&rows)?);
     }
     Ok(())
 }

@@ -54,12 +54,12 @@ pub fn run(out: &Path, scene_path: &Path, seed: u64) -> Result<()> {
         Scene::from_spec(&spec).with_context(|| format!("in scene {}", scene_path.display()))?;
     let t0 = std::time::Instant::now();
     fig2(out, &scene)?;
-    println!("wrote {}", out.join("fig2_antenna_pattern.png").display());
+    crate::say!("wrote {}", out.join("fig2_antenna_pattern.png").display());
     fig3(out, &scene, seed)?;
-    println!("wrote {}", out.join("fig3_signal_chain.png").display());
+    crate::say!("wrote {}", out.join("fig3_signal_chain.png").display());
     fig4(out, &spec, seed)?;
-    println!("wrote {}", out.join("fig4_ppi_pulse_widths.png").display());
-    println!("figures done in {:.1} s", t0.elapsed().as_secs_f64());
+    crate::say!("wrote {}", out.join("fig4_ppi_pulse_widths.png").display());
+    crate::say!("figures done in {:.1} s", t0.elapsed().as_secs_f64());
     Ok(())
 }
 

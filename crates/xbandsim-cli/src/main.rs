@@ -1,9 +1,25 @@
 //! `xbandsim`: the command-line front end. It parses arguments, calls the library and turns
 //! library errors into messages; the physics lives in the `xbandsim` crate.
 
+/// `println!` that ends the program quietly when stdout is closed (`xbandsim ... | head`).
+#[macro_export]
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let mut out = std::io::stdout().lock();
+        if let Err(e) = writeln!(out, $($arg)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+        }
+    }};
+}
+
 mod bench;
 mod figures;
+mod rcs;
 mod render;
+mod validate;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -40,6 +56,14 @@ enum Command {
     },
     /// Measure ray-casting throughput, frame time and peak memory.
     Bench(bench::BenchArgs),
+    /// Monostatic RCS of one object versus aspect, alone in free space.
+    Rcs(rcs::RcsArgs),
+    /// Run the physics checks against closed forms and print expected, measured, tolerance.
+    Validate {
+        /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 fn main() -> ExitCode {
@@ -48,7 +72,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render::run(&args),
         Command::Schema => {
             let schema = schemars::schema_for!(xbandsim::scene::SceneSpec);
-            println!(
+            say!(
                 "{}",
                 serde_json::to_string_pretty(&schema).unwrap_or_default()
             );
@@ -56,6 +80,8 @@ fn main() -> ExitCode {
         }
         Command::Figures { out, scene, seed } => figures::run(&out, &scene, seed),
         Command::Bench(args) => bench::run(&args),
+        Command::Rcs(args) => rcs::run(&args),
+        Command::Validate { json } => validate::run(json),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

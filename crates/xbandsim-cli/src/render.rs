@@ -165,7 +165,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     let frame = sim.render(a.seed);
     write_frame(&sim, &frame, &a.out, &a.scene.display().to_string(), a.seed)?;
     let s = &frame.stats;
-    println!(
+    crate::say!(
         "rendered {}: {} objects, {} rays, {} contributions, {} spokes x {} bins, trace {:.1} ms, echoes+filter {:.1} ms, total {:.2} s -> {}",
         a.scene.display(),
         sim.scene().objects.len(),

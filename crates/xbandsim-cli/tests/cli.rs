@@ -142,3 +142,58 @@ fn figures_are_drawn() {
         assert!(bytes.starts_with(b"\x89PNG") && bytes.len() > 10_000, "{f}");
     }
 }
+
+#[test]
+fn rcs_prints_json_and_plots() {
+    let dir = tempfile::tempdir().unwrap();
+    let plot = dir.path().join("rcs.png");
+    let out = xbandsim()
+        .args([
+            "rcs",
+            "scenes/paper.toml",
+            "--object",
+            "reflector-1",
+            "--az-deg",
+            "-10:10:5",
+            "--json",
+            "--plot",
+        ])
+        .arg(&plot)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = rows.as_array().unwrap();
+    assert_eq!(rows.len(), 5);
+    // Trihedral a = 0.5 m at 9.41 GHz: 4πa⁴/(3λ²) = 24.1 dBsm on its axis.
+    let on_axis = rows[2]["rcs_dbsm"].as_f64().unwrap();
+    assert!((on_axis - 24.1).abs() < 1.5, "{on_axis}");
+    for key in ["az_deg", "el_deg", "rcs_m2", "rcs_dbsm"] {
+        assert!(rows[0][key].is_number());
+    }
+    assert!(std::fs::read(&plot).unwrap().starts_with(b"\x89PNG"));
+    let out = xbandsim()
+        .args(["rcs", "scenes/paper.toml", "--object", "nope"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("reflector-1"));
+}
+
+#[test]
+fn validate_passes_and_prints_a_table() {
+    let out = xbandsim().args(["validate"]).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("expected") && stdout.contains("measured") && stdout.contains("tolerance")
+    );
+    assert!(stdout.contains("0 failed"));
+}

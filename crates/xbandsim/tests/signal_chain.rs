@@ -29,25 +29,11 @@ fn point_target_lands_in_range_bin() {
     }
 }
 
-fn fine_profile(window: &str, pulse_us: f64) -> (Vec<f32>, f64) {
-    // 800 MHz sampling: 0.187 m bins, so the 2.66 m response spans ~14 bins.
-    let fs_mhz = 800.0;
-    // Beyond c·T/2 (1.5 km for 10 us) so that the whole chirp is received.
-    let range = bin_range_m(12000.0, fs_mhz * 1e6);
-    let text = format!(
-        "{}[environment]\nnoise = false\n{}",
-        radar_block(&format!("sample_rate_mhz = {fs_mhz}\npulse_width_us = {pulse_us}\nwindow = \"{window}\"\nmax_range_m = 2400.0\nspokes = 90")),
-        point_north("p", range, 1.0)
-    );
-    let (_, frame) = render(&text, 1);
-    (spoke(&frame, 0).to_vec(), frame.range_bin_m)
-}
-
 /// 3-dB width 0.886/B (±3 %) and first null at 1/B, i.e. c/2B in range (±3 %), unweighted
 /// (Richards 2014, Table 4.1 / §4.6.2).
 #[test]
 fn compressed_resolution_and_irw() {
-    let (p, bin_m) = fine_profile("none", 10.0);
+    let (p, bin_m) = fine_profile("none");
     let (peak, _) = argmax(&p);
     let irw_m = width_at_db(&p, peak, 3.0103) * bin_m;
     let b = 50e6;
@@ -57,12 +43,7 @@ fn compressed_resolution_and_irw() {
         (irw_m / expected_irw_m - 1.0).abs() < 0.03,
         "IRW {irw_m:.3} m vs {expected_irw_m:.3} m"
     );
-    // First null: the first local minimum right of the peak.
-    let mut j = peak + 1;
-    while p[j + 1] < p[j] {
-        j += 1;
-    }
-    let null_m = (j - peak) as f64 * bin_m;
+    let null_m = first_null_bins(&p, peak) as f64 * bin_m;
     let expected_null_m = c / (2.0 * b);
     assert!(
         (null_m / expected_null_m - 1.0).abs() < 0.03 + bin_m / expected_null_m,
@@ -70,37 +51,18 @@ fn compressed_resolution_and_irw() {
     );
 }
 
-fn pslr_db(p: &[f32]) -> f32 {
-    let (peak, pv) = argmax(p);
-    // Walk to the first nulls on both sides, then take the largest value outside.
-    let mut r = peak + 1;
-    while r + 1 < p.len() && p[r + 1] < p[r] {
-        r += 1;
-    }
-    let mut l = peak - 1;
-    while l > 0 && p[l - 1] < p[l] {
-        l -= 1;
-    }
-    let side = p[..l]
-        .iter()
-        .chain(&p[r..])
-        .cloned()
-        .fold(f32::MIN, f32::max);
-    side - pv
-}
-
 /// Peak sidelobe level: −13.26 dB unweighted (±0.5 dB); Hamming ≤ −40 dB (theory −42.7 dB);
 /// Taylor n̄=4/−35 dB at −35 dB (±1.5 dB). For large B·T the compressed LFM response is the
 /// transform of the window (Cook & Bernfeld, *Radar Signals*, 1967, ch. 7).
 #[test]
 fn peak_sidelobe_levels() {
-    let (p, _) = fine_profile("none", 10.0);
+    let (p, _) = fine_profile("none");
     let pslr = pslr_db(&p);
     assert!((pslr + 13.26).abs() < 0.5, "unweighted PSLR {pslr}");
-    let (p, _) = fine_profile("hamming", 10.0);
+    let (p, _) = fine_profile("hamming");
     let pslr = pslr_db(&p);
     assert!(pslr < -40.0, "Hamming PSLR {pslr}");
-    let (p, _) = fine_profile("taylor", 10.0);
+    let (p, _) = fine_profile("taylor");
     let pslr = pslr_db(&p);
     assert!((pslr + 35.0).abs() < 1.5, "Taylor PSLR {pslr}");
 }
@@ -352,4 +314,20 @@ fn raw_spoke_matches_fast_path() {
             assert!((a - b).norm() < 1e-3 * peak, "bin {j}: {a} vs {b}");
         }
     }
+}
+
+/// `xbandsim validate`'s checks all pass (the same library code the CLI prints).
+#[test]
+fn validation_checks_all_pass() {
+    let failed: Vec<String> = xbandsim::validation::run_all()
+        .into_iter()
+        .filter(|r| !r.pass)
+        .map(|r| {
+            format!(
+                "{}: expected {} measured {}",
+                r.name, r.expected, r.measured
+            )
+        })
+        .collect();
+    assert!(failed.is_empty(), "{failed:#?}");
 }

@@ -1,0 +1,533 @@
+//! Physics checks of the whole pipeline against closed forms (DESIGN.md §5), run by
+//! `xbandsim validate` and by the test suite. Each check builds a scene, runs the real
+//! pipeline (scattering → echoes → noise → matched filter → polar output, or the RCS tool)
+//! and compares one measured number with its closed form. docs/validation.md lists sources.
+
+use crate::antenna::{sinc2_pattern, uniform_aperture_gain, SINC_BEAMWIDTH_FACTOR};
+use crate::constants::{linear_to_db, wavelength_m, SPEED_OF_LIGHT_M_PER_S};
+use crate::scattering::rcs::{RcsSettings, RcsTarget};
+use crate::scene::{Polarisation, Scene};
+use crate::sim::{Frame, Simulation};
+use serde::Serialize;
+use std::f64::consts::PI;
+
+/// How far a measurement may be from its expected value.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(tag = "kind", content = "value", rename_all = "snake_case")]
+pub enum Tolerance {
+    /// |measured − expected| ≤ value.
+    Absolute(f64),
+    /// |measured/expected − 1| ≤ value.
+    Relative(f64),
+    /// measured ≤ value (expected is the theoretical figure).
+    AtMost(f64),
+    /// measured ≥ value.
+    AtLeast(f64),
+}
+
+impl Tolerance {
+    /// Whether `measured` is acceptable against `expected`.
+    pub fn accepts(&self, expected: f64, measured: f64) -> bool {
+        if !measured.is_finite() {
+            return false;
+        }
+        match *self {
+            Tolerance::Absolute(t) => (measured - expected).abs() <= t,
+            Tolerance::Relative(t) => (measured / expected - 1.0).abs() <= t,
+            Tolerance::AtMost(t) => measured <= t,
+            Tolerance::AtLeast(t) => measured >= t,
+        }
+    }
+
+    /// Human-readable form, with `unit`.
+    pub fn describe(&self, unit: &str) -> String {
+        match *self {
+            Tolerance::Absolute(t) => format!("±{t} {unit}"),
+            Tolerance::Relative(t) => format!("±{}%", t * 100.0),
+            Tolerance::AtMost(t) => format!("≤ {t} {unit}"),
+            Tolerance::AtLeast(t) => format!("≥ {t} {unit}"),
+        }
+    }
+}
+
+/// The outcome of one check.
+#[derive(Debug, Clone, Serialize)]
+pub struct CheckResult {
+    /// What is checked.
+    pub name: String,
+    /// Closed-form value.
+    pub expected: f64,
+    /// Value measured through the pipeline.
+    pub measured: f64,
+    /// Unit of both.
+    pub unit: String,
+    /// Allowed deviation.
+    pub tolerance: Tolerance,
+    /// Whether it passed.
+    pub pass: bool,
+    /// Source of the closed form.
+    pub source: String,
+}
+
+fn check(
+    name: &str,
+    expected: f64,
+    measured: f64,
+    unit: &str,
+    tolerance: Tolerance,
+    source: &str,
+) -> CheckResult {
+    CheckResult {
+        name: name.into(),
+        expected,
+        measured,
+        unit: unit.into(),
+        pass: tolerance.accepts(expected, measured),
+        tolerance,
+        source: source.into(),
+    }
+}
+
+/// A `[radar]` block on the drs4d-nxt preset at 4 m with extra lines.
+pub fn radar_block(extra: &str) -> String {
+    format!("[radar]\npreset = \"drs4d-nxt\"\nposition_m = [0.0, 0.0, 4.0]\n{extra}\n")
+}
+
+/// A point object at `range_m` due north at the radar's height.
+pub fn point_north(name: &str, range_m: f64, rcs_m2: f64) -> String {
+    format!("[[object]]\nname = \"{name}\"\nshape = \"point\"\nrcs_m2 = {rcs_m2}\nposition_m = [0.0, {range_m}, 4.0]\n")
+}
+
+/// Range of bin `j` for sample rate `fs`, m.
+pub fn bin_range_m(j: f64, sample_rate_hz: f64) -> f64 {
+    j * SPEED_OF_LIGHT_M_PER_S / (2.0 * sample_rate_hz)
+}
+
+/// Renders scene TOML (which must be valid: validation scenes are built here).
+pub fn render_text(text: &str, seed: u64) -> (Simulation, Frame) {
+    let scene = Scene::from_toml_str(text, "validation").expect("validation scene is valid");
+    let sim = Simulation::new(scene);
+    let frame = sim.render(seed);
+    (sim, frame)
+}
+
+/// Row `k` of a frame's polar output.
+pub fn spoke(frame: &Frame, k: usize) -> &[f32] {
+    &frame.polar_db[k * frame.range_bins..(k + 1) * frame.range_bins]
+}
+
+/// Index and value of the largest element.
+pub fn argmax(v: &[f32]) -> (usize, f32) {
+    v.iter().enumerate().fold(
+        (0, f32::MIN),
+        |(bi, bv), (i, &x)| if x > bv { (i, x) } else { (bi, bv) },
+    )
+}
+
+/// Width of the peak at `peak` where it is `below_db` down, in bins (linear interpolation).
+pub fn width_at_db(profile: &[f32], peak: usize, below_db: f32) -> f64 {
+    let level = profile[peak] - below_db;
+    let (mut l, mut r) = (peak, peak);
+    while l > 1 && profile[l - 1] > level {
+        l -= 1;
+    }
+    while r + 2 < profile.len() && profile[r + 1] > level {
+        r += 1;
+    }
+    let left = (l - 1) as f64 + ((level - profile[l - 1]) / (profile[l] - profile[l - 1])) as f64;
+    let right = r as f64 + ((profile[r] - level) / (profile[r] - profile[r + 1])) as f64;
+    right - left
+}
+
+/// Distance from the peak to the first local minimum on its right, bins.
+pub fn first_null_bins(profile: &[f32], peak: usize) -> usize {
+    let mut j = peak + 1;
+    while j + 1 < profile.len() && profile[j + 1] < profile[j] {
+        j += 1;
+    }
+    j - peak
+}
+
+/// Peak sidelobe level of a compressed profile, dB (largest value outside the main lobe's
+/// first nulls, relative to the peak).
+pub fn pslr_db(p: &[f32]) -> f32 {
+    let (peak, pv) = argmax(p);
+    let r = peak + first_null_bins(p, peak);
+    let mut l = peak.saturating_sub(1);
+    while l > 0 && p[l - 1] < p[l] {
+        l -= 1;
+    }
+    let side = p[..l]
+        .iter()
+        .chain(&p[r..])
+        .cloned()
+        .fold(f32::MIN, f32::max);
+    side - pv
+}
+
+/// A noise-free compressed profile of a 1 m² point target beyond c·T/2, finely sampled
+/// (800 MHz: 0.19 m bins), with `window` and a 10 µs pulse (B·T = 500): (profile, bin m).
+pub fn fine_profile(window: &str) -> (Vec<f32>, f64) {
+    let fs_mhz = 800.0;
+    let range = bin_range_m(12000.0, fs_mhz * 1e6);
+    let text = format!(
+        "{}[environment]\nnoise = false\n{}",
+        radar_block(&format!("sample_rate_mhz = {fs_mhz}\npulse_width_us = 10.0\nwindow = \"{window}\"\nmax_range_m = 2400.0\nspokes = 90")),
+        point_north("p", range, 1.0)
+    );
+    let (_, frame) = render_text(&text, 1);
+    (spoke(&frame, 0).to_vec(), frame.range_bin_m)
+}
+
+/// Measured peak over noise minus the radar equation (with window loss), dB, for a 10⁴ m²
+/// point target at 8.1 km on a bin centre.
+pub fn snr_error_db(window: &str, pulse_us: f64, seed: u64) -> (f64, f64) {
+    let range_m = bin_range_m(5400.0, 100e6);
+    let text = format!(
+        "{}{}",
+        radar_block(&format!(
+            "window = \"{window}\"\npulse_width_us = {pulse_us}\nmax_range_m = 9000.0"
+        )),
+        point_north("p", range_m, 1e4)
+    );
+    let (sim, frame) = render_text(&text, seed);
+    let radar = &sim.scene().radar;
+    let expected = linear_to_db(
+        radar.point_target_snr(1e4, range_m)
+            * radar.window.snr_loss_linear(radar.chirp.num_samples()),
+    );
+    let (_, measured) = argmax(&spoke(&frame, 0)[5300..5500]);
+    (expected, measured as f64)
+}
+
+/// Mean noise power over all spokes past the blanked interval, dB.
+pub fn noise_mean_db(seed: u64) -> f64 {
+    let (sim, frame) = render_text(&radar_block("max_range_m = 1500.0"), seed);
+    let start = sim.compressor().pulse_len() + 2;
+    let (mut sum, mut n) = (0.0, 0usize);
+    for k in 0..frame.spokes {
+        for &d in &spoke(&frame, k)[start..] {
+            sum += 10f64.powf(d as f64 / 10.0);
+            n += 1;
+        }
+    }
+    linear_to_db(sum / n as f64)
+}
+
+/// Peak (dB) of a noise-free 1 m² point target at range bin `bin` with a 2 µs pulse.
+pub fn eclipse_peak_db(bin: f64, blanking: bool) -> f32 {
+    let fs = 100e6;
+    let range_m = bin_range_m(bin, fs);
+    let text = format!(
+        "{}[environment]\nnoise = false\n{}",
+        radar_block(&format!(
+            "pulse_width_us = 2.0\nmax_range_m = 600.0\nreceiver_blanking = {blanking}"
+        )),
+        point_north("p", range_m, 1.0)
+    );
+    let (_, frame) = render_text(&text, 1);
+    let j = bin.round() as usize;
+    spoke(&frame, 0)[j - 2..=j + 2]
+        .iter()
+        .cloned()
+        .fold(f32::MIN, f32::max)
+}
+
+/// Peak (dB) of a noise-free point target at 900 m, `az_deg` off spoke 0.
+pub fn off_axis_peak_db(az_deg: f64) -> f64 {
+    let range_m = bin_range_m(600.0, 100e6);
+    let (x, y) = (
+        range_m * az_deg.to_radians().sin(),
+        range_m * az_deg.to_radians().cos(),
+    );
+    let text = format!("{}[environment]\nnoise = false\n[[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 100.0\nposition_m = [{x}, {y}, 4.0]\n", radar_block("spokes = 360\nmax_range_m = 1200.0"));
+    let (_, frame) = render_text(&text, 1);
+    argmax(spoke(&frame, 0)).1 as f64
+}
+
+/// RCS of a shape (TOML fields) at an aspect, m².
+pub fn shape_rcs_m2(
+    fields: &str,
+    az_rad: f64,
+    el_rad: f64,
+    freq_hz: f64,
+    pol: Polarisation,
+) -> f64 {
+    let text = format!("[[object]]\nname = \"t\"\n{fields}\nposition_m = [0.0, 100.0, 0.0]\n");
+    let scene = Scene::from_toml_str(&text, "validation").expect("validation shape is valid");
+    let t = RcsTarget::new(&scene.objects[0]);
+    t.rcs_m2(
+        az_rad,
+        el_rad,
+        &RcsSettings {
+            freq_hz,
+            polarisation: pol,
+            ray_spacing_wavelengths: 0.25,
+            max_rays: 1 << 20,
+            max_bounces: 3,
+        },
+    )
+}
+
+/// Runs every check.
+pub fn run_all() -> Vec<CheckResult> {
+    let mut out = Vec::new();
+    let c = SPEED_OF_LIGHT_M_PER_S;
+    let b = 50e6;
+    let f0 = 9.41e9;
+    let lambda = wavelength_m(f0);
+    const RICHARDS: &str = "Richards, Fundamentals of Radar Signal Processing, 2nd ed., §4.6";
+    const SKOLNIK: &str = "Skolnik, Introduction to Radar Systems, 3rd ed., eq. 2.51";
+    const KNOTT: &str = "Knott, Shaeffer & Tuley, Radar Cross Section, 2nd ed., Table 5.1";
+    const BALANIS: &str = "Balanis, Antenna Theory, 4th ed., §12.5";
+
+    // Range bin of a point target.
+    let range_m = 777.7;
+    let text = format!(
+        "{}[environment]\nnoise = false\n{}",
+        radar_block("max_range_m = 1500.0"),
+        point_north("p", range_m, 10.0)
+    );
+    let (sim, frame) = render_text(&text, 1);
+    let expected_bin = 2.0 * range_m / c * sim.scene().radar.sample_rate_hz();
+    out.push(check(
+        "point target range bin (777.7 m)",
+        expected_bin,
+        argmax(spoke(&frame, 0)).0 as f64,
+        "bin",
+        Tolerance::Absolute(0.5),
+        "τ = 2R/c, bin = τ·fs",
+    ));
+
+    // Compressed pulse: IRW, first null, PSLR.
+    let (p, bin_m) = fine_profile("none");
+    let (peak, _) = argmax(&p);
+    out.push(check(
+        "3-dB width 0.886·c/2B (B = 50 MHz)",
+        0.886 * c / (2.0 * b),
+        width_at_db(&p, peak, 3.0103) * bin_m,
+        "m",
+        Tolerance::Relative(0.03),
+        RICHARDS,
+    ));
+    out.push(check(
+        "first null at c/2B",
+        c / (2.0 * b),
+        first_null_bins(&p, peak) as f64 * bin_m,
+        "m",
+        Tolerance::Relative(0.03 + bin_m / (c / (2.0 * b))),
+        RICHARDS,
+    ));
+    out.push(check(
+        "PSLR, no window",
+        -13.26,
+        pslr_db(&p) as f64,
+        "dB",
+        Tolerance::Absolute(0.5),
+        RICHARDS,
+    ));
+    let (p, _) = fine_profile("hamming");
+    out.push(check(
+        "PSLR, Hamming (window transform −42.7 dB)",
+        -42.7,
+        pslr_db(&p) as f64,
+        "dB",
+        Tolerance::AtMost(-40.0),
+        "Harris, Proc. IEEE 66(1), 1978",
+    ));
+    let (p, _) = fine_profile("taylor");
+    out.push(check(
+        "PSLR, Taylor n̄=4, −35 dB",
+        -35.0,
+        pslr_db(&p) as f64,
+        "dB",
+        Tolerance::Absolute(1.5),
+        "Carrara et al., Spotlight SAR, App. D",
+    ));
+
+    // Noise and SNR.
+    out.push(check(
+        "noise floor k·T0·F·fs (mean over noise)",
+        0.0,
+        noise_mean_db(7),
+        "dB",
+        Tolerance::Absolute(0.1),
+        "Skolnik, Radar Handbook, 3rd ed., §2.3",
+    ));
+    for (w, t) in [("none", 1.0), ("hamming", 1.0), ("taylor", 5.0)] {
+        let (e, m) = snr_error_db(w, t, 3);
+        out.push(check(
+            &format!("single-pulse SNR = radar equation ({w}, {t} us, 10⁴ m², 8.1 km)"),
+            e,
+            m,
+            "dB",
+            Tolerance::Absolute(0.5),
+            SKOLNIK,
+        ));
+    }
+
+    // Eclipsing: τ = T/2 keeps half the chirp → −6.02 dB.
+    let half = eclipse_peak_db(100.0, true) - eclipse_peak_db(100.0, false);
+    out.push(check(
+        "eclipsing loss at τ = T/2: 20·log10(τ/T)",
+        -6.02,
+        half as f64,
+        "dB",
+        Tolerance::Absolute(1.0),
+        "blanking while transmitting (PHYSICS-NOTES §1)",
+    ));
+
+    // Antenna.
+    let bw = 3.9f64.to_radians();
+    out.push(check(
+        "antenna −3 dB at θ3dB/2",
+        -3.0103,
+        linear_to_db(sinc2_pattern(bw / 2.0, bw)),
+        "dB",
+        Tolerance::Absolute(0.01),
+        BALANIS,
+    ));
+    let null = PI * bw / SINC_BEAMWIDTH_FACTOR;
+    let sl = (0..=2000)
+        .map(|i| sinc2_pattern(null * (1.0 + i as f64 / 2000.0), bw))
+        .fold(0.0, f64::max);
+    out.push(check(
+        "antenna first sidelobe",
+        -13.26,
+        linear_to_db(sl),
+        "dB",
+        Tolerance::Absolute(0.02),
+        BALANIS,
+    ));
+    out.push(check(
+        "peak gain 4π·0.8859²/(θaz·θel), 3.9°×25°",
+        25.2,
+        linear_to_db(uniform_aperture_gain(bw, 25f64.to_radians())),
+        "dBi",
+        Tolerance::Absolute(0.05),
+        BALANIS,
+    ));
+    let two_way = off_axis_peak_db(1.95) - off_axis_peak_db(0.0);
+    out.push(check(
+        "two-way pattern through the pipeline at θ3dB/2",
+        -6.02,
+        two_way,
+        "dB",
+        Tolerance::Absolute(0.1),
+        "voltage ∝ G0·Gn (DESIGN.md §3)",
+    ));
+
+    // Canonical RCS at 9.41 GHz.
+    let hh = Polarisation::Hh;
+    let r = 20.0 / (2.0 * PI / lambda);
+    out.push(check(
+        "sphere πr² (ka = 20)",
+        linear_to_db(PI * r * r),
+        linear_to_db(shape_rcs_m2(
+            &format!("shape = \"sphere\"\nradius_m = {r}"),
+            0.3,
+            0.2,
+            f0,
+            hh,
+        )),
+        "dBsm",
+        Tolerance::Absolute(1.0),
+        KNOTT,
+    ));
+    out.push(check(
+        "sphere πr² (r = 1 m)",
+        linear_to_db(PI),
+        linear_to_db(shape_rcs_m2(
+            "shape = \"sphere\"\nradius_m = 1.0",
+            0.3,
+            0.2,
+            f0,
+            hh,
+        )),
+        "dBsm",
+        Tolerance::Absolute(1.0),
+        KNOTT,
+    ));
+    let a = 0.5;
+    out.push(check(
+        "plate 4πA²/λ², 1 m × 0.5 m, normal",
+        linear_to_db(4.0 * PI * a * a / (lambda * lambda)),
+        linear_to_db(shape_rcs_m2(
+            "shape = \"plate\"\nwidth_m = 1.0\nheight_m = 0.5",
+            0.0,
+            0.0,
+            f0,
+            hh,
+        )),
+        "dBsm",
+        Tolerance::Absolute(0.5),
+        KNOTT,
+    ));
+    let null1 = (lambda / 2.0).asin();
+    let (mut best, mut best_v) = (0.0, f64::MAX);
+    for i in 0..=80 {
+        let ang = null1 * (0.8 + 0.4 * i as f64 / 80.0);
+        let v = shape_rcs_m2(
+            "shape = \"plate\"\nwidth_m = 1.0\nheight_m = 0.5",
+            ang,
+            0.0,
+            f0,
+            hh,
+        );
+        if v < best_v {
+            best = ang;
+            best_v = v;
+        }
+    }
+    out.push(check(
+        "plate first null at sin θ = λ/2W (W = 1 m)",
+        null1.to_degrees(),
+        best.to_degrees(),
+        "deg",
+        Tolerance::Relative(0.10),
+        KNOTT,
+    ));
+    out.push(check(
+        "dihedral 8πa²b²/λ², 0.5 m × 0.5 m",
+        linear_to_db(8.0 * PI * 0.0625 / (lambda * lambda)),
+        linear_to_db(shape_rcs_m2(
+            "shape = \"dihedral\"\nwidth_m = 0.5\nheight_m = 0.5",
+            0.0,
+            0.0,
+            f0,
+            hh,
+        )),
+        "dBsm",
+        Tolerance::Absolute(1.0),
+        KNOTT,
+    ));
+    out.push(check(
+        "trihedral 4πa⁴/(3λ²), a = 0.5 m",
+        linear_to_db(4.0 * PI * 0.0625 / (3.0 * lambda * lambda)),
+        linear_to_db(shape_rcs_m2(
+            "shape = \"trihedral\"\nedge_m = 0.5",
+            0.0,
+            0.0,
+            f0,
+            hh,
+        )),
+        "dBsm",
+        Tolerance::Absolute(1.5),
+        KNOTT,
+    ));
+    out.push(check(
+        "cylinder broadside 2πrh²/λ, r = 0.3 m, h = 1 m",
+        linear_to_db(2.0 * PI * 0.3 / lambda),
+        linear_to_db(shape_rcs_m2(
+            "shape = \"cylinder\"\nradius_m = 0.3\nheight_m = 1.0",
+            0.7,
+            0.0,
+            f0,
+            hh,
+        )),
+        "dBsm",
+        Tolerance::Absolute(1.0),
+        KNOTT,
+    ));
+    out
+}
