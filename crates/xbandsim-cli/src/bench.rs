@@ -78,8 +78,8 @@ struct Row {
 /// Runs `xbandsim bench`.
 pub fn run(a: &BenchArgs) -> Result<()> {
     let spec: SceneSpec = crate::render::read_spec(&a.scene)?;
-    let scene =
-        Scene::from_spec(&spec).with_context(|| format!("in scene {}", a.scene.display()))?;
+    let scene = Scene::from_spec_in(&spec, crate::render::scene_dir(&a.scene))
+        .with_context(|| format!("in scene {}", a.scene.display()))?;
     let mut rows: Vec<Row> = Vec::new();
     let mut put = |name: &str, value: f64, unit: &str| {
         if !a.json {
@@ -156,7 +156,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     );
     let mut big = spec.clone();
     big.radar.max_range_m = Some(3100.0);
-    let big_scene = Scene::from_spec(&big)?;
+    let big_scene = Scene::from_spec_in(&big, crate::render::scene_dir(&a.scene))?;
     let bins = big_scene.radar.num_range_bins();
     let sim_big = Simulation::new(big_scene);
     let t = median_s(a.repeats, || {
@@ -175,7 +175,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         p.scattering.model = Some("paper".into());
         p.radar.pulse_width_us = Some(pw);
         p.display.image_size_px = Some(512);
-        let ps = Scene::from_spec(&p)?;
+        let ps = Scene::from_spec_in(&p, crate::render::scene_dir(&a.scene))?;
         let psim = Simulation::new(ps);
         let conv = psim.scan_converter();
         let mut ppi = vec![0f32; 512 * 512];

@@ -50,14 +50,14 @@ pub fn run(out: &Path, scene_path: &Path, seed: u64) -> Result<()> {
     register_fonts()?;
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let spec = crate::render::read_spec(scene_path)?;
-    let scene =
-        Scene::from_spec(&spec).with_context(|| format!("in scene {}", scene_path.display()))?;
+    let scene = Scene::from_spec_in(&spec, crate::render::scene_dir(scene_path))
+        .with_context(|| format!("in scene {}", scene_path.display()))?;
     let t0 = std::time::Instant::now();
     fig2(out, &scene)?;
     crate::say!("wrote {}", out.join("fig2_antenna_pattern.png").display());
     fig3(out, &scene, seed)?;
     crate::say!("wrote {}", out.join("fig3_signal_chain.png").display());
-    fig4(out, &spec, seed)?;
+    fig4(out, &spec, crate::render::scene_dir(scene_path), seed)?;
     crate::say!("wrote {}", out.join("fig4_ppi_pulse_widths.png").display());
     crate::say!("figures done in {:.1} s", t0.elapsed().as_secs_f64());
     Ok(())
@@ -339,7 +339,7 @@ fn fig3(out: &Path, base: &Scene, seed: u64) -> Result<()> {
 
 /// Fig. 4: PPIs for 1, 20 and 50 µs pulses; top row as in the paper (receiver not blanked),
 /// bottom row as a real radar (blanked while transmitting, so targets within c·T/2 eclipse).
-fn fig4(out: &Path, spec: &SceneSpec, seed: u64) -> Result<()> {
+fn fig4(out: &Path, spec: &SceneSpec, base_dir: &Path, seed: u64) -> Result<()> {
     let panel = 400u32;
     let pulses = [1.0, 20.0, 50.0];
     let mut images: Vec<(String, Vec<u8>)> = Vec::new();
@@ -349,7 +349,7 @@ fn fig4(out: &Path, spec: &SceneSpec, seed: u64) -> Result<()> {
             s.radar.pulse_width_us = Some(pw);
             s.radar.receiver_blanking = Some(blanking);
             s.display.image_size_px = Some(panel);
-            let scene = Scene::from_spec(&s)
+            let scene = Scene::from_spec_in(&s, base_dir)
                 .with_context(|| format!("fig. 4 scene with pulse_width_us = {pw}"))?;
             let sim = Simulation::new(scene);
             let frame = sim.render(seed);

@@ -58,12 +58,43 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Monostatic RCS of one object versus aspect, alone in free space.
     Rcs(rcs::RcsArgs),
+    /// Write the procedurally generated vessel mesh as an OBJ file.
+    MakeVessel {
+        /// Output .obj file.
+        #[arg(long)]
+        out: PathBuf,
+        /// Overall length, m.
+        #[arg(long, default_value_t = 30.0)]
+        length_m: f64,
+        /// Resolution: segments along the hull (128 gives about 10 800 triangles).
+        #[arg(long, default_value_t = 128)]
+        segments: usize,
+    },
     /// Run the physics checks against closed forms and print expected, measured, tolerance.
     Validate {
         /// Print JSON instead of a table.
         #[arg(long)]
         json: bool,
     },
+}
+
+fn make_vessel(out: &std::path::Path, length_m: f64, segments: usize) -> anyhow::Result<()> {
+    if !(length_m.is_finite() && length_m > 0.0) {
+        anyhow::bail!("invalid --length-m {length_m}: must be a positive number");
+    }
+    if !(8..=10_000).contains(&segments) {
+        anyhow::bail!("invalid --segments {segments}: must be between 8 and 10000");
+    }
+    let mesh = xbandsim::geometry::mesh::vessel(length_m, segments);
+    let text = mesh.to_obj(&format!("xbandsim procedural vessel: length {length_m} m, {segments} segments, {} triangles\nframe: bow +y, up +z, waterline z = 0; units m\nregenerate: xbandsim make-vessel --length-m {length_m} --segments {segments} --out FILE", mesh.triangles.len()));
+    xbandsim::output::write_atomic(out, text.as_bytes())?;
+    say!(
+        "wrote {} ({} vertices, {} triangles)",
+        out.display(),
+        mesh.vertices_m.len(),
+        mesh.triangles.len()
+    );
+    Ok(())
 }
 
 fn main() -> ExitCode {
@@ -81,6 +112,11 @@ fn main() -> ExitCode {
         Command::Figures { out, scene, seed } => figures::run(&out, &scene, seed),
         Command::Bench(args) => bench::run(&args),
         Command::Rcs(args) => rcs::run(&args),
+        Command::MakeVessel {
+            out,
+            length_m,
+            segments,
+        } => make_vessel(&out, length_m, segments),
         Command::Validate { json } => validate::run(json),
     };
     match result {

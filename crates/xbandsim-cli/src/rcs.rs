@@ -134,6 +134,22 @@ pub fn run(a: &RcsArgs) -> Result<()> {
             rcs_dbsm: linear_to_db(rcs_m2.max(1e-30)),
         })
         .collect();
+    // The plot is written first so that a closed stdout (`| head`) cannot lose it.
+    if let Some(path) = &a.plot {
+        plot(
+            path,
+            &rows,
+            &format!(
+                "{} ({}), {:.2} GHz {:?}, el {} deg",
+                object.name,
+                object.shape_name,
+                freq_hz / 1e9,
+                polarisation,
+                a.el_deg
+            ),
+        )
+        .with_context(|| format!("drawing {}", path.display()))?;
+    }
     if a.json {
         crate::say!("{}", serde_json::to_string_pretty(&rows)?);
     } else {
@@ -156,21 +172,6 @@ pub fn run(a: &RcsArgs) -> Result<()> {
                 r.rcs_dbsm
             );
         }
-    }
-    if let Some(path) = &a.plot {
-        plot(
-            path,
-            &rows,
-            &format!(
-                "{} ({}), {:.2} GHz {:?}, el {} deg",
-                object.name,
-                object.shape_name,
-                freq_hz / 1e9,
-                polarisation,
-                a.el_deg
-            ),
-        )
-        .with_context(|| format!("drawing {}", path.display()))?;
     }
     Ok(())
 }

@@ -45,6 +45,14 @@ pub struct RenderArgs {
     pub no_noise: bool,
 }
 
+/// Directory that a scene file's relative paths (mesh files) are resolved against.
+pub fn scene_dir(scene_path: &Path) -> &Path {
+    scene_path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."))
+}
+
 /// Reads a scene file into its description, with the parse error naming the file.
 pub fn read_spec(path: &Path) -> Result<SceneSpec> {
     let text = std::fs::read_to_string(path).map_err(|e| xbandsim::Error::io(path, e))?;
@@ -159,8 +167,8 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     let t0 = Instant::now();
     let mut spec = read_spec(&a.scene)?;
     apply_overrides(&mut spec, a);
-    let scene =
-        Scene::from_spec(&spec).with_context(|| format!("in scene {}", a.scene.display()))?;
+    let scene = Scene::from_spec_in(&spec, crate::render::scene_dir(&a.scene))
+        .with_context(|| format!("in scene {}", a.scene.display()))?;
     let sim = Simulation::new(scene);
     let frame = sim.render(a.seed);
     write_frame(&sim, &frame, &a.out, &a.scene.display().to_string(), a.seed)?;

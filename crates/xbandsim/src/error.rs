@@ -31,6 +31,10 @@ pub enum Error {
         source: std::io::Error,
     },
 
+    /// A mesh file could not be read or is not a usable triangle mesh.
+    #[error("mesh {path}: {message}")]
+    Mesh { path: PathBuf, message: String },
+
     /// Encoding an output file (PNG, JSON) failed.
     #[error("encoding {path}: {message}")]
     Encode { path: PathBuf, message: String },

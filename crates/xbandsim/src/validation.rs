@@ -5,11 +5,14 @@
 
 use crate::antenna::{sinc2_pattern, uniform_aperture_gain, SINC_BEAMWIDTH_FACTOR};
 use crate::constants::{linear_to_db, wavelength_m, SPEED_OF_LIGHT_M_PER_S};
+use crate::geometry::{PrimitiveKind, ShapeGeometry, TriangleMesh};
 use crate::scattering::rcs::{RcsSettings, RcsTarget};
-use crate::scene::{Polarisation, Scene};
+use crate::scene::{Polarisation, Scene, SceneObject};
 use crate::sim::{Frame, Simulation};
+use glam::{DMat3, DVec3};
 use serde::Serialize;
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 /// How far a measurement may be from its expected value.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -269,6 +272,57 @@ pub fn shape_rcs_m2(
     )
 }
 
+/// RCS of a shape built as a triangle mesh (the same surfaces as the primitive), m².
+pub fn mesh_rcs_m2(triangles: &[[DVec3; 3]], az_rad: f64, freq_hz: f64) -> f64 {
+    let mesh = TriangleMesh {
+        vertices_m: triangles.iter().flatten().copied().collect(),
+        triangles: (0..triangles.len() as u32)
+            .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+            .collect(),
+    };
+    let object = SceneObject {
+        name: "mesh".into(),
+        class: "mesh".into(),
+        shape_name: "mesh".into(),
+        shape: ShapeGeometry::Mesh {
+            mesh: Arc::new(mesh),
+        },
+        position_m: DVec3::new(0.0, 100.0, 0.0),
+        rotation: DMat3::IDENTITY,
+    };
+    RcsTarget::new(&object).rcs_m2(
+        az_rad,
+        0.0,
+        &RcsSettings {
+            freq_hz,
+            polarisation: Polarisation::Hh,
+            ray_spacing_wavelengths: 0.25,
+            max_rays: 1 << 20,
+            max_bounces: 3,
+        },
+    )
+}
+
+/// The triangles of a primitive shape (plates split in two), in its object frame.
+pub fn shape_triangles(shape: &ShapeGeometry) -> Vec<[DVec3; 3]> {
+    shape
+        .primitives(DVec3::ZERO, DMat3::IDENTITY, 0)
+        .iter()
+        .flat_map(|p| match p.kind {
+            PrimitiveKind::Triangle { v0, e1, e2 } => vec![[v0, v0 + e1, v0 + e2]],
+            PrimitiveKind::Parallelogram {
+                corner,
+                edge_u,
+                edge_v,
+            } => vec![
+                [corner, corner + edge_u, corner + edge_u + edge_v],
+                [corner, corner + edge_u + edge_v, corner + edge_v],
+            ],
+            _ => Vec::new(),
+        })
+        .collect()
+}
+
 /// Runs every check.
 pub fn run_all() -> Vec<CheckResult> {
     let mut out = Vec::new();
@@ -515,6 +569,33 @@ pub fn run_all() -> Vec<CheckResult> {
         Tolerance::Absolute(1.5),
         KNOTT,
     ));
+    for (name, shape, fields, az_deg) in [
+        (
+            "mesh plate (2 triangles) = primitive, 2° off normal",
+            ShapeGeometry::Plate {
+                width_m: 0.8,
+                height_m: 0.5,
+            },
+            "shape = \"plate\"\nwidth_m = 0.8\nheight_m = 0.5",
+            2.0f64,
+        ),
+        (
+            "mesh trihedral (3 triangles) = primitive, 20° off axis",
+            ShapeGeometry::Trihedral { edge_m: 0.5 },
+            "shape = \"trihedral\"\nedge_m = 0.5",
+            20.0,
+        ),
+    ] {
+        let az = az_deg.to_radians();
+        out.push(check(
+            name,
+            linear_to_db(shape_rcs_m2(fields, az, 0.0, f0, hh)),
+            linear_to_db(mesh_rcs_m2(&shape_triangles(&shape), az, f0)),
+            "dBsm",
+            Tolerance::Absolute(0.5),
+            "same PO surfaces, meshed",
+        ));
+    }
     out.push(check(
         "cylinder broadside 2πrh²/λ, r = 0.3 m, h = 1 m",
         linear_to_db(2.0 * PI * 0.3 / lambda),

@@ -38,7 +38,7 @@ fn random_scene(rng: &mut Lcg) -> Vec<Primitive> {
     ];
     let mut prims = Vec::new();
     for i in 0..60 {
-        let shape = shapes[i % shapes.len()];
+        let shape = &shapes[i % shapes.len()];
         let rot = object_frame(rng.next() * 6.3, rng.next() * 3.0 - 1.5, rng.next() * 6.3);
         prims.extend(shape.primitives(rng.vec(30.0), rot, i as u32));
     }

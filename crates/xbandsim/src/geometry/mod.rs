@@ -8,10 +8,12 @@
 //! construction of SAH-based bounding volume hierarchies", IEEE RT 2007).
 
 mod bvh;
+pub mod mesh;
 mod primitives;
 mod shapes;
 
 pub use bvh::Bvh;
+pub use mesh::{MeshUnit, TriangleMesh};
 pub use primitives::{Primitive, PrimitiveKind};
 pub use shapes::{object_frame, ShapeGeometry};
 

@@ -13,11 +13,13 @@
 //! then pitch raises +y toward +z, then roll turns +x toward −z about +y:
 //! `R = Rz(−yaw)·Rx(pitch)·Ry(roll)` applied to object coordinates.
 
+use super::mesh::TriangleMesh;
 use super::{Primitive, PrimitiveKind};
 use glam::{DMat3, DVec3};
+use std::sync::Arc;
 
 /// The shape of a scene object, sizes in metres.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum ShapeGeometry {
     /// Ideal point scatterer of fixed RCS (no geometry; m²).
     Point { rcs_m2: f64 },
@@ -33,6 +35,8 @@ pub enum ShapeGeometry {
     Cylinder { radius_m: f64, height_m: f64 },
     /// Rectangular box with edges `size_m` (x, y, z).
     Box { size_m: DVec3 },
+    /// Triangle mesh in the object frame, m.
+    Mesh { mesh: Arc<TriangleMesh> },
 }
 
 /// Rotation from object to world coordinates for yaw, pitch and roll in radians.
@@ -45,20 +49,29 @@ pub fn object_frame(yaw_rad: f64, pitch_rad: f64, roll_rad: f64) -> DMat3 {
 impl ShapeGeometry {
     /// Radius of a sphere about the object's position that holds the whole shape, m.
     pub fn bounding_radius_m(&self) -> f64 {
-        match *self {
+        match self {
             ShapeGeometry::Point { .. } => 0.0,
-            ShapeGeometry::Sphere { radius_m } => radius_m,
-            ShapeGeometry::Plate { width_m, height_m } => 0.5 * width_m.hypot(height_m),
-            ShapeGeometry::Trihedral { edge_m } => edge_m,
+            ShapeGeometry::Sphere { radius_m } => *radius_m,
+            ShapeGeometry::Plate { width_m, height_m } => 0.5 * width_m.hypot(*height_m),
+            // About the bounding centre below (not the corner vertex / fold line).
+            ShapeGeometry::Trihedral { edge_m } => *edge_m,
             ShapeGeometry::Dihedral { width_m, height_m } => width_m.hypot(0.5 * height_m),
             ShapeGeometry::Cylinder { radius_m, height_m } => radius_m.hypot(0.5 * height_m),
             ShapeGeometry::Box { size_m } => 0.5 * size_m.length(),
+            ShapeGeometry::Mesh { mesh } => mesh.bounding_radius_m(),
         }
     }
 
     /// Centre of the bounding sphere in object coordinates, m.
     pub fn bounding_centre_local_m(&self) -> DVec3 {
-        DVec3::ZERO
+        match self {
+            ShapeGeometry::Trihedral { edge_m } => DVec3::new(0.0, edge_m / 3f64.sqrt(), 0.0) * 0.5,
+            ShapeGeometry::Dihedral { width_m, .. } => {
+                DVec3::new(0.0, width_m / 2f64.sqrt(), 0.0) * 0.5
+            }
+            ShapeGeometry::Mesh { mesh } => mesh.bounds_centre_m(),
+            _ => DVec3::ZERO,
+        }
     }
 
     /// Primitives of this shape placed at `position_m` with `rotation`, tagged `object`.
@@ -67,7 +80,7 @@ impl ShapeGeometry {
         let dir = |v: DVec3| rotation * v;
         let mut out = Vec::new();
         let mut push = |kind| out.push(Primitive { kind, object });
-        match *self {
+        match self.clone() {
             ShapeGeometry::Point { .. } => {}
             ShapeGeometry::Sphere { radius_m } => push(PrimitiveKind::Sphere {
                 centre: position_m,
@@ -168,6 +181,16 @@ impl ShapeGeometry {
                         edge_u: dir(u),
                         edge_v: dir(v),
                     });
+                }
+            }
+            ShapeGeometry::Mesh { mesh } => {
+                for t in &mesh.triangles {
+                    let v0 = to_world(mesh.vertices_m[t[0] as usize]);
+                    let e1 = to_world(mesh.vertices_m[t[1] as usize]) - v0;
+                    let e2 = to_world(mesh.vertices_m[t[2] as usize]) - v0;
+                    if e1.cross(e2).length_squared() > 0.0 {
+                        push(PrimitiveKind::Triangle { v0, e1, e2 });
+                    }
                 }
             }
         }

@@ -46,7 +46,7 @@ impl RcsTarget {
         let centre_local_m = object.rotation.transpose() * centre_local_m;
         RcsTarget {
             bvh: Bvh::build(prims),
-            shape: object.shape,
+            shape: object.shape.clone(),
             centre_local_m,
             radius_m: object.shape.bounding_radius_m(),
         }

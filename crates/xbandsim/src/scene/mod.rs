@@ -14,7 +14,7 @@ use crate::constants::{
     db_to_linear, wavelength_m, BOLTZMANN_J_PER_K, REFERENCE_TEMPERATURE_K, SPEED_OF_LIGHT_M_PER_S,
 };
 use crate::error::{Error, Result};
-use crate::geometry::{object_frame, ShapeGeometry};
+use crate::geometry::{object_frame, MeshUnit, ShapeGeometry, TriangleMesh};
 use crate::waveform::{LfmChirp, Window};
 use glam::{DMat3, DVec3};
 use std::path::Path;
@@ -235,14 +235,7 @@ pub struct SceneObject {
 impl SceneObject {
     /// Centre of the object's bounding sphere, ENU m.
     pub fn bounding_centre_m(&self) -> DVec3 {
-        let local = match self.shape {
-            ShapeGeometry::Trihedral { edge_m } => DVec3::new(0.0, edge_m / 3f64.sqrt(), 0.0) * 0.5,
-            ShapeGeometry::Dihedral { width_m, .. } => {
-                DVec3::new(0.0, width_m / 2f64.sqrt(), 0.0) * 0.5
-            }
-            _ => DVec3::ZERO,
-        };
-        self.position_m + self.rotation * local
+        self.position_m + self.rotation * self.shape.bounding_centre_local_m()
     }
 }
 
@@ -265,7 +258,11 @@ impl Scene {
     /// Reads and validates a scene file.
     pub fn load(path: &Path) -> Result<Scene> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        Scene::from_toml_str(&text, &path.display().to_string())
+        let spec: SceneSpec = toml::from_str(&text).map_err(|e| Error::SceneSyntax {
+            path: path.display().to_string(),
+            message: e.to_string().trim_end().to_string(),
+        })?;
+        Scene::from_spec_in(&spec, path.parent().unwrap_or(Path::new(".")))
     }
 
     /// Parses and validates scene TOML; `origin` names the source in errors.
@@ -277,8 +274,14 @@ impl Scene {
         Scene::from_spec(&spec)
     }
 
-    /// Validates a parsed scene description.
+    /// Validates a parsed scene description; mesh files are found relative to the current
+    /// directory.
     pub fn from_spec(spec: &SceneSpec) -> Result<Scene> {
+        Scene::from_spec_in(spec, Path::new("."))
+    }
+
+    /// Validates a parsed scene description whose mesh files are relative to `base_dir`.
+    pub fn from_spec_in(spec: &SceneSpec, base_dir: &Path) -> Result<Scene> {
         let radar = build_radar(&spec.radar)?;
         let environment = Environment {
             noise: spec.environment.noise.unwrap_or(true),
@@ -287,7 +290,7 @@ impl Scene {
         let scattering = build_scattering(&spec.scattering)?;
         let mut objects = Vec::with_capacity(spec.objects.len());
         for (i, o) in spec.objects.iter().enumerate() {
-            let obj = build_object(i, o)?;
+            let obj = build_object(i, o, base_dir)?;
             if objects.iter().any(|p: &SceneObject| p.name == obj.name) {
                 return Err(Error::invalid(
                     format!("object[{i}].name"),
@@ -663,7 +666,7 @@ fn build_scattering(s: &ScatteringSpec) -> Result<ScatteringConfig> {
     })
 }
 
-fn build_object(i: usize, o: &ObjectSpec) -> Result<SceneObject> {
+fn build_object(i: usize, o: &ObjectSpec, base_dir: &Path) -> Result<SceneObject> {
     let name = o.name.clone().unwrap_or_else(|| format!("object-{i}"));
     if name.trim().is_empty() {
         return Err(Error::invalid(
@@ -725,6 +728,30 @@ fn build_object(i: usize, o: &ObjectSpec) -> Result<SceneObject> {
                 size_m: DVec3::from_array(s),
             }
         }
+        "mesh" => {
+            let file = o.mesh_file.as_deref().ok_or_else(|| {
+                Error::missing(
+                    f("mesh_file"),
+                    "shape \"mesh\" needs `mesh_file` (an .obj, .stl, .gltf or .glb file)",
+                )
+            })?;
+            let units_text = o.mesh_units.as_deref().unwrap_or("m");
+            let unit = MeshUnit::parse(units_text).ok_or_else(|| {
+                Error::invalid(
+                    f("mesh_units"),
+                    format!("\"{units_text}\""),
+                    "expected \"m\", \"cm\", \"mm\", \"ft\" or \"in\"",
+                )
+            })?;
+            let scale = positive(&f("mesh_scale"), o.mesh_scale.unwrap_or(1.0))?;
+            let path = base_dir.join(file);
+            let mesh = TriangleMesh::load(&path, unit.metres() * scale).map_err(|e| {
+                Error::invalid(f("mesh_file"), format!("\"{file}\""), e.to_string())
+            })?;
+            ShapeGeometry::Mesh {
+                mesh: std::sync::Arc::new(mesh),
+            }
+        }
         other => {
             return Err(Error::invalid(
                 f("shape"),
@@ -741,6 +768,7 @@ fn build_object(i: usize, o: &ObjectSpec) -> Result<SceneObject> {
         ShapeGeometry::Trihedral { .. } => &["edge_m"],
         ShapeGeometry::Cylinder { .. } => &["radius_m", "height_m"],
         ShapeGeometry::Box { .. } => &["size_m"],
+        ShapeGeometry::Mesh { .. } => &["mesh_file", "mesh_units", "mesh_scale"],
     };
     let present = [
         ("rcs_m2", o.rcs_m2.is_some()),
@@ -749,6 +777,9 @@ fn build_object(i: usize, o: &ObjectSpec) -> Result<SceneObject> {
         ("height_m", o.height_m.is_some()),
         ("edge_m", o.edge_m.is_some()),
         ("size_m", o.size_m.is_some()),
+        ("mesh_file", o.mesh_file.is_some()),
+        ("mesh_units", o.mesh_units.is_some()),
+        ("mesh_scale", o.mesh_scale.is_some()),
     ];
     for (field, is_set) in present {
         if is_set && !used.contains(&field) {

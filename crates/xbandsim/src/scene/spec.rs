@@ -129,7 +129,7 @@ pub struct ObjectSpec {
     pub name: Option<String>,
     /// Class label for ML ground truth (default "object").
     pub class: Option<String>,
-    /// "point", "sphere", "plate", "trihedral", "dihedral", "cylinder" or "box".
+    /// "point", "sphere", "plate", "trihedral", "dihedral", "cylinder", "box" or "mesh".
     pub shape: Option<String>,
     /// Position in ENU metres (reference point of the shape, see docs/formats.md).
     pub position_m: Option<[f64; 3]>,
@@ -151,4 +151,10 @@ pub struct ObjectSpec {
     pub edge_m: Option<f64>,
     /// box: edge lengths along x, y, z, m.
     pub size_m: Option<[f64; 3]>,
+    /// mesh: OBJ, STL or glTF file, relative to the scene file.
+    pub mesh_file: Option<String>,
+    /// mesh: unit of the file's coordinates: "m" (default), "cm", "mm", "ft" or "in".
+    pub mesh_units: Option<String>,
+    /// mesh: extra scale factor applied after the unit (default 1).
+    pub mesh_scale: Option<f64>,
 }
