@@ -62,8 +62,11 @@ pub struct ObjectTruth {
     pub rcs_m2: Option<f64>,
     /// The same in dBsm.
     pub rcs_dbsm: Option<f64>,
-    /// Radar-equation single-pulse SNR on the beam axis with that RCS, after the window
-    /// and elevation-pattern losses, dB (null for `paper`).
+    /// Power gain of the sea paths over free space, `|Σ all paths|²/|Σ direct|²`, dB
+    /// (0 without multipath; null for `paper`).
+    pub multipath_gain_db: Option<f64>,
+    /// Radar-equation single-pulse SNR on the beam axis with that RCS, after the window,
+    /// elevation-pattern, atmospheric and multipath factors, dB (null for `paper`).
     pub expected_snr_db: Option<f64>,
     /// Whether and why it is or is not seen.
     pub visibility: Visibility,
@@ -73,11 +76,13 @@ pub struct ObjectTruth {
     pub ppi_box_px: [f64; 4],
 }
 
-/// Builds the truth of every object. `rcs_m2[i]` is the traced RCS (None for uncalibrated
-/// models); `has_returns[i]` whether any ray reached object i.
+/// Builds the truth of every object. `rcs_m2[i]` is the traced free-space RCS and
+/// `multipath_gain[i]` the sea paths' power gain (None for uncalibrated models);
+/// `has_returns[i]` whether any ray reached object i.
 pub fn object_truth(
     scene: &Scene,
     rcs_m2: Option<&[f64]>,
+    multipath_gain: Option<&[f64]>,
     has_returns: &[bool],
     ppi: &PpiGeometry,
 ) -> Vec<ObjectTruth> {
@@ -98,8 +103,13 @@ pub fn object_truth(
             let ground_range_m = rel.x.hypot(rel.y);
             let (az, el) = azimuth_elevation_rad(rel);
             let rcs = rcs_m2.map(|r| r[i]);
+            let gain = multipath_gain.map(|g| g[i]);
             let snr = rcs.map(|s| {
-                radar.point_target_snr(s, range_m) * window_loss * ant.elevation_pattern(el).powi(2)
+                radar.point_target_snr(s, range_m)
+                    * window_loss
+                    * ant.elevation_pattern(el).powi(2)
+                    * scene.environment.attenuation_power(range_m)
+                    * gain.unwrap_or(1.0)
             });
             let eclipsed = radar.receiver_blanking && range_m < radar.eclipse_range_m();
             let visibility = if range_m > radar.max_range_m {
@@ -167,6 +177,7 @@ pub fn object_truth(
                 elevation_deg: el.to_degrees(),
                 rcs_m2: rcs,
                 rcs_dbsm: rcs.map(|r| linear_to_db(r.max(1e-30))),
+                multipath_gain_db: gain.map(|g| linear_to_db(g.max(1e-30))),
                 expected_snr_db: snr.map(|s| linear_to_db(s.max(1e-30))),
                 visibility,
                 polar_box: PolarBox {

@@ -18,6 +18,7 @@
 pub mod antenna;
 pub mod constants;
 pub mod echo;
+pub mod environment;
 pub mod error;
 pub mod geometry;
 pub mod labels;

@@ -250,11 +250,13 @@ impl Simulation {
         for c in &set.contributions {
             has_returns[c.object as usize] = true;
         }
-        let rcs = (self.scene.scattering.model == ScatteringModel::PhysicalOptics)
-            .then(|| set.rcs_per_object_m2(n));
+        let calibrated = self.scene.scattering.model == ScatteringModel::PhysicalOptics;
+        let rcs = calibrated.then(|| set.rcs_per_object_m2(n));
+        let gain = calibrated.then(|| set.multipath_gain_per_object(n));
         object_truth(
             &self.scene,
             rcs.as_deref(),
+            gain.as_deref(),
             &has_returns,
             &self.ppi_geometry(),
         )

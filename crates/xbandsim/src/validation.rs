@@ -91,9 +91,15 @@ fn check(
     }
 }
 
-/// A `[radar]` block on the drs4d-nxt preset at 4 m with extra lines.
+/// A free-space scene head (no sea reflections) and a `[radar]` block on the drs4d-nxt
+/// preset at 4 m with extra lines: the closed forms below are for free space.
 pub fn radar_block(extra: &str) -> String {
-    format!("[radar]\npreset = \"drs4d-nxt\"\nposition_m = [0.0, 0.0, 4.0]\n{extra}\n")
+    format!("[environment]\nmultipath = false\n[radar]\npreset = \"drs4d-nxt\"\nposition_m = [0.0, 0.0, 4.0]\n{extra}\n")
+}
+
+/// As [`radar_block`], with receiver noise off too.
+pub fn radar_block_no_noise(extra: &str) -> String {
+    format!("[environment]\nmultipath = false\nnoise = false\n[radar]\npreset = \"drs4d-nxt\"\nposition_m = [0.0, 0.0, 4.0]\n{extra}\n")
 }
 
 /// A point object at `range_m` due north at the radar's height.
@@ -174,8 +180,8 @@ pub fn fine_profile(window: &str) -> (Vec<f32>, f64) {
     let fs_mhz = 800.0;
     let range = bin_range_m(12000.0, fs_mhz * 1e6);
     let text = format!(
-        "{}[environment]\nnoise = false\n{}",
-        radar_block(&format!("sample_rate_mhz = {fs_mhz}\npulse_width_us = 10.0\nwindow = \"{window}\"\nmax_range_m = 2400.0\nspokes = 90")),
+        "{}{}",
+        radar_block_no_noise(&format!("sample_rate_mhz = {fs_mhz}\npulse_width_us = 10.0\nwindow = \"{window}\"\nmax_range_m = 2400.0\nspokes = 90")),
         point_north("p", range, 1.0)
     );
     let (_, frame) = render_text(&text, 1);
@@ -222,8 +228,8 @@ pub fn eclipse_peak_db(bin: f64, blanking: bool) -> f32 {
     let fs = 100e6;
     let range_m = bin_range_m(bin, fs);
     let text = format!(
-        "{}[environment]\nnoise = false\n{}",
-        radar_block(&format!(
+        "{}{}",
+        radar_block_no_noise(&format!(
             "pulse_width_us = 2.0\nmax_range_m = 600.0\nreceiver_blanking = {blanking}"
         )),
         point_north("p", range_m, 1.0)
@@ -243,7 +249,7 @@ pub fn off_axis_peak_db(az_deg: f64) -> f64 {
         range_m * az_deg.to_radians().sin(),
         range_m * az_deg.to_radians().cos(),
     );
-    let text = format!("{}[environment]\nnoise = false\n[[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 100.0\nposition_m = [{x}, {y}, 4.0]\n", radar_block("spokes = 360\nmax_range_m = 1200.0"));
+    let text = format!("{}[[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 100.0\nposition_m = [{x}, {y}, 4.0]\n", radar_block_no_noise("spokes = 360\nmax_range_m = 1200.0"));
     let (_, frame) = render_text(&text, 1);
     argmax(spoke(&frame, 0)).1 as f64
 }
@@ -323,6 +329,78 @@ pub fn shape_triangles(shape: &ShapeGeometry) -> Vec<[DVec3; 3]> {
         .collect()
 }
 
+/// Peak power (dB over noise, noise off) of a 1 m² point target at ground range
+/// `ground_range_m` and height `target_height_m`, radar at `radar_height_m`, with the sea
+/// reflecting or not.
+pub fn multipath_point_power_db(
+    ground_range_m: f64,
+    radar_height_m: f64,
+    target_height_m: f64,
+    multipath: bool,
+) -> f64 {
+    let text = format!(
+        "[environment]\nnoise = false\nmultipath = {multipath}\n[radar]\nposition_m = [0.0, 0.0, {radar_height_m}]\nspokes = 1\nmax_range_m = {}\n[[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 1.0\nposition_m = [0.0, {ground_range_m}, {target_height_m}]\n",
+        ground_range_m * 1.05 + 50.0
+    );
+    let (sim, frame) = render_text(&text, 1);
+    let j = (ground_range_m / sim.scene().radar.range_bin_m()).round() as usize;
+    let row = spoke(&frame, 0);
+    row[j.saturating_sub(4)..(j + 5).min(row.len())]
+        .iter()
+        .cloned()
+        .fold(f32::MIN, f32::max) as f64
+}
+
+/// Ground range of the two-ray null of order `n` (path difference nλ, sea Γ ≈ −1):
+/// `Δ = √(R² + (h_r+h_t)²) − √(R² + (h_r−h_t)²) = nλ`, solved exactly (bisection).
+pub fn two_ray_null_range_m(
+    n: f64,
+    radar_height_m: f64,
+    target_height_m: f64,
+    wavelength_m: f64,
+) -> f64 {
+    let delta = |r: f64| {
+        (r * r + (radar_height_m + target_height_m).powi(2)).sqrt()
+            - (r * r + (radar_height_m - target_height_m).powi(2)).sqrt()
+    };
+    let want = n * wavelength_m;
+    let (mut lo, mut hi) = (1e-3f64, 1e9f64);
+    for _ in 0..200 {
+        let mid = (lo * hi).sqrt();
+        if delta(mid) > want {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    (lo * hi).sqrt()
+}
+
+/// The measured null nearest to `guess_m` (golden-section search on the pipeline's output).
+pub fn find_null_range_m(guess_m: f64, radar_height_m: f64, target_height_m: f64) -> f64 {
+    let f = |r: f64| multipath_point_power_db(r, radar_height_m, target_height_m, true);
+    let (mut a, mut b) = (guess_m * 0.9, guess_m * 1.1);
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
+    let (mut fc, mut fd) = (f(c), f(d));
+    while b - a > guess_m * 1e-4 {
+        if fc < fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - g * (b - a);
+            fc = f(c);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + g * (b - a);
+            fd = f(d);
+        }
+    }
+    0.5 * (a + b)
+}
+
 /// Runs every check.
 pub fn run_all() -> Vec<CheckResult> {
     let mut out = Vec::new();
@@ -338,8 +416,8 @@ pub fn run_all() -> Vec<CheckResult> {
     // Range bin of a point target.
     let range_m = 777.7;
     let text = format!(
-        "{}[environment]\nnoise = false\n{}",
-        radar_block("max_range_m = 1500.0"),
+        "{}{}",
+        radar_block_no_noise("max_range_m = 1500.0"),
         point_north("p", range_m, 10.0)
     );
     let (sim, frame) = render_text(&text, 1);
@@ -429,6 +507,29 @@ pub fn run_all() -> Vec<CheckResult> {
         "dB",
         Tolerance::Absolute(1.0),
         "blanking while transmitting (PHYSICS-NOTES §1)",
+    ));
+
+    // Multipath over the sea: two-ray nulls (radar 10 m, target 5 m).
+    for n in [1.0, 2.0] {
+        let expected = two_ray_null_range_m(n, 10.0, 5.0, lambda);
+        out.push(check(
+            &format!("four-path null {n}: path difference {n}λ (h 10 m / 5 m)"),
+            expected,
+            find_null_range_m(expected, 10.0, 5.0),
+            "m",
+            Tolerance::Relative(0.01),
+            "two-ray model, Long, Radar Reflectivity of Land and Sea, §3",
+        ));
+    }
+    let lobe = two_ray_null_range_m(1.5, 10.0, 5.0, lambda);
+    out.push(check(
+        "four-path lobe peak: +12 dB over free space (|1+|Γ||⁴)",
+        12.0,
+        multipath_point_power_db(lobe, 10.0, 5.0, true)
+            - multipath_point_power_db(lobe, 10.0, 5.0, false),
+        "dB",
+        Tolerance::Absolute(0.5),
+        "two-ray model with Γ ≈ −1 at low grazing",
     ));
 
     // Antenna.

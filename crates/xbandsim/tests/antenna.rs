@@ -55,8 +55,8 @@ fn rotating_beam_applies_two_way_pattern() {
             range_m * az_deg.to_radians().cos(),
         );
         let text = format!(
-            "{}[environment]\nnoise = false\n[[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 100.0\nposition_m = [{x}, {y}, 4.0]\n",
-            radar_block("spokes = 360\nmax_range_m = 1200.0")
+            "{}[[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 100.0\nposition_m = [{x}, {y}, 4.0]\n",
+            radar_block_no_noise("spokes = 360\nmax_range_m = 1200.0")
         );
         let (_, frame) = render(&text, 1);
         let (_, v) = argmax(spoke(&frame, 0));

@@ -14,8 +14,8 @@ use xbandsim::waveform::{LfmChirp, Window};
 fn point_target_lands_in_range_bin() {
     for range_m in [203.7, 481.25, 777.7, 1302.9] {
         let text = format!(
-            "{}[environment]\nnoise = false\n{}",
-            radar_block("max_range_m = 1500.0"),
+            "{}{}",
+            radar_block_no_noise("max_range_m = 1500.0"),
             point_north("p", range_m, 10.0)
         );
         let (sim, frame) = render(&text, 1);
@@ -142,8 +142,8 @@ fn eclipsing_inside_c_t_over_2() {
     let run = |bin: f64, blanking: bool| -> (f32, xbandsim::labels::Visibility) {
         let range_m = bin_range_m(bin, fs);
         let text = format!(
-            "{}[environment]\nnoise = false\n{}",
-            radar_block(&format!(
+            "{}{}",
+            radar_block_no_noise(&format!(
                 "pulse_width_us = {pulse_us}\nmax_range_m = 600.0\nreceiver_blanking = {blanking}"
             )),
             point_north("p", range_m, 1.0)
@@ -249,6 +249,7 @@ fn echo_synthesis_equals_delayed_chirps() {
             el_rx_rad: 0.0,
             object: i as u32,
             bounces: 1,
+            sea_reflections: 0,
         })
         .collect();
     let antenna = xbandsim::antenna::Antenna {

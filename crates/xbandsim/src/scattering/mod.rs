@@ -40,8 +40,10 @@ pub struct Contribution {
     pub el_rx_rad: f64,
     /// Index of the scene object the path belongs to.
     pub object: u32,
-    /// Number of reflections along the path (0 for an ideal point scatterer).
+    /// Number of reflections on objects along the path (0 for an ideal point scatterer).
     pub bounces: u8,
+    /// Number of sea-surface reflections along the path (0 for the free-space path).
+    pub sea_reflections: u8,
 }
 
 impl Contribution {
@@ -62,15 +64,44 @@ pub struct ScatterSet {
 }
 
 impl ScatterSet {
-    /// Coherent monostatic RCS of each object, `|Σ S|²` over its contributions, m².
+    /// Coherent monostatic RCS of each object at its aspect, `|Σ S|²` over its free-space
+    /// contributions (no sea reflection), m².
     pub fn rcs_per_object_m2(&self, num_objects: usize) -> Vec<f64> {
+        self.coherent_sums(num_objects, true)
+            .iter()
+            .map(|s| s.norm_sqr())
+            .collect()
+    }
+
+    /// Power gain of the sea paths for each object, `|Σ_all S|²/|Σ_free-space S|²` (1 when
+    /// the sea is off or the object has no free-space return).
+    pub fn multipath_gain_per_object(&self, num_objects: usize) -> Vec<f64> {
+        let direct = self.coherent_sums(num_objects, true);
+        let all = self.coherent_sums(num_objects, false);
+        direct
+            .iter()
+            .zip(&all)
+            .map(|(d, a)| {
+                if d.norm_sqr() > 0.0 {
+                    a.norm_sqr() / d.norm_sqr()
+                } else {
+                    1.0
+                }
+            })
+            .collect()
+    }
+
+    fn coherent_sums(&self, num_objects: usize, free_space_only: bool) -> Vec<Complex64> {
         let mut sums = vec![Complex64::new(0.0, 0.0); num_objects];
         for c in &self.contributions {
+            if free_space_only && c.sea_reflections > 0 {
+                continue;
+            }
             if let Some(s) = sums.get_mut(c.object as usize) {
                 *s += c.root_rcs_m;
             }
         }
-        sums.iter().map(|s| s.norm_sqr()).collect()
+        sums
     }
 }
 
@@ -102,6 +133,17 @@ pub fn radar_equation_volts_per_root_m2(radar: &Radar, range_tx_m: f64, range_rx
     (radar.peak_power_w * g0 * g0 * lambda * lambda / (four_pi_cubed * radar.system_loss_linear))
         .sqrt()
         / (range_tx_m * range_rx_m)
+}
+
+/// Volts per m of root-RCS for a path, with the atmosphere's two-way loss over the mean of
+/// the outgoing and returning ranges.
+#[inline]
+pub fn path_volts_per_root_m2(scene: &Scene, range_tx_m: f64, range_rx_m: f64) -> f64 {
+    radar_equation_volts_per_root_m2(&scene.radar, range_tx_m, range_rx_m)
+        * scene
+            .environment
+            .attenuation_power(0.5 * (range_tx_m + range_rx_m))
+            .sqrt()
 }
 
 /// Carrier phase term `exp(−j2πℓ/λ)`, computed so that f64 keeps the phase at long ranges.

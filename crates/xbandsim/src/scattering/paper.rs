@@ -65,6 +65,7 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
                     el_rx_rad: el_h,
                     object: hit.object,
                     bounces: 1,
+                    sea_reflections: 0,
                 })
             })
         })

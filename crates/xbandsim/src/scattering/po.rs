@@ -10,20 +10,26 @@
 //!
 //! `S = (√(4π)/λ) · A⊥ · P · F · exp(−j2πℓ/λ)`
 //!
-//! - `A⊥` the tube's cross-section (δ² scaled by (t/R)² for the spherical spread to the object),
+//! - `A⊥` the tube's cross-section (δ² scaled by (ℓ₁/R)² for the spherical spread to the object),
 //! - `P = E_r · p̂_rx`, with the field reflected at each perfect-conductor hit as
-//!   `E_r = 2(n̂·E_i)n̂ − E_i` starting from the transmit polarisation `p̂_tx`,
+//!   `E_r = 2(n̂·E_i)n̂ − E_i` starting from the transmit polarisation `p̂_tx`, and at the sea
+//!   by the Fresnel coefficients Γ_H, Γ_V (complex) in the local plane of incidence,
 //! - `F = (n̂·ŝ)/|n̂·k̂_i| · sinc(q·e₁/2)·sinc(q·e₂/2)`, `q = k(ŝ − k̂_r)`, the exact PO integral
 //!   over the tube's parallelogram footprint `e₁, e₂` on its facet (sinc x = sin x / x),
 //! - `ℓ` the whole path radar → hits → radar (f64).
 //!
-//! The exit path back to the radar must be clear (shadow ray) for bounces after the first.
-//! Ideal `point` objects give one contribution `S = √σ·exp(−j2πℓ/λ)` if in line of sight.
+//! **The sea (multipath).** With the sea on, the plane z = 0 reflects (`environment::sea`).
+//! Each object gets a second tube grid aimed at its mirror image below the sea: those tubes
+//! reach it after a sea reflection. Every hit on an object radiates back both directly and via
+//! the sea (toward the radar's image), so the four paths direct–direct, direct–sea, sea–direct
+//! and sea–sea of the two-ray model all arise, with shadowing by other objects. The sea's own
+//! backscatter (clutter) is not a PO return here.
+//!
+//! Return paths other than the way a tube came in are checked with shadow rays.
+//! Ideal `point` objects give `S = √σ·exp(−j2πℓ/λ)` per path (four paths over the sea).
 
-use super::{
-    azimuth_elevation_rad, carrier_phase, radar_equation_volts_per_root_m2, Contribution,
-    ScatterSet,
-};
+use super::{azimuth_elevation_rad, carrier_phase, Contribution, ScatterSet};
+use crate::environment::SeaSurface;
 use crate::geometry::{Bvh, Ray, ShapeGeometry};
 use crate::scene::{Polarisation, Scene};
 use glam::DVec3;
@@ -32,6 +38,88 @@ use rayon::prelude::*;
 
 /// Offset from a surface when launching the next segment, m.
 const SURFACE_OFFSET_M: f64 = 1e-6;
+
+/// A complex field vector `re + j·im`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ComplexVec3 {
+    /// Real part.
+    pub re: DVec3,
+    /// Imaginary part.
+    pub im: DVec3,
+}
+
+impl ComplexVec3 {
+    /// A real vector.
+    pub fn real(v: DVec3) -> Self {
+        ComplexVec3 {
+            re: v,
+            im: DVec3::ZERO,
+        }
+    }
+
+    /// `self · v` for a real `v`.
+    #[inline]
+    pub fn dot(&self, v: DVec3) -> Complex64 {
+        Complex64::new(self.re.dot(v), self.im.dot(v))
+    }
+
+    /// `c · v` for a complex scalar and a real vector.
+    #[inline]
+    pub fn scaled(v: DVec3, c: Complex64) -> Self {
+        ComplexVec3 {
+            re: v * c.re,
+            im: v * c.im,
+        }
+    }
+
+    /// Sum.
+    #[inline]
+    pub fn plus(self, o: Self) -> Self {
+        ComplexVec3 {
+            re: self.re + o.re,
+            im: self.im + o.im,
+        }
+    }
+
+    /// Perfect-conductor reflection `2(n̂·E)n̂ − E`.
+    #[inline]
+    pub fn pec_reflect(self, n: DVec3) -> Self {
+        ComplexVec3 {
+            re: n * (2.0 * n.dot(self.re)) - self.re,
+            im: n * (2.0 * n.dot(self.im)) - self.im,
+        }
+    }
+}
+
+/// Reflection of field `e` travelling along `k` (downward) off the sea: the horizontal part
+/// scaled by Γ_H, the vertical part by Γ_V and carried onto the reflected direction's basis.
+/// Returns the reflected field and direction.
+pub fn sea_reflect(
+    e: ComplexVec3,
+    k: DVec3,
+    sea: &SeaSurface,
+    wavelength_m: f64,
+) -> (ComplexVec3, DVec3) {
+    let grazing = (-k.z).clamp(-1.0, 1.0).asin();
+    let (gh, gv) = sea.reflection(grazing, wavelength_m);
+    let mut h = k.cross(DVec3::Z);
+    if h.length_squared() < 1e-24 {
+        h = DVec3::X;
+    }
+    let h = h.normalize();
+    let v_in = h.cross(k);
+    let k_r = DVec3::new(k.x, k.y, -k.z);
+    let v_out = h.cross(k_r);
+    let e_r =
+        ComplexVec3::scaled(h, gh * e.dot(h)).plus(ComplexVec3::scaled(v_out, gv * e.dot(v_in)));
+    (e_r, k_r)
+}
+
+/// Distance along `k` from `origin` to the sea plane z = 0, if the ray goes down into it.
+#[inline]
+fn sea_distance(origin: DVec3, k: DVec3) -> Option<f64> {
+    (k.z < -1e-12 && origin.z > 0.0).then(|| -origin.z / k.z)
+}
 
 /// Polarisation unit vector for a line of sight `dir` (radar outward): horizontal
 /// `ĥ = ẑ×d/|ẑ×d|`, vertical `v̂ = d×ĥ`. Both transmit and receive use this basis
@@ -75,12 +163,13 @@ pub enum Illumination {
     },
 }
 
-/// A grid of square ray tubes covering one object's bounding sphere as seen by the radar.
+/// A grid of square ray tubes covering one object's bounding sphere as seen by the radar
+/// (or, for `via_sea`, its mirror image below the sea).
 #[derive(Debug, Clone, Copy)]
 pub struct TubeGrid {
     /// Illumination.
     pub illumination: Illumination,
-    /// Centre of the object's bounding sphere, m.
+    /// Centre of the bounding sphere aimed at (mirrored for `via_sea`), m.
     pub centre_m: DVec3,
     /// Transverse unit axes of the grid plane.
     pub axis_u: DVec3,
@@ -92,6 +181,8 @@ pub struct TubeGrid {
     pub cells_per_side: usize,
     /// Bounding radius covered, m.
     pub radius_m: f64,
+    /// The tubes reach the object after a sea reflection.
+    pub via_sea: bool,
     /// Plane-wave mode: the launch/reference plane's point on the axis, m.
     plane_origin_m: DVec3,
 }
@@ -104,6 +195,7 @@ impl TubeGrid {
         radius_m: f64,
         spacing_m: f64,
         max_rays: usize,
+        via_sea: bool,
     ) -> TubeGrid {
         let toward = match illumination {
             Illumination::FromPoint { radar_m } => (radar_m - centre_m).normalize(),
@@ -133,6 +225,7 @@ impl TubeGrid {
             spacing_m: 2.0 * radius_m / cells as f64,
             cells_per_side: cells,
             radius_m,
+            via_sea,
             plane_origin_m: centre_m + toward * (radius_m + 1.0),
         }
     }
@@ -148,7 +241,7 @@ impl TubeGrid {
     }
 
     /// Launch of tube (i, j): origin, unit direction, the tube's unit transverse axes, and the
-    /// distance at which its side equals `spacing_m` (None for parallel tubes).
+    /// path length at which its side equals `spacing_m` (None for parallel tubes).
     #[inline]
     fn launch(&self, i: usize, j: usize) -> Option<(DVec3, DVec3, DVec3, DVec3, Option<f64>)> {
         let p = self.point(i, j)?;
@@ -191,12 +284,14 @@ pub struct SbrSettings {
     pub wavelength_m: f64,
     /// Polarisation.
     pub polarisation: Polarisation,
-    /// Maximum bounces.
+    /// Maximum bounces on objects.
     pub max_bounces: usize,
     /// Tube spacing, m.
     pub spacing_m: f64,
-    /// Cap on rays per object.
+    /// Cap on rays per object (per grid).
     pub max_rays: usize,
+    /// The reflecting sea surface, if any (scene rendering only).
+    pub sea: Option<SeaSurface>,
 }
 
 /// Per-ray result: contributions as root-RCS with geometry, before the volt conversion.
@@ -208,14 +303,25 @@ pub struct TubeReturn {
     pub path_m: f64,
     /// Unit direction of the first segment.
     pub tx_dir: DVec3,
-    /// Unit direction from the receiver to the last hit.
+    /// Unit direction from the receiver toward where the echo arrives from.
     pub rx_dir: DVec3,
-    /// Launch to first hit, m.
+    /// Path from the radar to the first object hit, m.
     pub range_tx_m: f64,
-    /// Last hit back to the receiver, m.
+    /// Path from the last hit back to the receiver, m.
     pub range_rx_m: f64,
-    /// Bounces.
+    /// Bounces on objects.
     pub bounces: u8,
+    /// Sea reflections along the path.
+    pub sea_reflections: u8,
+}
+
+/// One return of a hit toward the receiver.
+struct Exit {
+    s_hat: DVec3,
+    field: ComplexVec3,
+    rx_dir: DVec3,
+    range_rx_m: f64,
+    via_sea: bool,
 }
 
 /// Traces tube (i, j) of `grid` aimed at object `target` and pushes its returns into `out`.
@@ -229,12 +335,17 @@ pub fn trace_tube(
     s: &SbrSettings,
     out: &mut Vec<TubeReturn>,
 ) -> u64 {
-    let Some((launch, k0, eu0, ev0, spread_ref_m)) = grid.launch(i, j) else {
+    let Some((launch, k0, mut unit_u, mut unit_v, spread_ref_m)) = grid.launch(i, j) else {
         return 0;
     };
     let wavenumber = std::f64::consts::TAU / s.wavelength_m;
     let root_4pi_over_lambda = (4.0 * std::f64::consts::PI).sqrt() / s.wavelength_m;
-    let mut e_field = polarisation_vector(k0, s.polarisation);
+    let sea = if matches!(grid.illumination, Illumination::FromPoint { .. }) {
+        s.sea
+    } else {
+        None
+    };
+    let mut e_field = ComplexVec3::real(polarisation_vector(k0, s.polarisation));
     let mut origin = launch;
     let mut k = k0;
     let mut path_m = 0.0;
@@ -242,85 +353,171 @@ pub fn trace_tube(
     let mut edge_u = DVec3::ZERO;
     let mut edge_v = DVec3::ZERO;
     let mut rays = 0u64;
-    for bounce in 1..=s.max_bounces {
+    let mut object_hits = 0usize;
+    let mut sea_hits = 0u8;
+    let max_interactions = s.max_bounces + usize::from(grid.via_sea);
+    for interaction in 1..=max_interactions {
         rays += 1;
-        let Some(hit) = bvh.closest_hit(
+        let hit = bvh.closest_hit(
             &Ray {
                 origin_m: origin,
                 dir: k,
             },
             f64::INFINITY,
-        ) else {
+        );
+        let sea_t = sea.and_then(|_| sea_distance(origin, k));
+        let (t, normal, object) = match (hit, sea_t) {
+            (Some(h), Some(ts)) if ts < h.t_m => (ts, DVec3::Z, None),
+            (Some(h), _) => (h.t_m, h.normal, Some(h.object)),
+            (None, Some(ts)) => (ts, DVec3::Z, None),
+            (None, None) => break,
+        };
+        // Direct tubes must reach their object first; via-sea tubes the sea, then the object.
+        let wanted = match (grid.via_sea, interaction) {
+            (false, 1) => object == Some(target),
+            (true, 1) => object.is_none(),
+            (true, 2) => object == Some(target),
+            _ => true,
+        };
+        if !wanted {
             break;
-        };
-        if bounce == 1 {
-            if hit.object != target {
-                break; // shadowed by another object, which traces its own tubes
-            }
-            range_tx_m = hit.t_m;
-            let side = spread_ref_m.map_or(s.spacing_m, |r| s.spacing_m * hit.t_m / r);
-            edge_u = eu0 * side;
-            edge_v = ev0 * side;
         }
-        let hit_p = origin + k * hit.t_m;
-        path_m += hit.t_m;
-        let n = if hit.normal.dot(k) < 0.0 {
-            hit.normal
-        } else {
-            -hit.normal
+        let hit_p = origin + k * t;
+        path_m += t;
+        let Some(_) = object else {
+            // Sea reflection: no return of its own (that is clutter), the tube carries on.
+            let sea = sea.expect("sea hit only when the sea is on");
+            let (e_r, k_r) = sea_reflect(e_field, k, &sea, s.wavelength_m);
+            e_field = e_r;
+            sea_hits += 1;
+            let mirror = |v: DVec3| DVec3::new(v.x, v.y, -v.z);
+            unit_u = mirror(unit_u);
+            unit_v = mirror(unit_v);
+            edge_u = mirror(edge_u);
+            edge_v = mirror(edge_v);
+            k = k_r;
+            origin = hit_p + DVec3::Z * SURFACE_OFFSET_M;
+            continue;
         };
+        object_hits += 1;
+        if object_hits == 1 {
+            range_tx_m = path_m;
+            let side = spread_ref_m.map_or(s.spacing_m, |r| s.spacing_m * path_m / r);
+            edge_u = unit_u * side;
+            edge_v = unit_v * side;
+        }
+        let n = if normal.dot(k) < 0.0 { normal } else { -normal };
         let n_dot_k = n.dot(k); // < 0
         let k_r = k - n * (2.0 * n_dot_k);
-        let e_r = n * (2.0 * n.dot(e_field)) - e_field;
+        let e_r = e_field.pec_reflect(n);
+        let lift = hit_p + n * SURFACE_OFFSET_M;
+        // Direct return.
         let (s_hat, range_rx_m) = grid.return_path(hit_p);
-        let n_dot_s = n.dot(s_hat);
-        if n_dot_s > 0.0 && n_dot_k.abs() > 1e-9 {
-            let visible = bounce == 1 || {
+        let retraces = object_hits == 1 && interaction == 1;
+        let mut exits: [Option<Exit>; 2] = [None, None];
+        if n.dot(s_hat) > 0.0 {
+            let clear = retraces || {
                 rays += 1;
                 !bvh.any_hit(
                     &Ray {
-                        origin_m: hit_p + n * SURFACE_OFFSET_M,
+                        origin_m: lift,
                         dir: s_hat,
                     },
                     range_rx_m - SURFACE_OFFSET_M,
                 )
             };
-            if visible {
-                // Footprint edges: the tube's edges projected along k onto the facet.
-                let f1 = edge_u - k * (n.dot(edge_u) / n_dot_k);
-                let f2 = edge_v - k * (n.dot(edge_v) / n_dot_k);
-                let q = (s_hat - k_r) * wavenumber;
-                let footprint =
-                    n_dot_s / n_dot_k.abs() * sinc(0.5 * q.dot(f1)) * sinc(0.5 * q.dot(f2));
-                let area_perp = edge_u.cross(edge_v).length();
-                let pol = e_r.dot(polarisation_vector(-s_hat, s.polarisation));
-                let total_path = path_m + range_rx_m;
-                let mag = root_4pi_over_lambda * area_perp * footprint * pol;
-                if mag != 0.0 {
-                    out.push(TubeReturn {
-                        root_rcs_m: carrier_phase(total_path, s.wavelength_m) * mag,
-                        path_m: total_path,
-                        tx_dir: k0,
-                        rx_dir: -s_hat,
-                        range_tx_m,
-                        range_rx_m,
-                        bounces: bounce as u8,
-                    });
+            if clear {
+                exits[0] = Some(Exit {
+                    s_hat,
+                    field: e_r,
+                    rx_dir: -s_hat,
+                    range_rx_m,
+                    via_sea: false,
+                });
+            }
+        }
+        // Return via the sea, toward the radar's image below z = 0.
+        if let (Some(sea), Illumination::FromPoint { radar_m }) = (sea, grid.illumination) {
+            if hit_p.z > 0.0 && radar_m.z > 0.0 {
+                let image = DVec3::new(radar_m.x, radar_m.y, -radar_m.z);
+                let v = image - hit_p;
+                let dist = v.length();
+                let s2 = v / dist;
+                if n.dot(s2) > 0.0 && s2.z < 0.0 {
+                    let t_sea = hit_p.z / -s2.z;
+                    let sea_pt = hit_p + s2 * t_sea;
+                    let up = radar_m - sea_pt;
+                    let up_len = up.length();
+                    rays += 2;
+                    let clear = !bvh.any_hit(
+                        &Ray {
+                            origin_m: lift,
+                            dir: s2,
+                        },
+                        t_sea,
+                    ) && !bvh.any_hit(
+                        &Ray {
+                            origin_m: sea_pt,
+                            dir: up / up_len,
+                        },
+                        up_len,
+                    );
+                    if clear {
+                        let (field, _) = sea_reflect(e_r, s2, &sea, s.wavelength_m);
+                        exits[1] = Some(Exit {
+                            s_hat: s2,
+                            field,
+                            rx_dir: -up / up_len,
+                            range_rx_m: dist,
+                            via_sea: true,
+                        });
+                    }
                 }
             }
+        }
+        let area_perp = edge_u.cross(edge_v).length();
+        for exit in exits.iter().flatten() {
+            // Footprint edges: the tube's edges projected along k onto the facet.
+            let f1 = edge_u - k * (n.dot(edge_u) / n_dot_k);
+            let f2 = edge_v - k * (n.dot(edge_v) / n_dot_k);
+            let q = (exit.s_hat - k_r) * wavenumber;
+            let footprint =
+                n.dot(exit.s_hat) / n_dot_k.abs() * sinc(0.5 * q.dot(f1)) * sinc(0.5 * q.dot(f2));
+            let pol = exit
+                .field
+                .dot(polarisation_vector(exit.rx_dir, s.polarisation));
+            let total_path = path_m + exit.range_rx_m;
+            let amplitude = pol * (root_4pi_over_lambda * area_perp * footprint);
+            if amplitude.norm_sqr() > 0.0 {
+                out.push(TubeReturn {
+                    root_rcs_m: carrier_phase(total_path, s.wavelength_m) * amplitude,
+                    path_m: total_path,
+                    tx_dir: k0,
+                    rx_dir: exit.rx_dir,
+                    range_tx_m,
+                    range_rx_m: exit.range_rx_m,
+                    bounces: object_hits as u8,
+                    sea_reflections: sea_hits + u8::from(exit.via_sea),
+                });
+            }
+        }
+        if object_hits >= s.max_bounces {
+            break;
         }
         // Continue along the reflected ray; mirror the tube edges and the field.
         edge_u -= n * (2.0 * n.dot(edge_u));
         edge_v -= n * (2.0 * n.dot(edge_v));
         e_field = e_r;
         k = k_r;
-        origin = hit_p + n * SURFACE_OFFSET_M;
+        origin = lift;
     }
     rays
 }
 
 /// All returns of one object lit by `illumination` (rows traced in parallel, collected in
-/// order so the result does not depend on the thread count).
+/// order so the result does not depend on the thread count). With the sea on (and a radar
+/// at a point), a second grid aimed at the object's mirror image adds the paths that reach
+/// it via the sea.
 pub fn trace_object(
     bvh: &Bvh,
     illumination: Illumination,
@@ -329,20 +526,46 @@ pub fn trace_object(
     index: u32,
     s: &SbrSettings,
 ) -> (Vec<TubeReturn>, u64) {
-    let grid = TubeGrid::new(illumination, centre_m, radius_m, s.spacing_m, s.max_rays);
-    let rows: Vec<(Vec<TubeReturn>, u64)> = (0..grid.cells_per_side)
-        .into_par_iter()
-        .map(|j| {
-            let mut out = Vec::new();
-            let mut rays = 0;
-            for i in 0..grid.cells_per_side {
-                rays += trace_tube(bvh, &grid, i, j, index, s, &mut out);
-            }
-            (out, rays)
-        })
-        .collect();
-    let rays = rows.iter().map(|r| r.1).sum();
-    let returns = rows.into_iter().flat_map(|r| r.0).collect();
+    let mut grids = vec![TubeGrid::new(
+        illumination,
+        centre_m,
+        radius_m,
+        s.spacing_m,
+        s.max_rays,
+        false,
+    )];
+    if let (Some(_), Illumination::FromPoint { radar_m }) = (s.sea, illumination) {
+        if radar_m.z > 0.0 && centre_m.z + radius_m > 0.0 {
+            let image = DVec3::new(centre_m.x, centre_m.y, -centre_m.z);
+            grids.push(TubeGrid::new(
+                illumination,
+                image,
+                radius_m,
+                s.spacing_m,
+                s.max_rays,
+                true,
+            ));
+        }
+    }
+    let mut returns = Vec::new();
+    let mut rays = 0;
+    for grid in &grids {
+        let rows: Vec<(Vec<TubeReturn>, u64)> = (0..grid.cells_per_side)
+            .into_par_iter()
+            .map(|j| {
+                let mut out = Vec::new();
+                let mut rays = 0;
+                for i in 0..grid.cells_per_side {
+                    rays += trace_tube(bvh, grid, i, j, index, s, &mut out);
+                }
+                (out, rays)
+            })
+            .collect();
+        for (r, n) in rows {
+            returns.extend(r);
+            rays += n;
+        }
+    }
     (returns, rays)
 }
 
@@ -380,6 +603,71 @@ pub fn settings_for(scene: &Scene) -> SbrSettings {
         max_bounces: scene.scattering.max_bounces,
         spacing_m: scene.scattering.ray_spacing_wavelengths * lambda,
         max_rays: scene.scattering.max_rays_per_object,
+        sea: scene.environment.sea,
+    }
+}
+
+/// One leg between the radar and a point target: path length, direction from the radar, and
+/// the sea's reflection coefficient along it (1 for the direct leg); None if blocked.
+fn point_leg(
+    bvh: &Bvh,
+    radar_m: DVec3,
+    target_m: DVec3,
+    via_sea: Option<&SeaSurface>,
+    s: &SbrSettings,
+) -> Option<(f64, DVec3, Complex64)> {
+    match via_sea {
+        None => {
+            let v = target_m - radar_m;
+            let len = v.length();
+            let dir = v / len;
+            (!bvh.any_hit(
+                &Ray {
+                    origin_m: radar_m,
+                    dir,
+                },
+                len,
+            ))
+            .then_some((len, dir, Complex64::new(1.0, 0.0)))
+        }
+        Some(sea) => {
+            if radar_m.z <= 0.0 || target_m.z <= 0.0 {
+                return None;
+            }
+            let image = DVec3::new(target_m.x, target_m.y, -target_m.z);
+            let v = image - radar_m;
+            let len = v.length();
+            let dir = v / len;
+            let t_sea = radar_m.z / -dir.z;
+            let sea_pt = radar_m + dir * t_sea;
+            let up = target_m - sea_pt;
+            let up_len = up.length();
+            if bvh.any_hit(
+                &Ray {
+                    origin_m: radar_m,
+                    dir,
+                },
+                t_sea,
+            ) || bvh.any_hit(
+                &Ray {
+                    origin_m: sea_pt,
+                    dir: up / up_len,
+                },
+                up_len,
+            ) {
+                return None;
+            }
+            let (gh, gv) = sea.reflection((-dir.z).asin(), s.wavelength_m);
+            Some((
+                len,
+                dir,
+                if s.polarisation == Polarisation::Hh {
+                    gh
+                } else {
+                    gv
+                },
+            ))
+        }
     }
 }
 
@@ -387,37 +675,43 @@ pub fn settings_for(scene: &Scene) -> SbrSettings {
 pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
     let radar = &scene.radar;
     let s = settings_for(scene);
+    let volts = |r_tx: f64, r_rx: f64| super::path_volts_per_root_m2(scene, r_tx, r_rx);
     let mut set = ScatterSet::default();
     for (idx, obj) in scene.objects.iter().enumerate() {
         let index = idx as u32;
         if let ShapeGeometry::Point { rcs_m2 } = obj.shape {
-            let to_obj = obj.position_m - radar.position_m;
-            let range_m = to_obj.length();
-            let dir = to_obj / range_m;
-            set.rays_cast += 1;
-            if bvh.any_hit(
-                &Ray {
-                    origin_m: radar.position_m,
-                    dir,
-                },
-                range_m,
-            ) {
-                continue;
+            let mut routes: Vec<Option<&SeaSurface>> = vec![None];
+            if let Some(sea) = s.sea.as_ref() {
+                routes.push(Some(sea));
             }
-            let path_m = 2.0 * range_m;
-            let root = carrier_phase(path_m, s.wavelength_m) * rcs_m2.sqrt();
-            let (az, el) = azimuth_elevation_rad(dir);
-            set.contributions.push(Contribution {
-                amplitude_v: root * radar_equation_volts_per_root_m2(radar, range_m, range_m),
-                root_rcs_m: root,
-                path_m,
-                az_tx_rad: az,
-                el_tx_rad: el,
-                az_rx_rad: az,
-                el_rx_rad: el,
-                object: index,
-                bounces: 0,
-            });
+            let legs: Vec<(f64, DVec3, Complex64, u8)> = routes
+                .into_iter()
+                .filter_map(|via| {
+                    point_leg(bvh, radar.position_m, obj.position_m, via, &s)
+                        .map(|(len, dir, g)| (len, dir, g, u8::from(via.is_some())))
+                })
+                .collect();
+            set.rays_cast += 2 * legs.len() as u64;
+            for &(len_tx, dir_tx, g_tx, sea_tx) in &legs {
+                for &(len_rx, dir_rx, g_rx, sea_rx) in &legs {
+                    let path_m = len_tx + len_rx;
+                    let root = carrier_phase(path_m, s.wavelength_m) * g_tx * g_rx * rcs_m2.sqrt();
+                    let (az_tx, el_tx) = azimuth_elevation_rad(dir_tx);
+                    let (az_rx, el_rx) = azimuth_elevation_rad(dir_rx);
+                    set.contributions.push(Contribution {
+                        amplitude_v: root * volts(len_tx, len_rx),
+                        root_rcs_m: root,
+                        path_m,
+                        az_tx_rad: az_tx,
+                        el_tx_rad: el_tx,
+                        az_rx_rad: az_rx,
+                        el_rx_rad: el_rx,
+                        object: index,
+                        bounces: 0,
+                        sea_reflections: sea_tx + sea_rx,
+                    });
+                }
+            }
             continue;
         }
         let illumination = Illumination::FromPoint {
@@ -436,8 +730,7 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
             let (az_tx, el_tx) = azimuth_elevation_rad(r.tx_dir);
             let (az_rx, el_rx) = azimuth_elevation_rad(r.rx_dir);
             Contribution {
-                amplitude_v: r.root_rcs_m
-                    * radar_equation_volts_per_root_m2(radar, r.range_tx_m, r.range_rx_m),
+                amplitude_v: r.root_rcs_m * volts(r.range_tx_m, r.range_rx_m),
                 root_rcs_m: r.root_rcs_m,
                 path_m: r.path_m,
                 az_tx_rad: az_tx,
@@ -446,6 +739,7 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
                 el_rx_rad: el_rx,
                 object: index,
                 bounces: r.bounces,
+                sea_reflections: r.sea_reflections,
             }
         }));
     }

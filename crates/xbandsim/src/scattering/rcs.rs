@@ -64,6 +64,7 @@ impl RcsTarget {
             max_bounces: s.max_bounces,
             spacing_m: s.ray_spacing_wavelengths * lambda,
             max_rays: s.max_rays,
+            sea: None,
         };
         plane_wave_rcs_m2(
             &self.bvh,

@@ -13,6 +13,7 @@ use crate::antenna::{uniform_aperture_gain, Antenna};
 use crate::constants::{
     db_to_linear, wavelength_m, BOLTZMANN_J_PER_K, REFERENCE_TEMPERATURE_K, SPEED_OF_LIGHT_M_PER_S,
 };
+use crate::environment::{sea_water_permittivity, two_way_attenuation_power, SeaSurface};
 use crate::error::{Error, Result};
 use crate::geometry::{object_frame, MeshUnit, ShapeGeometry, TriangleMesh};
 use crate::waveform::{LfmChirp, Window};
@@ -154,11 +155,22 @@ impl Radar {
     }
 }
 
-/// Environment switches.
+/// Environment: noise, the sea surface and propagation.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Environment {
     /// Add thermal noise.
     pub noise: bool,
+    /// The sea surface at z = 0 reflecting (multipath), if enabled.
+    pub sea: Option<SeaSurface>,
+    /// Two-way atmospheric attenuation, dB/km.
+    pub two_way_attenuation_db_per_km: f64,
+}
+
+impl Environment {
+    /// Two-way power factor of the atmosphere over a one-way range, ≤ 1.
+    pub fn attenuation_power(&self, range_m: f64) -> f64 {
+        two_way_attenuation_power(self.two_way_attenuation_db_per_km, range_m)
+    }
 }
 
 /// Colour map for `ppi.png`.
@@ -283,9 +295,7 @@ impl Scene {
     /// Validates a parsed scene description whose mesh files are relative to `base_dir`.
     pub fn from_spec_in(spec: &SceneSpec, base_dir: &Path) -> Result<Scene> {
         let radar = build_radar(&spec.radar)?;
-        let environment = Environment {
-            noise: spec.environment.noise.unwrap_or(true),
-        };
+        let environment = build_environment(&spec.environment, radar.carrier_freq_hz)?;
         let display = build_display(&spec.display)?;
         let scattering = build_scattering(&spec.scattering)?;
         let mut objects = Vec::with_capacity(spec.objects.len());
@@ -553,6 +563,62 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
     })
 }
 
+fn build_environment(s: &EnvironmentSpec, carrier_freq_hz: f64) -> Result<Environment> {
+    let temperature_c = finite(
+        "environment.sea_temperature_c",
+        s.sea_temperature_c.unwrap_or(20.0),
+    )?;
+    if !(-2.0..=40.0).contains(&temperature_c) {
+        return Err(Error::invalid(
+            "environment.sea_temperature_c",
+            temperature_c,
+            "must be within -2..40 °C (the permittivity model's range)",
+        ));
+    }
+    let salinity_psu = finite(
+        "environment.sea_salinity_psu",
+        s.sea_salinity_psu.unwrap_or(35.0),
+    )?;
+    if !(0.0..=45.0).contains(&salinity_psu) {
+        return Err(Error::invalid(
+            "environment.sea_salinity_psu",
+            salinity_psu,
+            "must be within 0..45 psu",
+        ));
+    }
+    let rms_height_m = finite(
+        "environment.sea_rms_height_m",
+        s.sea_rms_height_m.unwrap_or(0.0),
+    )?;
+    if rms_height_m < 0.0 {
+        return Err(Error::invalid(
+            "environment.sea_rms_height_m",
+            rms_height_m,
+            "must be 0 or more",
+        ));
+    }
+    let attenuation = finite(
+        "environment.two_way_attenuation_db_per_km",
+        s.two_way_attenuation_db_per_km.unwrap_or(0.0),
+    )?;
+    if attenuation < 0.0 {
+        return Err(Error::invalid(
+            "environment.two_way_attenuation_db_per_km",
+            attenuation,
+            "must be 0 or more",
+        ));
+    }
+    let sea = s.multipath.unwrap_or(true).then(|| SeaSurface {
+        permittivity: sea_water_permittivity(carrier_freq_hz, temperature_c, salinity_psu),
+        rms_height_m,
+    });
+    Ok(Environment {
+        noise: s.noise.unwrap_or(true),
+        sea,
+        two_way_attenuation_db_per_km: attenuation,
+    })
+}
+
 fn build_display(s: &DisplaySpec) -> Result<Display> {
     let image_size_px = s.image_size_px.unwrap_or(1024);
     if !(16..=16384).contains(&image_size_px) {
@@ -619,7 +685,7 @@ fn build_scattering(s: &ScatteringSpec) -> Result<ScatteringConfig> {
         "scattering.ray_spacing_wavelengths",
         s.ray_spacing_wavelengths.unwrap_or(0.5),
     )?;
-    let max_rays_per_object = s.max_rays_per_object.unwrap_or(65_536);
+    let max_rays_per_object = s.max_rays_per_object.unwrap_or(32_768);
     if max_rays_per_object == 0 {
         return Err(Error::invalid(
             "scattering.max_rays_per_object",

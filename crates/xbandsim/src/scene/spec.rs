@@ -82,6 +82,16 @@ pub struct RadarSpec {
 pub struct EnvironmentSpec {
     /// Add receiver thermal noise (default true).
     pub noise: Option<bool>,
+    /// Reflections from the sea surface at z = 0: four-path multipath (default true).
+    pub multipath: Option<bool>,
+    /// Sea surface temperature, °C (default 20), for the sea-water permittivity.
+    pub sea_temperature_c: Option<f64>,
+    /// Sea salinity, psu (default 35).
+    pub sea_salinity_psu: Option<f64>,
+    /// Rms height of the sea surface, m (default 0: calm), for the specular roughness factor.
+    pub sea_rms_height_m: Option<f64>,
+    /// Two-way atmospheric attenuation, dB per km of range (default 0).
+    pub two_way_attenuation_db_per_km: Option<f64>,
 }
 
 /// `[display]`.
@@ -109,7 +119,8 @@ pub struct ScatteringSpec {
     pub model: Option<String>,
     /// Ray-tube spacing in wavelengths for the "po" model (default 0.5).
     pub ray_spacing_wavelengths: Option<f64>,
-    /// Cap on rays per object for the "po" model (default 65536); spacing grows to respect it.
+    /// Cap on rays per object and grid for the "po" model (default 32768); the spacing grows
+    /// to respect it.
     pub max_rays_per_object: Option<usize>,
     /// Maximum number of bounces traced (default 3).
     pub max_bounces: Option<usize>,

@@ -5,8 +5,8 @@
 use xbandsim::scene::Scene;
 use xbandsim::sim::{Frame, Simulation};
 pub use xbandsim::validation::{
-    argmax, bin_range_m, fine_profile, first_null_bins, point_north, pslr_db, radar_block, spoke,
-    width_at_db,
+    argmax, bin_range_m, fine_profile, first_null_bins, point_north, pslr_db, radar_block,
+    radar_block_no_noise, spoke, width_at_db,
 };
 
 /// A scene from TOML text, panicking with the error (tests only).
