@@ -190,6 +190,36 @@ pub fn run(a: &BenchArgs) -> Result<()> {
             "ms",
         );
     }
+    // 4. RCS of the ~10 k-triangle vessel mesh over 360 aspects (issue: under 10 s).
+    let vessel = xbandsim::geometry::mesh::vessel(30.0, 128);
+    let triangles = vessel.triangles.len();
+    let object = xbandsim::scene::SceneObject {
+        name: "vessel".into(),
+        class: "ship".into(),
+        shape_name: "mesh".into(),
+        shape: xbandsim::geometry::ShapeGeometry::Mesh {
+            mesh: std::sync::Arc::new(vessel),
+        },
+        position_m: DVec3::ZERO,
+        rotation: glam::DMat3::IDENTITY,
+    };
+    let target = xbandsim::scattering::rcs::RcsTarget::new(&object);
+    let settings = xbandsim::scattering::rcs::RcsSettings {
+        freq_hz: 9.41e9,
+        polarisation: xbandsim::scene::Polarisation::Hh,
+        ray_spacing_wavelengths: 0.25,
+        max_rays: 262_144,
+        max_bounces: 3,
+    };
+    let aspects: Vec<(f64, f64)> = (0..360).map(|d| ((d as f64).to_radians(), 0.0)).collect();
+    let t = median_s(a.repeats.min(3), || {
+        std::hint::black_box(target.sweep_m2(&aspects, &settings));
+    });
+    put(
+        &format!("RCS of a {triangles}-triangle mesh, 360 aspects (xbandsim rcs defaults)"),
+        t,
+        "s",
+    );
     if let Some(mb) = peak_rss_mb() {
         put("peak resident memory (whole bench process)", mb, "MB");
     }

@@ -59,6 +59,8 @@ pub fn run(out: &Path, scene_path: &Path, seed: u64) -> Result<()> {
     crate::say!("wrote {}", out.join("fig3_signal_chain.png").display());
     fig4(out, &spec, crate::render::scene_dir(scene_path), seed)?;
     crate::say!("wrote {}", out.join("fig4_ppi_pulse_widths.png").display());
+    object_frames(out)?;
+    crate::say!("wrote {}", out.join("object_frames.png").display());
     crate::say!("figures done in {:.1} s", t0.elapsed().as_secs_f64());
     Ok(())
 }
@@ -406,6 +408,168 @@ fn fig4(out: &Path, spec: &SceneSpec, base_dir: &Path, seed: u64) -> Result<()> 
                     )
                     .map_err(plot_err)?;
                 }
+            }
+        }
+        Ok(())
+    })
+}
+
+/// The object frames of docs/formats.md: each shape at zero rotation, seen from above
+/// (x east, y north) and from the side (y, z), with the direction of aspect (0°, 0°).
+fn object_frames(out: &Path) -> Result<()> {
+    use glam::{DMat3, DVec3};
+    use xbandsim::geometry::{PrimitiveKind, ShapeGeometry};
+    let shapes: Vec<(&str, ShapeGeometry)> = vec![
+        (
+            "plate 2 x 1 m",
+            ShapeGeometry::Plate {
+                width_m: 2.0,
+                height_m: 1.0,
+            },
+        ),
+        (
+            "trihedral edge 1.5 m",
+            ShapeGeometry::Trihedral { edge_m: 1.5 },
+        ),
+        (
+            "dihedral 1 x 1.5 m",
+            ShapeGeometry::Dihedral {
+                width_m: 1.0,
+                height_m: 1.5,
+            },
+        ),
+        (
+            "cylinder r 0.5, h 1.5 m",
+            ShapeGeometry::Cylinder {
+                radius_m: 0.5,
+                height_m: 1.5,
+            },
+        ),
+        (
+            "box 2 x 1 x 1 m",
+            ShapeGeometry::Box {
+                size_m: DVec3::new(2.0, 1.0, 1.0),
+            },
+        ),
+        (
+            "vessel mesh (1/10 scale)",
+            ShapeGeometry::Mesh {
+                mesh: std::sync::Arc::new({
+                    let mut m = xbandsim::geometry::mesh::vessel(30.0, 16);
+                    m.vertices_m.iter_mut().for_each(|v| *v *= 0.1);
+                    m
+                }),
+            },
+        ),
+    ];
+    let circle = |centre: DVec3, normal: DVec3, radius_m: f64| -> Vec<DVec3> {
+        let u = if normal.x.abs() < 0.9 {
+            normal.cross(DVec3::X)
+        } else {
+            normal.cross(DVec3::Y)
+        }
+        .normalize();
+        let v = normal.cross(u);
+        (0..=48)
+            .map(|i| std::f64::consts::TAU * i as f64 / 48.0)
+            .map(|a| centre + (u * a.cos() + v * a.sin()) * radius_m)
+            .collect()
+    };
+    save_rgb(&out.join("object_frames.png"), 1500, 560, |root| {
+        root.fill(&WHITE).map_err(plot_err)?;
+        root.draw(&Text::new("Object frames at zero rotation: every shape faces +y; red arrow = direction to a radar at aspect (0 deg, 0 deg); yaw turns +y toward +x", (15, 8), (FONT, 17))).map_err(plot_err)?;
+        let area = root.margin(35, 5, 5, 5);
+        let cols = area.split_evenly((2, shapes.len()));
+        for (k, (name, shape)) in shapes.iter().enumerate() {
+            for (row, ia, ib, xl, yl) in [
+                (0usize, 0usize, 1usize, "x (east)", "y (north)"),
+                (1, 1, 2, "y (north)", "z (up)"),
+            ] {
+                let panel = &cols[row * shapes.len() + k];
+                let mut chart = ChartBuilder::on(panel)
+                    .caption(
+                        if row == 0 {
+                            format!("{name}: top")
+                        } else {
+                            "side".to_string()
+                        },
+                        (FONT, 14),
+                    )
+                    .margin(6)
+                    .x_label_area_size(28)
+                    .y_label_area_size(32)
+                    .build_cartesian_2d(-1.8f64..1.8f64, -1.8f64..1.8f64)
+                    .map_err(plot_err)?;
+                chart
+                    .configure_mesh()
+                    .x_desc(xl)
+                    .y_desc(yl)
+                    .label_style((FONT, 11))
+                    .x_labels(5)
+                    .y_labels(5)
+                    .draw()
+                    .map_err(plot_err)?;
+                let proj = move |v: DVec3| (v.to_array()[ia], v.to_array()[ib]);
+                for p in shape.primitives(DVec3::ZERO, DMat3::IDENTITY, 0) {
+                    let outline: Vec<DVec3> = match p.kind {
+                        PrimitiveKind::Triangle { v0, e1, e2 } => vec![v0, v0 + e1, v0 + e2, v0],
+                        PrimitiveKind::Parallelogram {
+                            corner,
+                            edge_u,
+                            edge_v,
+                        } => vec![
+                            corner,
+                            corner + edge_u,
+                            corner + edge_u + edge_v,
+                            corner + edge_v,
+                            corner,
+                        ],
+                        PrimitiveKind::Sphere { centre, radius_m } => {
+                            circle(centre, if row == 0 { DVec3::Z } else { DVec3::X }, radius_m)
+                        }
+                        PrimitiveKind::Disk {
+                            centre,
+                            normal,
+                            radius_m,
+                        } => circle(centre, normal, radius_m),
+                        PrimitiveKind::Cylinder {
+                            base,
+                            axis,
+                            radius_m,
+                            height_m,
+                        } => {
+                            let top = base + axis * height_m;
+                            vec![
+                                base + DVec3::X * radius_m,
+                                top + DVec3::X * radius_m,
+                                top - DVec3::X * radius_m,
+                                base - DVec3::X * radius_m,
+                                base + DVec3::X * radius_m,
+                                base + DVec3::Y * radius_m,
+                                top + DVec3::Y * radius_m,
+                                top - DVec3::Y * radius_m,
+                                base - DVec3::Y * radius_m,
+                                base + DVec3::Y * radius_m,
+                            ]
+                        }
+                    };
+                    chart
+                        .draw_series(LineSeries::new(
+                            outline.into_iter().map(proj),
+                            BLUE.mix(0.8),
+                        ))
+                        .map_err(plot_err)?;
+                }
+                let arrow_end = proj(DVec3::new(0.0, 1.6, 0.0));
+                chart
+                    .draw_series(LineSeries::new(
+                        vec![proj(DVec3::ZERO), arrow_end],
+                        RED.stroke_width(2),
+                    ))
+                    .map_err(plot_err)?;
+                chart
+                    .draw_series(std::iter::once(Circle::new(arrow_end, 4, RED.filled())))
+                    .map_err(plot_err)?;
             }
         }
         Ok(())
