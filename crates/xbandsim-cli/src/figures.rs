@@ -155,7 +155,7 @@ fn fig3(out: &Path, base: &Scene, seed: u64) -> Result<()> {
     three.radar.noise_figure_linear = base.radar.noise_figure_linear;
     let sim = Simulation::new(three);
     let set = sim.trace();
-    let raw = sim.raw_spoke(&sim.echo_groups(&set), 0.0, seed, 0, 0);
+    let raw = sim.raw_spoke(None, &sim.echo_groups(&set), 0.0, seed, 0, 0);
     let radar = &sim.scene().radar;
     let fs = radar.sample_rate_hz();
     let chirp = radar.chirp;
@@ -174,7 +174,7 @@ fn fig3(out: &Path, base: &Scene, seed: u64) -> Result<()> {
                 rays_cast: 0,
             };
             let g: EchoGroups = sim.echo_groups(&subset);
-            sim.raw_spoke(&g, 0.0, seed, 0, 0).echo_iq
+            sim.raw_spoke(None, &g, 0.0, seed, 0, 0).echo_iq
         })
         .collect();
     save_rgb(&out.join("fig3_signal_chain.png"), 1400, 1000, |root| {

@@ -18,6 +18,8 @@ pub enum Visibility {
     Eclipsed,
     /// Farther than the radar's maximum range.
     BeyondMaxRange,
+    /// Below the radar horizon of the 4/3 earth: no echo.
+    BeyondHorizon,
     /// No ray reaches it (hidden behind other objects).
     Shadowed,
     /// Its expected single-pulse SNR is below 0 dB.
@@ -112,7 +114,12 @@ pub fn object_truth(
                     * gain.unwrap_or(1.0)
             });
             let eclipsed = radar.receiver_blanking && range_m < radar.eclipse_range_m();
-            let visibility = if range_m > radar.max_range_m {
+            let top_m = o.bounding_centre_m().z + o.shape.bounding_radius_m();
+            let beyond_horizon = scene.environment.earth_curvature
+                && !crate::environment::above_horizon(radar.position_m.z, ground_range_m, top_m);
+            let visibility = if beyond_horizon {
+                Visibility::BeyondHorizon
+            } else if range_m > radar.max_range_m {
                 Visibility::BeyondMaxRange
             } else if eclipsed {
                 Visibility::Eclipsed

@@ -3,6 +3,7 @@
 //! adds noise, blanks and compresses (docs/physics.md, "Pipeline"). Nothing else lives here.
 
 use crate::echo::{EchoGroups, FractionalDelayKernel};
+use crate::environment::clutter_map::ClutterMap;
 use crate::geometry::Bvh;
 use crate::labels::{object_truth, ObjectTruth};
 use crate::ppi::{PpiGeometry, ScanConverter};
@@ -125,6 +126,7 @@ impl Simulation {
     /// (amplitude in noise-rms units).
     pub fn compress_spoke(
         &self,
+        clutter: Option<&ClutterMap>,
         groups: &EchoGroups,
         beam_az_rad: f64,
         seed: u64,
@@ -141,13 +143,18 @@ impl Simulation {
             MIN_GROUP_AMPLITUDE,
             &mut scratch.buffer[..record],
         );
+        if let Some(c) = clutter {
+            c.add_to_spoke(spoke as usize, seed, frame, &mut scratch.buffer[..record]);
+        }
         let noise = self.scene.environment.noise;
         if noise {
             let mut rng = stream_rng(seed, frame, spoke);
             fill_unit_noise(&mut rng, &mut scratch.noise[..record]);
             scratch.noise[record..].fill(Complex32::new(0.0, 0.0));
         }
-        let in_blanking = earliest.is_some_and(|e| e < self.compressor.pulse_len());
+        // Clutter starts right at the radar, so with clutter the exact (blanked) path is used.
+        let in_blanking =
+            clutter.is_some() || earliest.is_some_and(|e| e < self.compressor.pulse_len());
         self.compressor
             .process(scratch, noise, radar.receiver_blanking, in_blanking);
     }
@@ -157,6 +164,7 @@ impl Simulation {
     /// frequency domain, kept for figures, raw-IQ users and tests.
     pub fn raw_spoke(
         &self,
+        clutter: Option<&ClutterMap>,
         groups: &EchoGroups,
         beam_az_rad: f64,
         seed: u64,
@@ -172,6 +180,9 @@ impl Simulation {
             0.0,
             &mut scratch.buffer[..record],
         );
+        if let Some(c) = clutter {
+            c.add_to_spoke(spoke as usize, seed, frame, &mut scratch.buffer[..record]);
+        }
         let mut echo = scratch.buffer.clone();
         self.compressor.synthesize_record(&mut echo, &mut scratch);
         echo[record..].fill(Complex32::new(0.0, 0.0));
@@ -204,10 +215,12 @@ impl Simulation {
         let radar = &self.scene.radar;
         let bins = self.compressor.num_bins();
         let mut polar = vec![0f32; radar.spokes * bins];
+        let clutter = self.clutter_map(seed, frame);
         polar.par_chunks_mut(bins).enumerate().for_each_init(
             || self.compressor.scratch(),
             |scratch, (k, row)| {
                 self.compress_spoke(
+                    clutter.as_ref(),
                     groups,
                     radar.spoke_azimuth_rad(k),
                     seed,
@@ -221,6 +234,11 @@ impl Simulation {
             },
         );
         polar
+    }
+
+    /// Sea and rain clutter of frame `frame` (None when the scene has neither).
+    pub fn clutter_map(&self, seed: u64, frame: u64) -> Option<ClutterMap> {
+        ClutterMap::new(&self.scene, seed, frame, self.compressor.record_len())
     }
 
     /// Scan converter for this scene's display settings, covering the radar's max range.
@@ -264,12 +282,18 @@ impl Simulation {
 
     /// Renders one revolution: trace, group, synthesise every spoke, label.
     pub fn render(&self, seed: u64) -> Frame {
+        self.render_frame(seed, 0)
+    }
+
+    /// Renders revolution number `frame` (the clutter texture has drifted for `frame` antenna
+    /// periods; noise and speckle are new each frame).
+    pub fn render_frame(&self, seed: u64, frame: u64) -> Frame {
         let t0 = Instant::now();
         let set = self.trace();
         let trace_s = t0.elapsed().as_secs_f64();
         let t1 = Instant::now();
         let groups = self.echo_groups(&set);
-        let polar_db = self.synthesize(&groups, seed, 0);
+        let polar_db = self.synthesize(&groups, seed, frame);
         let synthesis_s = t1.elapsed().as_secs_f64();
         let truth = self.truth(&set);
         let radar = &self.scene.radar;

@@ -94,12 +94,12 @@ fn check(
 /// A free-space scene head (no sea reflections) and a `[radar]` block on the drs4d-nxt
 /// preset at 4 m with extra lines: the closed forms below are for free space.
 pub fn radar_block(extra: &str) -> String {
-    format!("[environment]\nmultipath = false\n[radar]\npreset = \"drs4d-nxt\"\nposition_m = [0.0, 0.0, 4.0]\n{extra}\n")
+    format!("[environment]\nmultipath = false\nclutter = false\n[radar]\npreset = \"drs4d-nxt\"\nposition_m = [0.0, 0.0, 4.0]\n{extra}\n")
 }
 
 /// As [`radar_block`], with receiver noise off too.
 pub fn radar_block_no_noise(extra: &str) -> String {
-    format!("[environment]\nmultipath = false\nnoise = false\n[radar]\npreset = \"drs4d-nxt\"\nposition_m = [0.0, 0.0, 4.0]\n{extra}\n")
+    format!("[environment]\nmultipath = false\nclutter = false\nnoise = false\n[radar]\npreset = \"drs4d-nxt\"\nposition_m = [0.0, 0.0, 4.0]\n{extra}\n")
 }
 
 /// A point object at `range_m` due north at the radar's height.
@@ -339,7 +339,7 @@ pub fn multipath_point_power_db(
     multipath: bool,
 ) -> f64 {
     let text = format!(
-        "[environment]\nnoise = false\nmultipath = {multipath}\n[radar]\nposition_m = [0.0, 0.0, {radar_height_m}]\nspokes = 1\nmax_range_m = {}\n[[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 1.0\nposition_m = [0.0, {ground_range_m}, {target_height_m}]\n",
+        "[environment]\nnoise = false\nclutter = false\nsea_rms_height_m = 0.0\nmultipath = {multipath}\n[radar]\nposition_m = [0.0, 0.0, {radar_height_m}]\nspokes = 1\nmax_range_m = {}\n[[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 1.0\nposition_m = [0.0, {ground_range_m}, {target_height_m}]\n",
         ground_range_m * 1.05 + 50.0
     );
     let (sim, frame) = render_text(&text, 1);
@@ -406,7 +406,7 @@ pub fn find_null_range_m(guess_m: f64, radar_height_m: f64, target_height_m: f64
 pub fn object_snr_db(two_way_attenuation_db_per_km: f64) -> (f64, f64) {
     let range_m = bin_range_m(1400.0, 100e6);
     let text = format!(
-        "[environment]\nmultipath = false\ntwo_way_attenuation_db_per_km = {two_way_attenuation_db_per_km}\n[radar]\nposition_m = [0.0, 0.0, 4.0]\nmax_range_m = 2500.0\n[[object]]\nname = \"t\"\nshape = \"trihedral\"\nedge_m = 0.5\nposition_m = [0.0, {range_m}, 4.0]\nyaw_deg = 180.0\n"
+        "[environment]\nmultipath = false\nclutter = false\ntwo_way_attenuation_db_per_km = {two_way_attenuation_db_per_km}\n[radar]\nposition_m = [0.0, 0.0, 4.0]\nmax_range_m = 2500.0\n[[object]]\nname = \"t\"\nshape = \"trihedral\"\nedge_m = 0.5\nposition_m = [0.0, {range_m}, 4.0]\nyaw_deg = 180.0\n"
     );
     let (sim, frame) = render_text(&text, 11);
     let scene = sim.scene();

@@ -31,7 +31,7 @@ fn point_target_four_path_nulls() {
 
 fn sphere_power_db(ground_range_m: f64, multipath: bool) -> f64 {
     let text = format!(
-        "[environment]\nnoise = false\nmultipath = {multipath}\n[radar]\nposition_m = [0.0, 0.0, 10.0]\nspokes = 1\nmax_range_m = {}\n[[object]]\nname = \"s\"\nshape = \"sphere\"\nradius_m = 0.5\nposition_m = [0.0, {ground_range_m}, 5.0]\n",
+        "[environment]\nnoise = false\nclutter = false\nsea_rms_height_m = 0.0\nmultipath = {multipath}\n[radar]\nposition_m = [0.0, 0.0, 10.0]\nspokes = 1\nmax_range_m = {}\n[[object]]\nname = \"s\"\nshape = \"sphere\"\nradius_m = 0.5\nposition_m = [0.0, {ground_range_m}, 5.0]\n",
         ground_range_m + 100.0
     );
     let (sim, frame) = render(&text, 1);

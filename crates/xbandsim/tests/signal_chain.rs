@@ -307,9 +307,9 @@ fn raw_spoke_matches_fast_path() {
         );
         let sim = xbandsim::sim::Simulation::new(scene(&text));
         let groups = sim.echo_groups(&sim.trace());
-        let raw = sim.raw_spoke(&groups, 0.0, 5, 0, 0);
+        let raw = sim.raw_spoke(None, &groups, 0.0, 5, 0, 0);
         let mut scratch = sim.compressor().scratch();
-        sim.compress_spoke(&groups, 0.0, 5, 0, 0, &mut scratch);
+        sim.compress_spoke(None, &groups, 0.0, 5, 0, 0, &mut scratch);
         let peak = raw.compressed.iter().map(|c| c.norm()).fold(0.0, f32::max);
         for (j, (a, b)) in raw.compressed.iter().zip(&scratch.buffer).enumerate() {
             assert!((a - b).norm() < 1e-3 * peak, "bin {j}: {a} vs {b}");

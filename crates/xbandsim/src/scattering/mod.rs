@@ -164,10 +164,35 @@ pub fn build_scene_bvh(scene: &Scene) -> Bvh {
     Bvh::build(prims)
 }
 
-/// Traces the scene with its configured model.
+/// Traces the scene with its configured model, then applies the two-way rain attenuation
+/// along each contribution's outgoing and returning directions (ITU-R P.838-3, docs/physics.md).
 pub fn trace_scene(scene: &Scene, bvh: &Bvh) -> ScatterSet {
-    match scene.scattering.model {
+    let mut set = match scene.scattering.model {
         ScatteringModel::PhysicalOptics => po::trace(scene, bvh),
         ScatteringModel::Paper => paper::trace(scene, bvh),
+    };
+    if let Some(rain) = &scene.environment.rain {
+        let radar = &scene.radar;
+        let from = radar.position_m.truncate();
+        let freq_ghz = radar.carrier_freq_hz / 1e9;
+        let horizontal = radar.polarisation == crate::scene::Polarisation::Hh;
+        let leg_db = |az: f64, el: f64, range_m: f64| {
+            rain.one_way_attenuation_db(
+                from,
+                glam::DVec2::new(az.sin(), az.cos()),
+                range_m * el.cos(),
+                freq_ghz,
+                horizontal,
+            )
+        };
+        for c in &mut set.contributions {
+            // Each leg's length: half the path for a monostatic single bounce is exact; for
+            // multi-bounce paths the legs are close to it at the ranges where rain matters.
+            let half = 0.5 * c.path_m;
+            let db =
+                leg_db(c.az_tx_rad, c.el_tx_rad, half) + leg_db(c.az_rx_rad, c.el_rx_rad, half);
+            c.amplitude_v *= 10f64.powf(-db / 20.0);
+        }
     }
+    set
 }

@@ -292,6 +292,8 @@ pub struct SbrSettings {
     pub max_rays: usize,
     /// The reflecting sea surface, if any (scene rendering only).
     pub sea: Option<SeaSurface>,
+    /// Hide hits below the radar horizon of the 4/3 earth (scene rendering only).
+    pub earth_curvature: bool,
 }
 
 /// Per-ray result: contributions as root-RCS with geometry, before the volt conversion.
@@ -399,6 +401,13 @@ pub fn trace_tube(
             origin = hit_p + DVec3::Z * SURFACE_OFFSET_M;
             continue;
         };
+        if let (true, Illumination::FromPoint { radar_m }) = (s.earth_curvature, grid.illumination)
+        {
+            let ground = (hit_p - radar_m).truncate().length();
+            if !crate::environment::above_horizon(radar_m.z, ground, hit_p.z) {
+                break; // below the radar horizon
+            }
+        }
         object_hits += 1;
         if object_hits == 1 {
             range_tx_m = path_m;
@@ -604,6 +613,7 @@ pub fn settings_for(scene: &Scene) -> SbrSettings {
         spacing_m: scene.scattering.ray_spacing_wavelengths * lambda,
         max_rays: scene.scattering.max_rays_per_object,
         sea: scene.environment.sea,
+        earth_curvature: scene.environment.earth_curvature,
     }
 }
 
@@ -680,6 +690,12 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
     for (idx, obj) in scene.objects.iter().enumerate() {
         let index = idx as u32;
         if let ShapeGeometry::Point { rcs_m2 } = obj.shape {
+            let ground = (obj.position_m - radar.position_m).truncate().length();
+            if s.earth_curvature
+                && !crate::environment::above_horizon(radar.position_m.z, ground, obj.position_m.z)
+            {
+                continue;
+            }
             let mut routes: Vec<Option<&SeaSurface>> = vec![None];
             if let Some(sea) = s.sea.as_ref() {
                 routes.push(Some(sea));

@@ -65,6 +65,7 @@ impl RcsTarget {
             spacing_m: s.ray_spacing_wavelengths * lambda,
             max_rays: s.max_rays,
             sea: None,
+            earth_curvature: false,
         };
         plane_wave_rcs_m2(
             &self.bvh,

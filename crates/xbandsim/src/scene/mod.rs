@@ -7,12 +7,18 @@
 
 mod spec;
 
-pub use spec::{DisplaySpec, EnvironmentSpec, ObjectSpec, RadarSpec, ScatteringSpec, SceneSpec};
+pub use spec::{
+    DisplaySpec, EnvironmentSpec, ObjectSpec, RadarSpec, RainCellSpec, ScatteringSpec, SceneSpec,
+};
 
 use crate::antenna::{uniform_aperture_gain, Antenna};
 use crate::constants::{
     db_to_linear, wavelength_m, BOLTZMANN_J_PER_K, REFERENCE_TEMPERATURE_K, SPEED_OF_LIGHT_M_PER_S,
 };
+use crate::environment::clutter::{
+    sea_state_rms_height_m, sea_state_wind_speed_m_per_s, ClutterDistribution, Sigma0Model,
+};
+use crate::environment::rain::{Rain, RainCell};
 use crate::environment::{sea_water_permittivity, two_way_attenuation_power, SeaSurface};
 use crate::error::{Error, Result};
 use crate::geometry::{object_frame, MeshUnit, ShapeGeometry, TriangleMesh};
@@ -164,6 +170,29 @@ pub struct Environment {
     pub sea: Option<SeaSurface>,
     /// Two-way atmospheric attenuation, dB/km.
     pub two_way_attenuation_db_per_km: f64,
+    /// Sea clutter, if on.
+    pub clutter: Option<SeaClutter>,
+    /// Rain, if on and any.
+    pub rain: Option<Rain>,
+    /// 4/3-earth curvature (horizon, grazing angles).
+    pub earth_curvature: bool,
+}
+
+/// Sea clutter settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SeaClutter {
+    /// σ0 model.
+    pub model: Sigma0Model,
+    /// Sea state 0–6.
+    pub sea_state: f64,
+    /// Direction the wind blows from, rad (nautical).
+    pub wind_from_rad: f64,
+    /// Amplitude statistics.
+    pub distribution: ClutterDistribution,
+    /// Texture correlation length, m.
+    pub correlation_m: f64,
+    /// Texture drift speed (downwind), m/s.
+    pub drift_m_per_s: f64,
 }
 
 impl Environment {
@@ -294,7 +323,18 @@ impl Scene {
 
     /// Validates a parsed scene description whose mesh files are relative to `base_dir`.
     pub fn from_spec_in(spec: &SceneSpec, base_dir: &Path) -> Result<Scene> {
-        let radar = build_radar(&spec.radar)?;
+        let mut radar = build_radar(&spec.radar)?;
+        if let Some(text) = spec.environment.polarisation.as_deref() {
+            let pol = Polarisation::parse("environment.polarisation", text)?;
+            if spec.radar.polarisation.is_some() && pol != radar.polarisation {
+                return Err(Error::invalid(
+                    "environment.polarisation",
+                    format!("\"{text}\""),
+                    "differs from radar.polarisation; give the polarisation once",
+                ));
+            }
+            radar.polarisation = pol;
+        }
         let environment = build_environment(&spec.environment, radar.carrier_freq_hz)?;
         let display = build_display(&spec.display)?;
         let scattering = build_scattering(&spec.scattering)?;
@@ -564,58 +604,190 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
 }
 
 fn build_environment(s: &EnvironmentSpec, carrier_freq_hz: f64) -> Result<Environment> {
-    let temperature_c = finite(
+    let in_range = |field: &str, v: f64, lo: f64, hi: f64, what: &str| -> Result<f64> {
+        let v = finite(field, v)?;
+        if (lo..=hi).contains(&v) {
+            Ok(v)
+        } else {
+            Err(Error::invalid(
+                field,
+                v,
+                format!("must be within {lo}..{hi} {what}"),
+            ))
+        }
+    };
+    let temperature_c = in_range(
         "environment.sea_temperature_c",
         s.sea_temperature_c.unwrap_or(20.0),
+        -2.0,
+        40.0,
+        "°C (the permittivity model's range)",
     )?;
-    if !(-2.0..=40.0).contains(&temperature_c) {
-        return Err(Error::invalid(
-            "environment.sea_temperature_c",
-            temperature_c,
-            "must be within -2..40 °C (the permittivity model's range)",
-        ));
-    }
-    let salinity_psu = finite(
+    let salinity_psu = in_range(
         "environment.sea_salinity_psu",
         s.sea_salinity_psu.unwrap_or(35.0),
+        0.0,
+        45.0,
+        "psu",
     )?;
-    if !(0.0..=45.0).contains(&salinity_psu) {
-        return Err(Error::invalid(
-            "environment.sea_salinity_psu",
-            salinity_psu,
-            "must be within 0..45 psu",
-        ));
-    }
-    let rms_height_m = finite(
+    let sea_state = in_range(
+        "environment.sea_state",
+        s.sea_state.unwrap_or(2.0),
+        0.0,
+        6.0,
+        "(Douglas/WMO sea state)",
+    )?;
+    let rms_height_m = in_range(
         "environment.sea_rms_height_m",
-        s.sea_rms_height_m.unwrap_or(0.0),
+        s.sea_rms_height_m
+            .unwrap_or_else(|| sea_state_rms_height_m(sea_state)),
+        0.0,
+        20.0,
+        "m",
     )?;
-    if rms_height_m < 0.0 {
-        return Err(Error::invalid(
-            "environment.sea_rms_height_m",
-            rms_height_m,
-            "must be 0 or more",
-        ));
-    }
-    let attenuation = finite(
+    let attenuation = in_range(
         "environment.two_way_attenuation_db_per_km",
         s.two_way_attenuation_db_per_km.unwrap_or(0.0),
+        0.0,
+        100.0,
+        "dB/km",
     )?;
-    if attenuation < 0.0 {
-        return Err(Error::invalid(
-            "environment.two_way_attenuation_db_per_km",
-            attenuation,
-            "must be 0 or more",
-        ));
-    }
+    let wind_from_rad = finite(
+        "environment.wind_direction_deg",
+        s.wind_direction_deg.unwrap_or(0.0),
+    )?
+    .to_radians();
     let sea = s.multipath.unwrap_or(true).then(|| SeaSurface {
         permittivity: sea_water_permittivity(carrier_freq_hz, temperature_c, salinity_psu),
         rms_height_m,
+    });
+    let model = match s.clutter_model.as_deref().unwrap_or("nrl") {
+        "nrl" => Sigma0Model::Nrl,
+        "git" => Sigma0Model::Git,
+        other => {
+            return Err(Error::invalid(
+                "environment.clutter_model",
+                format!("\"{other}\""),
+                "expected \"nrl\" or \"git\"",
+            ))
+        }
+    };
+    let distribution = match s.clutter_distribution.as_deref().unwrap_or("k") {
+        "k" => ClutterDistribution::K {
+            shape_nu: s
+                .clutter_shape_nu
+                .map(|v| in_range("environment.clutter_shape_nu", v, 0.05, 100.0, ""))
+                .transpose()?,
+        },
+        "weibull" => ClutterDistribution::Weibull {
+            shape: in_range(
+                "environment.clutter_weibull_shape",
+                s.clutter_weibull_shape.unwrap_or(1.5),
+                0.2,
+                10.0,
+                "",
+            )?,
+        },
+        "lognormal" => ClutterDistribution::LogNormal {
+            sigma_db: in_range(
+                "environment.clutter_lognormal_sigma_db",
+                s.clutter_lognormal_sigma_db.unwrap_or(5.6),
+                0.1,
+                20.0,
+                "dB",
+            )?,
+        },
+        "rayleigh" => ClutterDistribution::Rayleigh,
+        other => {
+            return Err(Error::invalid(
+                "environment.clutter_distribution",
+                format!("\"{other}\""),
+                "expected \"k\", \"weibull\", \"lognormal\" or \"rayleigh\"",
+            ))
+        }
+    };
+    let correlation_m = in_range(
+        "environment.clutter_correlation_m",
+        s.clutter_correlation_m.unwrap_or(30.0),
+        0.5,
+        10_000.0,
+        "m",
+    )?;
+    let drift_m_per_s = in_range(
+        "environment.clutter_drift_m_per_s",
+        s.clutter_drift_m_per_s
+            .unwrap_or(1.14 * sea_state_wind_speed_m_per_s(sea_state)),
+        0.0,
+        100.0,
+        "m/s",
+    )?;
+    let clutter = s.clutter.unwrap_or(true).then_some(SeaClutter {
+        model,
+        sea_state,
+        wind_from_rad,
+        distribution,
+        correlation_m,
+        drift_m_per_s,
+    });
+    let uniform = in_range(
+        "environment.rain_rate_mm_per_h",
+        s.rain_rate_mm_per_h.unwrap_or(0.0),
+        0.0,
+        500.0,
+        "mm/h",
+    )?;
+    let top_m = in_range(
+        "environment.rain_top_m",
+        s.rain_top_m.unwrap_or(3000.0),
+        1.0,
+        20_000.0,
+        "m",
+    )?;
+    let mut cells = Vec::new();
+    for (i, c) in s.rain_cells.iter().enumerate() {
+        let f = |name: &str| format!("environment.rain_cell[{i}].{name}");
+        let centre = c.centre_m.ok_or_else(|| {
+            Error::missing(f("centre_m"), "a rain cell needs centre_m = [east, north]")
+        })?;
+        if centre.iter().any(|v| !v.is_finite()) {
+            return Err(Error::invalid(
+                f("centre_m"),
+                format!("{centre:?}"),
+                "must be finite numbers",
+            ));
+        }
+        let radius_m = positive(
+            &f("radius_m"),
+            c.radius_m
+                .ok_or_else(|| Error::missing(f("radius_m"), "a rain cell needs radius_m"))?,
+        )?;
+        let rate = in_range(
+            &f("rate_mm_per_h"),
+            c.rate_mm_per_h.ok_or_else(|| {
+                Error::missing(f("rate_mm_per_h"), "a rain cell needs rate_mm_per_h")
+            })?,
+            0.0,
+            500.0,
+            "mm/h",
+        )?;
+        cells.push(RainCell {
+            centre_m: glam::DVec2::from_array(centre),
+            radius_m,
+            rate_mm_per_h: rate,
+        });
+    }
+    let rain = (s.rain.unwrap_or(true) && (uniform > 0.0 || !cells.is_empty())).then_some(Rain {
+        uniform_rate_mm_per_h: uniform,
+        cells,
+        top_m,
     });
     Ok(Environment {
         noise: s.noise.unwrap_or(true),
         sea,
         two_way_attenuation_db_per_km: attenuation,
+        clutter,
+        rain,
+        earth_curvature: s.earth_curvature.unwrap_or(true),
     })
 }
 

@@ -88,10 +88,56 @@ pub struct EnvironmentSpec {
     pub sea_temperature_c: Option<f64>,
     /// Sea salinity, psu (default 35).
     pub sea_salinity_psu: Option<f64>,
-    /// Rms height of the sea surface, m (default 0: calm), for the specular roughness factor.
+    /// Rms height of the sea surface, m (default: from the sea state), for the specular
+    /// roughness factor.
     pub sea_rms_height_m: Option<f64>,
     /// Two-way atmospheric attenuation, dB per km of range (default 0).
     pub two_way_attenuation_db_per_km: Option<f64>,
+    /// Douglas/WMO sea state 0–6 (default 2): sets σ0, the wave height and the wind.
+    pub sea_state: Option<f64>,
+    /// Direction the wind blows from, nautical degrees (default 0: from the north).
+    pub wind_direction_deg: Option<f64>,
+    /// Polarisation "HH" or "VV" (same as `radar.polarisation`; give one of the two).
+    pub polarisation: Option<String>,
+    /// Sea clutter on or off (default true).
+    pub clutter: Option<bool>,
+    /// σ0 model: "nrl" (default) or "git".
+    pub clutter_model: Option<String>,
+    /// Amplitude statistics: "k" (default), "weibull", "lognormal" or "rayleigh".
+    pub clutter_distribution: Option<String>,
+    /// K-distribution shape ν (default: the empirical formula per cell).
+    pub clutter_shape_nu: Option<f64>,
+    /// Weibull shape parameter of the intensity (default 1.5).
+    pub clutter_weibull_shape: Option<f64>,
+    /// Log-normal standard deviation of the intensity, dB (default 5.6).
+    pub clutter_lognormal_sigma_db: Option<f64>,
+    /// Correlation length of the clutter texture, m (default 30).
+    pub clutter_correlation_m: Option<f64>,
+    /// Speed at which the texture drifts downwind, m/s (default 1.14 × the sea state's wind).
+    pub clutter_drift_m_per_s: Option<f64>,
+    /// Rain on or off (default true; rain needs a rate or cells).
+    pub rain: Option<bool>,
+    /// Uniform rain rate everywhere, mm/h (default 0).
+    pub rain_rate_mm_per_h: Option<f64>,
+    /// Height of the rain top, m (default 3000).
+    pub rain_top_m: Option<f64>,
+    /// Rain cells: `[[environment.rain_cell]]` tables.
+    #[serde(default, rename = "rain_cell")]
+    pub rain_cells: Vec<RainCellSpec>,
+    /// Earth curvature with the 4/3-earth model: horizon and grazing angles (default true).
+    pub earth_curvature: Option<bool>,
+}
+
+/// One `[[environment.rain_cell]]`: a vertical cylinder of rain.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RainCellSpec {
+    /// Centre, east and north, m.
+    pub centre_m: Option<[f64; 2]>,
+    /// Radius, m.
+    pub radius_m: Option<f64>,
+    /// Rain rate, mm/h.
+    pub rate_mm_per_h: Option<f64>,
 }
 
 /// `[display]`.

@@ -1,0 +1,318 @@
+//! Sea and rain clutter of one antenna revolution as distributed scatterers entering the
+//! echo before the matched filter (DESIGN.md §3, Environment; PHYSICS-NOTES §3).
+//!
+//! The sea within the record is cut into patches: one azimuth step δ = 2π/spokes wide (at the
+//! spokes' azimuths) and one range sample Δr = c/(2fs) deep. A patch at slant range R,
+//! ground range g and grazing angle ψ has area `A = g·δ·Δr·sec ψ` and mean power
+//! (in noise units) `m = σ0(ψ, wind)·A·Pt·G0²·λ²·Gn_el(−ψ)²/((4π)³·R⁴·L·N)`, times the two-way
+//! rain and atmospheric attenuation; the K texture T multiplies it. Rain adds
+//! `η·V` with `V = R²·δ·Δr·∫Gn_el²(θ)dθ` over the elevations filled with rain.
+//! Because speckle is independent pulse to pulse, the echo of spoke k in sample n is complex
+//! Gaussian with variance `P_k[n] = Σ_j Gn²(j·δ)·q_{k+j}[n]`, `q = m·T (+ rain)` — the same in
+//! distribution as summing every patch's scatterers weighted by the two-way azimuth pattern,
+//! but at the cost of one draw per sample. The weights are scaled so that Σ_j Gn²(jδ)
+//! equals the two-way beam integral `∫Gn²(θ)dθ = (2π/3)·θ3dB/2.783 = 0.753·θ3dB`, so that the
+//! mean clutter power of a cell equals the radar equation with `σ = σ0·A_c`,
+//! `A_c = R·(0.753·θ3dB)·(c/2B)·sec ψ` after the matched filter (the compressed range cell
+//! c/2B comes from the filter, docs/physics.md).
+//!
+//! Grazing angle over the 4/3 earth: `sin ψ = h/R − R/(2a_e)`; patches with ψ ≤ 0 are beyond
+//! the horizon and return nothing.
+
+use super::clutter::{
+    erfc, git_sigma0_db, k_shape_default, nrl_sigma0_db, unit_mean_intensity,
+    wind_direction_factor, ClutterDistribution, GammaQuantile, GaussianField, Sigma0Model,
+};
+use super::rain::volume_reflectivity_m2_per_m3;
+use super::EFFECTIVE_EARTH_RADIUS_M;
+use crate::antenna::SINC_BEAMWIDTH_FACTOR;
+use crate::constants::SPEED_OF_LIGHT_M_PER_S;
+use crate::receiver::stream_rng;
+use crate::scene::{Polarisation, Scene};
+use glam::DVec2;
+use num_complex::Complex32;
+use rand::Rng;
+use rand_distr::{Distribution, StandardNormal};
+use rand_pcg::Pcg64Mcg;
+use rayon::prelude::*;
+
+/// Stream offset separating clutter draws from noise draws.
+const CLUTTER_STREAM: u64 = 1 << 40;
+
+/// The clutter power of every (spoke, sample) of one revolution, before azimuth weighting.
+pub struct ClutterMap {
+    spokes: usize,
+    samples: usize,
+    /// q = m·T (+ rain), noise units, spokes × samples.
+    q: Vec<f32>,
+    /// Azimuth weights Gn²(jδ) for j = −J..=J, scaled to sum to the beam integral / δ.
+    weights: Vec<f32>,
+    distribution: ClutterDistribution,
+}
+
+/// Two-way azimuth beam integral `∫Gn²(θ)dθ` of the sinc² pattern, rad.
+pub fn two_way_beam_integral_rad(beamwidth_3db_rad: f64) -> f64 {
+    (2.0 * std::f64::consts::PI / 3.0) * beamwidth_3db_rad / SINC_BEAMWIDTH_FACTOR
+}
+
+fn normal_cdf(g: f64) -> f64 {
+    0.5 * erfc(-g / std::f64::consts::SQRT_2)
+}
+
+impl ClutterMap {
+    /// The clutter of frame `frame` (the texture drifts with time `frame × rotation period`)
+    /// for records of `samples` samples; None when there is neither sea clutter nor rain.
+    pub fn new(scene: &Scene, seed: u64, frame: u64, samples: usize) -> Option<ClutterMap> {
+        let env = &scene.environment;
+        if env.clutter.is_none() && env.rain.is_none() {
+            return None;
+        }
+        let radar = &scene.radar;
+        let spokes = radar.spokes;
+        let h = radar.position_m.z.max(0.0);
+        let dr = radar.range_bin_m();
+        let lambda = radar.wavelength_m();
+        let freq_ghz = radar.carrier_freq_hz / 1e9;
+        let horizontal = radar.polarisation == Polarisation::Hh;
+        let ant = &radar.antenna;
+        let delta = std::f64::consts::TAU / spokes as f64;
+        let four_pi_cubed = (4.0 * std::f64::consts::PI).powi(3);
+        let k_noise = radar.peak_power_w * ant.peak_gain_linear.powi(2) * lambda * lambda
+            / (four_pi_cubed * radar.system_loss_linear * radar.noise_power_w());
+        let resolution_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * radar.chirp.bandwidth_hz);
+        let beam_integral = two_way_beam_integral_rad(ant.az_beamwidth_rad);
+        // Azimuth weights over ±2 first nulls.
+        let null = std::f64::consts::PI * ant.az_beamwidth_rad / SINC_BEAMWIDTH_FACTOR;
+        let half = ((2.0 * null / delta).ceil() as usize).min(spokes / 2);
+        let raw: Vec<f64> = (-(half as isize)..=half as isize)
+            .map(|j| ant.azimuth_pattern(j as f64 * delta).powi(2))
+            .collect();
+        let sum: f64 = raw.iter().sum();
+        // Σ w_j·δ = beam integral (w carries Gn², the patch carries δ).
+        let weights: Vec<f32> = raw
+            .iter()
+            .map(|w| (w / sum * beam_integral / delta) as f32)
+            .collect();
+        // Per-sample geometry and mean power factors (independent of azimuth).
+        struct Row {
+            ground_m: f64,
+            grazing_rad: f64,
+            sea_factor: f64,
+            sigma0_nrl: f64,
+            rain_volume_factor: f64,
+            cell_area_m2: f64,
+        }
+        let rows: Vec<Option<Row>> = (0..samples)
+            .map(|n| {
+                let r = n as f64 * dr;
+                if r <= h || n == 0 {
+                    return None;
+                }
+                let ground_m = (r * r - h * h).sqrt();
+                let sin_psi = if env.earth_curvature {
+                    h / r - r / (2.0 * EFFECTIVE_EARTH_RADIUS_M)
+                } else {
+                    h / r
+                };
+                if sin_psi <= 0.0 {
+                    return None;
+                }
+                let grazing_rad = sin_psi.asin();
+                let depression = -(h / r).asin();
+                let el_gain = ant.elevation_pattern(depression).powi(2);
+                let atmos = env.attenuation_power(r);
+                let sea_factor =
+                    ground_m * dr / grazing_rad.cos() * k_noise / r.powi(4) * el_gain * atmos;
+                let sigma0_nrl = 10f64.powf(
+                    nrl_sigma0_db(
+                        freq_ghz,
+                        env.clutter.as_ref().map_or(0.0, |c| c.sea_state),
+                        horizontal,
+                        grazing_rad.to_degrees(),
+                    ) / 10.0,
+                );
+                // Rain: elevations from the sea up to the rain top, two-way elevation pattern.
+                let rain_volume_factor = env.rain.as_ref().map_or(0.0, |rain| {
+                    let lo = depression;
+                    let hi = ((rain.top_m - h) / r).clamp(-1.0, 1.0).asin();
+                    let steps = 48;
+                    let integral: f64 = (0..steps)
+                        .map(|i| lo + (hi - lo) * (i as f64 + 0.5) / steps as f64)
+                        .map(|e| ant.elevation_pattern(e).powi(2))
+                        .sum::<f64>()
+                        * (hi - lo)
+                        / steps as f64;
+                    r * r * dr * integral.max(0.0) * k_noise / r.powi(4) * atmos
+                });
+                let cell_area_m2 =
+                    ground_m * ant.az_beamwidth_rad * resolution_m / grazing_rad.cos();
+                Some(Row {
+                    ground_m,
+                    grazing_rad,
+                    sea_factor,
+                    sigma0_nrl,
+                    rain_volume_factor,
+                    cell_area_m2,
+                })
+            })
+            .collect();
+        let clutter = env.clutter.as_ref();
+        let distribution = clutter.map_or(ClutterDistribution::Rayleigh, |c| c.distribution);
+        // Texture field (per scene seed), drifting downwind with time.
+        let max_ground = rows
+            .iter()
+            .rev()
+            .find_map(|r| r.as_ref().map(|r| r.ground_m))
+            .unwrap_or(1.0);
+        let field = match (clutter, distribution) {
+            (Some(c), ClutterDistribution::K { .. }) => {
+                let mut rng = stream_rng(seed, u64::MAX, CLUTTER_STREAM - 1);
+                Some(GaussianField::new(
+                    &mut rng,
+                    2.0 * max_ground + 4.0 * c.correlation_m,
+                    c.correlation_m,
+                ))
+            }
+            _ => None,
+        };
+        let t_s = frame as f64 * 60.0 / radar.rotation_rpm;
+        let drift = clutter.map_or(DVec2::ZERO, |c| {
+            // Downwind is opposite to where the wind comes from.
+            let to = c.wind_from_rad + std::f64::consts::PI;
+            DVec2::new(to.sin(), to.cos()) * c.drift_m_per_s * t_s
+        });
+        let radar_xy = radar.position_m.truncate();
+        let mut q = vec![0f32; spokes * samples];
+        q.par_chunks_mut(samples).enumerate().for_each(|(k, out)| {
+            let az = radar.spoke_azimuth_rad(k);
+            let dir = DVec2::new(az.sin(), az.cos());
+            // Rain attenuation intervals along this spoke (one-way dB as a function of ground range).
+            let rain_db = |g: f64| {
+                env.rain.as_ref().map_or(0.0, |rain| {
+                    rain.one_way_attenuation_db(radar_xy, dir, g, freq_ghz, horizontal)
+                })
+            };
+            // Quantile tables used by this spoke, fetched once each from the shared cache.
+            let mut tables: Vec<Option<std::sync::Arc<GammaQuantile>>> =
+                vec![None; GammaQuantile::LEVELS];
+            for (n, row) in rows.iter().enumerate() {
+                let Some(row) = row else { continue };
+                let p = radar_xy + dir * row.ground_m;
+                let rain_loss = if env.rain.is_some() {
+                    10f64.powf(-2.0 * rain_db(row.ground_m) / 10.0)
+                } else {
+                    1.0
+                };
+                let mut value = 0.0;
+                if let Some(c) = clutter {
+                    let wind_rel = az - c.wind_from_rad;
+                    let sigma0 = match c.model {
+                        Sigma0Model::Nrl => {
+                            row.sigma0_nrl
+                                * wind_direction_factor(freq_ghz, row.grazing_rad, wind_rel)
+                        }
+                        Sigma0Model::Git => 10f64.powf(
+                            git_sigma0_db(
+                                freq_ghz,
+                                c.sea_state,
+                                horizontal,
+                                row.grazing_rad,
+                                wind_rel,
+                            ) / 10.0,
+                        ),
+                    };
+                    let texture = match (&field, c.distribution) {
+                        (Some(f), ClutterDistribution::K { shape_nu }) => {
+                            let nu = shape_nu.unwrap_or_else(|| {
+                                k_shape_default(
+                                    row.grazing_rad.to_degrees(),
+                                    row.cell_area_m2,
+                                    horizontal,
+                                    wind_rel,
+                                )
+                            });
+                            let g = f.at(p.x - drift.x, p.y - drift.y);
+                            let level = GammaQuantile::level(nu);
+                            tables[level]
+                                .get_or_insert_with(|| GammaQuantile::for_level(level))
+                                .quantile(normal_cdf(g))
+                        }
+                        _ => 1.0,
+                    };
+                    value += sigma0 * row.sea_factor * texture;
+                }
+                if let Some(rain) = &env.rain {
+                    value += volume_reflectivity_m2_per_m3(rain.rate_at(p), lambda)
+                        * row.rain_volume_factor;
+                }
+                out[n] = (value * rain_loss * delta) as f32;
+            }
+        });
+        Some(ClutterMap {
+            spokes,
+            samples,
+            q,
+            weights,
+            distribution,
+        })
+    }
+
+    /// Mean clutter power of spoke `k`, sample `n`, after azimuth weighting (noise units).
+    #[inline]
+    pub fn power(&self, k: usize, n: usize) -> f32 {
+        let half = (self.weights.len() / 2) as isize;
+        let mut p = 0f32;
+        for (t, w) in self.weights.iter().enumerate() {
+            let kk = (k as isize + t as isize - half).rem_euclid(self.spokes as isize) as usize;
+            p += w * self.q[kk * self.samples + n];
+        }
+        p
+    }
+
+    /// Adds spoke `k`'s clutter echo (one pulse) to `impulse_response` (noise-rms units).
+    pub fn add_to_spoke(
+        &self,
+        k: usize,
+        seed: u64,
+        frame: u64,
+        impulse_response: &mut [Complex32],
+    ) {
+        let mut rng: Pcg64Mcg = stream_rng(seed, frame, CLUTTER_STREAM + k as u64);
+        let half = (self.weights.len() / 2) as isize;
+        let n_max = self.samples.min(impulse_response.len());
+        let rows: Vec<&[f32]> = (0..self.weights.len())
+            .map(|t| {
+                let kk = (k as isize + t as isize - half).rem_euclid(self.spokes as isize) as usize;
+                &self.q[kk * self.samples..(kk + 1) * self.samples]
+            })
+            .collect();
+        for n in 0..n_max {
+            let mut p = 0f32;
+            for (w, row) in self.weights.iter().zip(&rows) {
+                p += w * row[n];
+            }
+            if p <= 0.0 {
+                continue;
+            }
+            let sample = match self.distribution {
+                ClutterDistribution::K { .. } | ClutterDistribution::Rayleigh => {
+                    let s = (p * 0.5).sqrt();
+                    let re: f32 = StandardNormal.sample(&mut rng);
+                    let im: f32 = StandardNormal.sample(&mut rng);
+                    Complex32::new(re * s, im * s)
+                }
+                _ => {
+                    let i = unit_mean_intensity(&mut rng, &self.distribution) as f32;
+                    let phase: f32 = rng.random::<f32>() * std::f32::consts::TAU;
+                    Complex32::from_polar((p * i).sqrt(), phase)
+                }
+            };
+            impulse_response[n] += sample;
+        }
+    }
+
+    /// Spokes × samples of the map.
+    pub fn shape(&self) -> (usize, usize) {
+        (self.spokes, self.samples)
+    }
+}
