@@ -10,6 +10,7 @@ use crate::scattering::rcs::{RcsSettings, RcsTarget};
 use crate::scene::{Polarisation, Scene, SceneObject};
 use crate::sim::{Frame, Simulation};
 use glam::{DMat3, DVec3};
+use rayon::prelude::*;
 use serde::Serialize;
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -437,6 +438,144 @@ pub fn object_snr_db(two_way_attenuation_db_per_km: f64) -> (f64, f64) {
     (expected, measured)
 }
 
+/// Mean clutter-to-noise ratio (dB) measured over all spokes in range bin `bin` of a
+/// Rayleigh-clutter scene (sea state 3, radar at 10 m, noise off), and the radar equation with
+/// σ = σ0·A_c, `A_c = R·(0.753θ3dB)·(c/2B)·sec ψ` (two-way beam integral of the sinc² pattern).
+pub fn clutter_mean_power_db(bin: usize) -> (f64, f64) {
+    let text = "[environment]\nnoise = false\nmultipath = false\nsea_state = 3.0\nclutter_distribution = \"rayleigh\"\n[radar]\nposition_m = [0.0, 0.0, 10.0]\nspokes = 2048\nmax_range_m = 1600.0\n";
+    let (sim, frame) = render_text(text, 21);
+    let scene = sim.scene();
+    let radar = &scene.radar;
+    let r = bin as f64 * radar.range_bin_m();
+    let h = radar.position_m.z;
+    let psi = (h / r - r / (2.0 * crate::environment::EFFECTIVE_EARTH_RADIUS_M)).asin();
+    let sigma0 = 10f64.powf(
+        crate::environment::clutter::nrl_sigma0_db(
+            radar.carrier_freq_hz / 1e9,
+            3.0,
+            true,
+            psi.to_degrees(),
+        ) / 10.0,
+    );
+    let ground = (r * r - h * h).sqrt();
+    let area = ground
+        * crate::environment::clutter_map::two_way_beam_integral_rad(
+            radar.antenna.az_beamwidth_rad,
+        )
+        * SPEED_OF_LIGHT_M_PER_S
+        / (2.0 * radar.chirp.bandwidth_hz)
+        / psi.cos();
+    let el_gain = radar.antenna.elevation_pattern(-(h / r).asin()).powi(2);
+    let expected = linear_to_db(radar.point_target_snr(sigma0 * area, r) * el_gain);
+    let mean: f64 = (0..frame.spokes)
+        .map(|k| 10f64.powf(spoke(&frame, k)[bin] as f64 / 10.0))
+        .sum::<f64>()
+        / frame.spokes as f64;
+    (expected, linear_to_db(mean))
+}
+
+/// Second moment `E[I²]/E[I]²` of clutter intensity drawn by the simulator's own clutter
+/// generator (texture × speckle after the azimuth weighting), normalised by the same scene's
+/// texture-free mean, for `distribution` TOML lines; a 0.1° beam and 8192 spokes keep the
+/// beam far narrower than the texture's 10 m correlation. Returns (moment, samples).
+pub fn clutter_second_moment(distribution: &str) -> (f64, usize) {
+    use crate::environment::clutter_map::ClutterMap;
+    let make = |dist: &str| {
+        let text = format!("[environment]\nnoise = false\nmultipath = false\nsea_state = 4.0\nclutter_correlation_m = 10.0\n{dist}\n[radar]\nposition_m = [0.0, 0.0, 10.0]\nspokes = 8192\nazimuth_beamwidth_deg = 0.1\nmax_range_m = 2000.0\n");
+        Scene::from_toml_str(&text, "validation").expect("validation scene is valid")
+    };
+    let scene = make(distribution);
+    let plain = make("clutter_distribution = \"rayleigh\"");
+    let samples = ((2000.0 / scene.radar.range_bin_m()) as usize).max(1);
+    let map = ClutterMap::new(&scene, 5, 0, samples).expect("clutter is on");
+    let mean_map = ClutterMap::new(&plain, 5, 0, samples).expect("clutter is on");
+    let first = (300.0 / scene.radar.range_bin_m()) as usize;
+    let spokes: Vec<usize> = (0..2048).collect();
+    let sums: Vec<(f64, f64, usize)> = spokes
+        .par_iter()
+        .map(|&k| {
+            let mut buf = vec![num_complex::Complex32::new(0.0, 0.0); samples];
+            map.add_to_spoke(k, 5, 0, &mut buf);
+            let (mut s1, mut s2, mut n) = (0.0, 0.0, 0usize);
+            for (j, c) in buf.iter().enumerate().skip(first) {
+                let p = mean_map.power(k, j) as f64;
+                if p > 0.0 {
+                    let i = c.norm_sqr() as f64 / p;
+                    s1 += i;
+                    s2 += i * i;
+                    n += 1;
+                }
+            }
+            (s1, s2, n)
+        })
+        .collect();
+    let (s1, s2, n) = sums
+        .iter()
+        .fold((0.0, 0.0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
+    let m1 = s1 / n as f64;
+    ((s2 / n as f64) / (m1 * m1), n)
+}
+
+/// Power loss (dB) of a point target at 3 km behind uniform rain of `rate` mm/h, against
+/// the same scene without rain: (expected −2·γ·R, measured).
+pub fn rain_attenuation_db(rate_mm_per_h: f64) -> (f64, f64) {
+    let range_m = bin_range_m(2000.0, 100e6);
+    let run = |rain: f64| {
+        let text = format!("[environment]\nnoise = false\nclutter = false\nmultipath = false\nrain_rate_mm_per_h = {rain}\nrain_top_m = 1.0\n[radar]\nposition_m = [0.0, 0.0, 4.0]\nmax_range_m = 3200.0\n{}", point_north("p", range_m, 10.0));
+        let (_, frame) = render_text(&text, 1);
+        spoke(&frame, 0)[1998..2003]
+            .iter()
+            .cloned()
+            .fold(f32::MIN, f32::max) as f64
+    };
+    let gamma = crate::environment::rain::specific_attenuation_db_per_km(9.41, rate_mm_per_h, true);
+    (
+        -2.0 * gamma * range_m / 1000.0,
+        run(rate_mm_per_h) - run(0.0),
+    )
+}
+
+/// Mean rain clutter-to-noise (dB) in bin `bin` for a radar 1 km up inside uniform rain
+/// (the whole beam filled), against `η·V` with `V = R²·(0.753θaz)(0.753θel)·(c/2B)` and the
+/// two-way path attenuation.
+pub fn rain_clutter_power_db(rate_mm_per_h: f64, bin: usize) -> (f64, f64) {
+    let text = format!("[environment]\nnoise = false\nclutter = false\nmultipath = false\nearth_curvature = false\nrain_rate_mm_per_h = {rate_mm_per_h}\nrain_top_m = 20000.0\n[radar]\nposition_m = [0.0, 0.0, 1000.0]\nspokes = 1024\nmax_range_m = 1500.0\n");
+    let (sim, frame) = render_text(&text, 3);
+    let radar = &sim.scene().radar;
+    let r = bin as f64 * radar.range_bin_m();
+    let ant = &radar.antenna;
+    let beam = |bw: f64| crate::environment::clutter_map::two_way_beam_integral_rad(bw);
+    let volume =
+        r * r * beam(ant.az_beamwidth_rad) * beam(ant.el_beamwidth_rad) * SPEED_OF_LIGHT_M_PER_S
+            / (2.0 * radar.chirp.bandwidth_hz);
+    let eta = crate::environment::rain::volume_reflectivity_m2_per_m3(
+        rate_mm_per_h,
+        radar.wavelength_m(),
+    );
+    let gamma = crate::environment::rain::specific_attenuation_db_per_km(
+        radar.carrier_freq_hz / 1e9,
+        rate_mm_per_h,
+        true,
+    );
+    let expected = linear_to_db(radar.point_target_snr(eta * volume, r)) - 2.0 * gamma * r / 1000.0;
+    let mean: f64 = (0..frame.spokes)
+        .map(|k| 10f64.powf(spoke(&frame, k)[bin] as f64 / 10.0))
+        .sum::<f64>()
+        / frame.spokes as f64;
+    (expected, linear_to_db(mean))
+}
+
+/// Whether a point target (h 9 m, radar 16 m) at `ground_range_m` returns an echo and is
+/// labelled visible.
+pub fn horizon_echo(ground_range_m: f64) -> (bool, crate::labels::Visibility) {
+    let text = format!("[environment]\nnoise = false\nclutter = false\nmultipath = false\n[radar]\nposition_m = [0.0, 0.0, 16.0]\nmax_range_m = 31000.0\nspokes = 4\nsample_rate_mhz = 50.0\nbandwidth_mhz = 25.0\n[[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 1e6\nposition_m = [0.0, {ground_range_m}, 9.0]\n");
+    let (sim, frame) = render_text(&text, 1);
+    (
+        !sim.trace().contributions.is_empty(),
+        frame.truth[0].visibility,
+    )
+}
+
 /// Runs every check.
 pub fn run_all() -> Vec<CheckResult> {
     let mut out = Vec::new();
@@ -586,6 +725,116 @@ pub fn run_all() -> Vec<CheckResult> {
         "dB",
         Tolerance::Absolute(0.5),
         "two-ray model with Γ ≈ −1 at low grazing",
+    ));
+
+    // Sea clutter and rain.
+    out.push(check(
+        "NRL σ0 check value: SS 2, 10°, 30 GHz, HH",
+        -36.66,
+        crate::environment::clutter::nrl_sigma0_db(30.0, 2.0, true, 10.0),
+        "dB",
+        Tolerance::Absolute(0.01),
+        "Gregers-Hansen & Mital, IEEE TAES 48(4), 2012",
+    ));
+    for bin in [400usize, 800] {
+        let (e, m) = clutter_mean_power_db(bin);
+        out.push(check(
+            &format!(
+                "mean clutter power = σ0·A_c·radar equation ({:.0} m, SS 3)",
+                bin as f64 * c / 2e8
+            ),
+            e,
+            m,
+            "dB",
+            Tolerance::Absolute(1.0),
+            "radar equation with σ = σ0·A_c (Skolnik 2001, §7.4)",
+        ));
+    }
+    for nu in [1.0, 2.0] {
+        let (m, n) = clutter_second_moment(&format!("clutter_shape_nu = {nu}"));
+        out.push(check(
+            &format!(
+                "K clutter E[I²]/E[I]² = 2(1+1/ν), ν = {nu} ({:.1} M samples)",
+                n as f64 / 1e6
+            ),
+            2.0 * (1.0 + 1.0 / nu),
+            m,
+            "",
+            Tolerance::Relative(0.05),
+            "Ward, Tough & Watts, Sea Clutter, 2006",
+        ));
+    }
+    let (m, _) =
+        clutter_second_moment("clutter_distribution = \"weibull\"\nclutter_weibull_shape = 1.5");
+    let weibull = crate::environment::clutter::ln_gamma(1.0 + 2.0 / 1.5).exp()
+        / crate::environment::clutter::ln_gamma(1.0 + 1.0 / 1.5)
+            .exp()
+            .powi(2);
+    out.push(check(
+        "Weibull clutter E[I²]/E[I]² = Γ(1+2/k)/Γ(1+1/k)², k = 1.5",
+        weibull,
+        m,
+        "",
+        Tolerance::Relative(0.05),
+        "Sekine & Mao, Weibull Radar Clutter, 1990",
+    ));
+    let (kh, ah, _, _) = crate::environment::rain::itu_p838_coefficients(10.0);
+    out.push(check(
+        "ITU-R P.838-3 k_H at 10 GHz",
+        0.01217,
+        kh,
+        "",
+        Tolerance::Relative(0.005),
+        "ITU-R P.838-3, Table 5",
+    ));
+    out.push(check(
+        "ITU-R P.838-3 α_H at 10 GHz",
+        1.2571,
+        ah,
+        "",
+        Tolerance::Relative(0.001),
+        "ITU-R P.838-3, Table 5",
+    ));
+    let (e, m) = rain_attenuation_db(16.0);
+    out.push(check(
+        "two-way rain attenuation 2γR, 16 mm/h, 3 km",
+        e,
+        m,
+        "dB",
+        Tolerance::Absolute(0.1),
+        "ITU-R P.838-3",
+    ));
+    let (e, m) = rain_clutter_power_db(8.0, 700);
+    out.push(check(
+        "rain clutter power = η·V·radar equation (8 mm/h, 1 km)",
+        e,
+        m,
+        "dB",
+        Tolerance::Absolute(1.0),
+        "Doviak & Zrnić, eq. 4.34; Z = 200R^1.6",
+    ));
+    let horizon_km = 4.12 * (16f64.sqrt() + 9f64.sqrt());
+    let (echo_in, vis_in) = horizon_echo(horizon_km * 1000.0 * 0.98);
+    let (echo_out, vis_out) = horizon_echo(horizon_km * 1000.0 * 1.02);
+    let both = echo_in
+        && !echo_out
+        && vis_in == crate::labels::Visibility::Visible
+        && vis_out == crate::labels::Visibility::BeyondHorizon;
+    out.push(check(
+        "horizon 4.12(√h1+√h2) km: echo at 0.98×, none at 1.02× (h 16 m / 9 m)",
+        1.0,
+        if both { 1.0 } else { 0.0 },
+        "",
+        Tolerance::Absolute(0.0),
+        "Skolnik 2001, §8.2 (4/3 earth)",
+    ));
+    out.push(check(
+        "radar horizon of a 16 m mast",
+        4.12 * 4.0,
+        crate::environment::horizon_distance_m(16.0) / 1000.0,
+        "km",
+        Tolerance::Relative(0.002),
+        "Skolnik 2001, §8.2",
     ));
 
     // Antenna.

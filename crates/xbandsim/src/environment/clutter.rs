@@ -34,6 +34,7 @@
 use rand::Rng;
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg64Mcg;
+use rayon::prelude::*;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
@@ -299,6 +300,16 @@ impl GammaQuantile {
         (((shape.clamp(0.05, 100.0) / 0.05).ln() / step).round() as usize).min(Self::LEVELS - 1)
     }
 
+    /// The level of a shape given as log10 ν.
+    #[inline]
+    pub fn level_from_log10(log10_shape: f64) -> usize {
+        let step = (100f64 / 0.05).ln() / 192.0;
+        (((log10_shape * std::f64::consts::LN_10 - 0.05f64.ln()) / step)
+            .round()
+            .max(0.0) as usize)
+            .min(Self::LEVELS - 1)
+    }
+
     /// The (cached) table of a level.
     pub fn for_level(level: usize) -> Arc<GammaQuantile> {
         static CACHE: OnceLock<Mutex<HashMap<u64, Arc<GammaQuantile>>>> = OnceLock::new();
@@ -343,9 +354,9 @@ pub struct GaussianField {
 
 impl GaussianField {
     /// A field covering `extent_m` (side) with correlation length `correlation_m`; the grid
-    /// spacing is L/4, or coarser if the grid would exceed 2048².
+    /// spacing is L/3, or coarser if the grid would exceed 2048².
     pub fn new(rng: &mut Pcg64Mcg, extent_m: f64, correlation_m: f64) -> GaussianField {
-        let spacing_m = (correlation_m / 4.0).max(extent_m / 2048.0);
+        let spacing_m = (correlation_m / 3.0).max(extent_m / 2048.0);
         let side = ((extent_m / spacing_m).ceil() as usize).clamp(8, 2048);
         let mut values: Vec<f32> = (0..side * side)
             .map(|_| StandardNormal.sample(rng))
@@ -358,28 +369,39 @@ impl GaussianField {
             .collect();
         let norm = kernel.iter().map(|k| k * k).sum::<f32>().sqrt();
         kernel.iter_mut().for_each(|k| *k /= norm);
-        let mut tmp = vec![0f32; side * side];
-        let n = side as isize;
-        for r in 0..side {
-            for c in 0..side {
-                let mut acc = 0f32;
-                for (t, k) in kernel.iter().enumerate() {
-                    let cc = (c as isize + t as isize - half).rem_euclid(n) as usize;
-                    acc += k * values[r * side + cc];
+        // Separable circular convolution: rows, then columns (via a transpose), each line
+        // copied with wrap-around margins so the inner loop has no index arithmetic.
+        let h = half as usize;
+        let convolve_rows = |data: &mut [f32]| {
+            data.par_chunks_mut(side).for_each_init(
+                || vec![0f32; side + 2 * h],
+                |ext, line| {
+                    for (i, e) in ext.iter_mut().enumerate() {
+                        *e = line[(i + side * (h / side + 1) - h) % side];
+                    }
+                    for (c, out) in line.iter_mut().enumerate() {
+                        *out = kernel
+                            .iter()
+                            .zip(&ext[c..c + kernel.len()])
+                            .map(|(k, v)| k * v)
+                            .sum();
+                    }
+                },
+            );
+        };
+        let transpose = |data: &[f32]| -> Vec<f32> {
+            let mut t = vec![0f32; side * side];
+            t.par_chunks_mut(side).enumerate().for_each(|(c, row)| {
+                for (r, v) in row.iter_mut().enumerate() {
+                    *v = data[r * side + c];
                 }
-                tmp[r * side + c] = acc;
-            }
-        }
-        for r in 0..side {
-            for c in 0..side {
-                let mut acc = 0f32;
-                for (t, k) in kernel.iter().enumerate() {
-                    let rr = (r as isize + t as isize - half).rem_euclid(n) as usize;
-                    acc += k * tmp[rr * side + c];
-                }
-                values[r * side + c] = acc;
-            }
-        }
+            });
+            t
+        };
+        convolve_rows(&mut values);
+        let mut t = transpose(&values);
+        convolve_rows(&mut t);
+        let values = transpose(&t);
         GaussianField {
             side,
             spacing_m,

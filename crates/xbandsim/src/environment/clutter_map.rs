@@ -99,8 +99,12 @@ impl ClutterMap {
             grazing_rad: f64,
             sea_factor: f64,
             sigma0_nrl: f64,
+            /// Upwind-factor exponent b and 1/I0(b) (see `wind_direction_factor`).
+            dir_b: f64,
+            dir_norm: f64,
+            /// log10 ν of the empirical K shape without the swell-direction term.
+            log_nu_row: f64,
             rain_volume_factor: f64,
-            cell_area_m2: f64,
         }
         let rows: Vec<Option<Row>> = (0..samples)
             .map(|n| {
@@ -146,13 +150,26 @@ impl ClutterMap {
                 });
                 let cell_area_m2 =
                     ground_m * ant.az_beamwidth_rad * resolution_m / grazing_rad.cos();
+                let dir_b = 0.2 * (1.0 - 2.8 * grazing_rad) * (lambda + 0.015).powf(-0.4);
+                let dir_norm =
+                    1.0 / wind_direction_factor(freq_ghz, grazing_rad, std::f64::consts::FRAC_PI_2);
+                // k_shape_default at a 45° swell angle has cos(2θ) = 0: the row part alone.
+                let log_nu_row = k_shape_default(
+                    grazing_rad.to_degrees(),
+                    cell_area_m2,
+                    horizontal,
+                    std::f64::consts::FRAC_PI_4,
+                )
+                .log10();
                 Some(Row {
                     ground_m,
                     grazing_rad,
                     sea_factor,
                     sigma0_nrl,
+                    dir_b,
+                    dir_norm,
+                    log_nu_row,
                     rain_volume_factor,
-                    cell_area_m2,
                 })
             })
             .collect();
@@ -182,34 +199,43 @@ impl ClutterMap {
             DVec2::new(to.sin(), to.cos()) * c.drift_m_per_s * t_s
         });
         let radar_xy = radar.position_m.truncate();
+        let attenuator = env
+            .rain
+            .as_ref()
+            .map(|r| r.attenuator(freq_ghz, horizontal));
         let mut q = vec![0f32; spokes * samples];
         q.par_chunks_mut(samples).enumerate().for_each(|(k, out)| {
             let az = radar.spoke_azimuth_rad(k);
             let dir = DVec2::new(az.sin(), az.cos());
             // Rain attenuation intervals along this spoke (one-way dB as a function of ground range).
+            let chords = attenuator
+                .as_ref()
+                .map(|a| a.chords(radar_xy, dir))
+                .unwrap_or_default();
             let rain_db = |g: f64| {
-                env.rain.as_ref().map_or(0.0, |rain| {
-                    rain.one_way_attenuation_db(radar_xy, dir, g, freq_ghz, horizontal)
-                })
+                attenuator
+                    .as_ref()
+                    .map_or(0.0, |a| a.one_way_db_along(&chords, g))
             };
             // Quantile tables used by this spoke, fetched once each from the shared cache.
             let mut tables: Vec<Option<std::sync::Arc<GammaQuantile>>> =
                 vec![None; GammaQuantile::LEVELS];
+            let wind_rel = clutter.map_or(0.0, |c| az - c.wind_from_rad);
+            let (cos_rel, cos_2rel) = (wind_rel.cos(), (2.0 * wind_rel).cos());
             for (n, row) in rows.iter().enumerate() {
                 let Some(row) = row else { continue };
                 let p = radar_xy + dir * row.ground_m;
                 let rain_loss = if env.rain.is_some() {
-                    10f64.powf(-2.0 * rain_db(row.ground_m) / 10.0)
+                    (-2.0 * rain_db(row.ground_m) / 10.0 * std::f64::consts::LN_10).exp()
                 } else {
                     1.0
                 };
                 let mut value = 0.0;
                 if let Some(c) = clutter {
-                    let wind_rel = az - c.wind_from_rad;
                     let sigma0 = match c.model {
+                        // exp(b·cos φ)/I0(b): wind_direction_factor with per-row constants.
                         Sigma0Model::Nrl => {
-                            row.sigma0_nrl
-                                * wind_direction_factor(freq_ghz, row.grazing_rad, wind_rel)
+                            row.sigma0_nrl * (row.dir_b * cos_rel).exp() * row.dir_norm
                         }
                         Sigma0Model::Git => 10f64.powf(
                             git_sigma0_db(
@@ -221,25 +247,24 @@ impl ClutterMap {
                             ) / 10.0,
                         ),
                     };
+                    let mean = sigma0 * row.sea_factor;
+                    // Far below the noise (−60 dB) the texture cannot matter: skip drawing it.
                     let texture = match (&field, c.distribution) {
-                        (Some(f), ClutterDistribution::K { shape_nu }) => {
-                            let nu = shape_nu.unwrap_or_else(|| {
-                                k_shape_default(
-                                    row.grazing_rad.to_degrees(),
-                                    row.cell_area_m2,
-                                    horizontal,
-                                    wind_rel,
-                                )
-                            });
+                        (Some(f), ClutterDistribution::K { shape_nu }) if mean > 1e-6 => {
+                            let level = match shape_nu {
+                                Some(nu) => GammaQuantile::level(nu),
+                                None => GammaQuantile::level_from_log10(
+                                    (row.log_nu_row - cos_2rel / 3.0).clamp(-1.0, 20f64.log10()),
+                                ),
+                            };
                             let g = f.at(p.x - drift.x, p.y - drift.y);
-                            let level = GammaQuantile::level(nu);
                             tables[level]
                                 .get_or_insert_with(|| GammaQuantile::for_level(level))
                                 .quantile(normal_cdf(g))
                         }
                         _ => 1.0,
                     };
-                    value += sigma0 * row.sea_factor * texture;
+                    value += mean * texture;
                 }
                 if let Some(rain) = &env.rain {
                     value += volume_reflectivity_m2_per_m3(rain.rate_at(p), lambda)

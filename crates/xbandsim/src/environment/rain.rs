@@ -131,27 +131,72 @@ impl Rain {
         freq_ghz: f64,
         horizontal: bool,
     ) -> f64 {
-        let mut db =
-            specific_attenuation_db_per_km(freq_ghz, self.uniform_rate_mm_per_h, horizontal)
-                * range_m
-                / 1000.0;
-        for c in &self.cells {
-            // Segment from + t·dir, t ∈ [0, range], against the circle.
+        self.attenuator(freq_ghz, horizontal)
+            .one_way_db(from, dir, range_m)
+    }
+
+    /// The specific attenuations at one frequency and polarisation, computed once.
+    pub fn attenuator(&self, freq_ghz: f64, horizontal: bool) -> RainAttenuator<'_> {
+        RainAttenuator {
+            rain: self,
+            uniform_db_per_m: specific_attenuation_db_per_km(
+                freq_ghz,
+                self.uniform_rate_mm_per_h,
+                horizontal,
+            ) / 1000.0,
+            cell_db_per_m: self
+                .cells
+                .iter()
+                .map(|c| {
+                    specific_attenuation_db_per_km(freq_ghz, c.rate_mm_per_h, horizontal) / 1000.0
+                })
+                .collect(),
+        }
+    }
+}
+
+/// Rain attenuation along rays, with the specific attenuations precomputed.
+#[derive(Debug, Clone)]
+pub struct RainAttenuator<'a> {
+    rain: &'a Rain,
+    uniform_db_per_m: f64,
+    cell_db_per_m: Vec<f64>,
+}
+
+impl RainAttenuator<'_> {
+    /// The stretches of a ray from `from` along unit `dir` inside each cell:
+    /// (start m, end m, dB/m), for repeated evaluation along one ray.
+    pub fn chords(&self, from: DVec2, dir: DVec2) -> Vec<(f64, f64, f64)> {
+        let mut out = Vec::new();
+        for (c, &g) in self.rain.cells.iter().zip(&self.cell_db_per_m) {
+            // Segment from + t·dir against the circle.
             let oc = from - c.centre_m;
             let b = oc.dot(dir);
             let disc = b * b - (oc.length_squared() - c.radius_m * c.radius_m);
-            if disc <= 0.0 {
-                continue;
-            }
-            let sq = disc.sqrt();
-            let (t0, t1) = ((-b - sq).max(0.0), (-b + sq).min(range_m));
-            if t1 > t0 {
-                db += specific_attenuation_db_per_km(freq_ghz, c.rate_mm_per_h, horizontal)
-                    * (t1 - t0)
-                    / 1000.0;
+            if disc > 0.0 {
+                let sq = disc.sqrt();
+                let (t0, t1) = ((-b - sq).max(0.0), -b + sq);
+                if t1 > t0 {
+                    out.push((t0, t1, g));
+                }
             }
         }
-        db
+        out
+    }
+
+    /// One-way attenuation (dB) to ground range `range_m` along a ray with these `chords`.
+    #[inline]
+    pub fn one_way_db_along(&self, chords: &[(f64, f64, f64)], range_m: f64) -> f64 {
+        self.uniform_db_per_m * range_m
+            + chords
+                .iter()
+                .map(|&(t0, t1, g)| (range_m.min(t1) - t0).max(0.0) * g)
+                .sum::<f64>()
+    }
+
+    /// One-way attenuation (dB) from `from` to ground range `range_m` along unit `dir`.
+    pub fn one_way_db(&self, from: DVec2, dir: DVec2, range_m: f64) -> f64 {
+        self.one_way_db_along(&self.chords(from, dir), range_m)
     }
 }
 
