@@ -59,6 +59,14 @@ pub fn run(out: &Path, scene_path: &Path, seed: u64) -> Result<()> {
     crate::say!("wrote {}", out.join("fig3_signal_chain.png").display());
     fig4(out, &spec, crate::render::scene_dir(scene_path), seed)?;
     crate::say!("wrote {}", out.join("fig4_ppi_pulse_widths.png").display());
+    let dir = crate::render::scene_dir(scene_path);
+    fig5(
+        out,
+        &dir.join("sea-state-4-rain.toml"),
+        &dir.join("harbour-calm.toml"),
+        seed,
+    )?;
+    crate::say!("wrote {}", out.join("fig5_sea_clutter_rain.png").display());
     object_frames(out)?;
     crate::say!("wrote {}", out.join("object_frames.png").display());
     crate::say!("figures done in {:.1} s", t0.elapsed().as_secs_f64());
@@ -343,37 +351,15 @@ fn fig3(out: &Path, base: &Scene, seed: u64) -> Result<()> {
 /// bottom row as a real radar (blanked while transmitting, so targets within c·T/2 eclipse).
 fn fig4(out: &Path, spec: &SceneSpec, base_dir: &Path, seed: u64) -> Result<()> {
     let panel = 400u32;
-    let pulses = [1.0, 20.0, 50.0];
     let mut images: Vec<(String, Vec<u8>)> = Vec::new();
     for blanking in [false, true] {
-        for &pw in &pulses {
+        for pw in [1.0, 20.0, 50.0] {
             let mut s = spec.clone();
             s.radar.pulse_width_us = Some(pw);
             s.radar.receiver_blanking = Some(blanking);
-            s.display.image_size_px = Some(panel);
             let scene = Scene::from_spec_in(&s, base_dir)
                 .with_context(|| format!("fig. 4 scene with pulse_width_us = {pw}"))?;
-            let sim = Simulation::new(scene);
-            let frame = sim.render(seed);
-            let r = &sim.scene().radar;
-            let d = &sim.scene().display;
-            let conv = ScanConverter::new(
-                panel,
-                r.max_range_m,
-                r.spokes,
-                r.num_range_bins(),
-                r.range_bin_m(),
-            );
-            let mut ppi = vec![0f32; (panel * panel) as usize];
-            conv.convert(&frame.polar_db, f32::NAN, &mut ppi);
-            let rgb = colour_image(
-                &conv,
-                &ppi,
-                d.colormap,
-                d.min_db,
-                d.max_db + 20.0 * f64::log10(pw),
-                d.range_ring_spacing_m,
-            );
+            let extra_db = 20.0 * f64::log10(pw);
             let title = format!(
                 "{pw} us, {}",
                 if blanking {
@@ -382,15 +368,53 @@ fn fig4(out: &Path, spec: &SceneSpec, base_dir: &Path, seed: u64) -> Result<()> 
                     "not blanked (as in paper)"
                 }
             );
-            images.push((title, rgb));
+            images.push((title, ppi_panel(scene, panel, seed, extra_db)));
         }
     }
-    let (w, h) = (panel * 3 + 40, panel * 2 + 120);
-    save_rgb(&out.join("fig4_ppi_pulse_widths.png"), w, h, |root| {
+    panel_grid(&out.join("fig4_ppi_pulse_widths.png"), "PPI vs pulse width (colour scale 0 .. 70 + 20 log10(T/1us) dB over noise; rings every 100 m)", &images, panel, 3)
+}
+
+/// One PPI image (RGB) of a scene, `size` pixels, colour scale raised by `extra_db`.
+fn ppi_panel(scene: Scene, size: u32, seed: u64, extra_db: f64) -> Vec<u8> {
+    let sim = Simulation::new(scene);
+    let frame = sim.render(seed);
+    let r = &sim.scene().radar;
+    let d = &sim.scene().display;
+    let conv = ScanConverter::new(
+        size,
+        r.max_range_m,
+        r.spokes,
+        r.num_range_bins(),
+        r.range_bin_m(),
+    );
+    let mut ppi = vec![0f32; (size * size) as usize];
+    conv.convert(&frame.polar_db, f32::NAN, &mut ppi);
+    colour_image(
+        &conv,
+        &ppi,
+        d.colormap,
+        d.min_db,
+        d.max_db + extra_db,
+        d.range_ring_spacing_m,
+    )
+}
+
+/// Square images with titles in a grid of `cols` columns, written as one PNG.
+fn panel_grid(
+    path: &Path,
+    heading: &str,
+    images: &[(String, Vec<u8>)],
+    panel: u32,
+    cols: u32,
+) -> Result<()> {
+    let rows = (images.len() as u32).div_ceil(cols);
+    let (w, h) = (panel * cols + 10 * (cols + 1), rows * (panel + 40) + 40);
+    save_rgb(path, w, h, |root| {
         root.fill(&WHITE).map_err(plot_err)?;
-        root.draw(&Text::new("PPI vs pulse width (colour scale 0 .. 70 + 20 log10(T/1us) dB over noise; rings every 100 m)", (20, 8), (FONT, 18))).map_err(plot_err)?;
+        root.draw(&Text::new(heading.to_string(), (20, 8), (FONT, 18)))
+            .map_err(plot_err)?;
         for (i, (title, rgb)) in images.iter().enumerate() {
-            let (col, row) = ((i % 3) as u32, (i / 3) as u32);
+            let (col, row) = (i as u32 % cols, i as u32 / cols);
             let x0 = 10 + col * (panel + 10);
             let y0 = 40 + row * (panel + 40);
             root.draw(&Text::new(
@@ -412,6 +436,37 @@ fn fig4(out: &Path, spec: &SceneSpec, base_dir: &Path, seed: u64) -> Result<()> 
         }
         Ok(())
     })
+}
+
+/// Fig. 5 (ours): the same open-water scene without and with sea clutter and rain, and the
+/// calm harbour.
+fn fig5(out: &Path, sea_scene: &Path, harbour_scene: &Path, seed: u64) -> Result<()> {
+    let panel = 400u32;
+    let spec = crate::render::read_spec(sea_scene)?;
+    let dir = crate::render::scene_dir(sea_scene);
+    let mut images = Vec::new();
+    for (title, clutter, rain) in [
+        ("no clutter, no rain", false, false),
+        ("sea clutter (SS 4, K)", true, false),
+        ("sea clutter + rain cell", true, true),
+    ] {
+        let mut s = spec.clone();
+        s.environment.clutter = Some(clutter);
+        s.environment.rain = Some(rain);
+        let scene = Scene::from_spec_in(&s, dir)
+            .with_context(|| format!("in scene {}", sea_scene.display()))?;
+        images.push((title.to_string(), ppi_panel(scene, panel, seed, 0.0)));
+    }
+    let harbour = Scene::from_spec_in(
+        &crate::render::read_spec(harbour_scene)?,
+        crate::render::scene_dir(harbour_scene),
+    )
+    .with_context(|| format!("in scene {}", harbour_scene.display()))?;
+    images.push((
+        "calm harbour (SS 1)".to_string(),
+        ppi_panel(harbour, panel, seed, 0.0),
+    ));
+    panel_grid(&out.join("fig5_sea_clutter_rain.png"), "Sea and weather: wind from the north (upwind brighter), rain cell to the east (0 .. 60 dB over noise)", &images, panel, 4)
 }
 
 /// The object frames of docs/formats.md: each shape at zero rotation, seen from above
