@@ -6,8 +6,9 @@
 //! specification, §3.4), so its points are mapped `(x, y, z) → (−x, z, y)`, a rotation that
 //! keeps handedness. glTF node transforms of the default scene are applied.
 
+use super::{PrimitiveKind, ShapeGeometry};
 use crate::error::{Error, Result};
-use glam::{DMat4, DVec3};
+use glam::{DMat3, DMat4, DVec3};
 use std::path::{Path, PathBuf};
 
 /// An indexed triangle mesh in metres, in the object's own frame.
@@ -395,39 +396,24 @@ pub fn vessel(length_m: f64, segments: usize) -> TriangleMesh {
             DVec3::new(0.04 * beam, 0.02 * length_m, 0.2 * length_m),
         ),
     ];
+    // Their faces as the box primitive builds them, without the bottom (it rests on the
+    // deck), each split into 4 × 4 quads.
     for (c, s) in boxes {
-        let h = s / 2.0;
-        let faces = [
-            (
-                DVec3::new(h.x, -h.y, -h.z),
-                DVec3::new(0.0, s.y, 0.0),
-                DVec3::new(0.0, 0.0, s.z),
-            ),
-            (
-                DVec3::new(-h.x, -h.y, -h.z),
-                DVec3::new(0.0, 0.0, s.z),
-                DVec3::new(0.0, s.y, 0.0),
-            ),
-            (
-                DVec3::new(-h.x, h.y, -h.z),
-                DVec3::new(0.0, 0.0, s.z),
-                DVec3::new(s.x, 0.0, 0.0),
-            ),
-            (
-                DVec3::new(-h.x, -h.y, -h.z),
-                DVec3::new(s.x, 0.0, 0.0),
-                DVec3::new(0.0, 0.0, s.z),
-            ),
-            (
-                DVec3::new(-h.x, -h.y, h.z),
-                DVec3::new(s.x, 0.0, 0.0),
-                DVec3::new(0.0, s.y, 0.0),
-            ),
-        ];
-        for (corner, u, v) in faces {
-            let f =
-                move |i: usize, j: usize| c + corner + u * (i as f64 / 4.0) + v * (j as f64 / 4.0);
-            grid(&mut mesh, &f, 4, 4, false);
+        for p in (ShapeGeometry::Box { size_m: s }).primitives(c, DMat3::IDENTITY, 0) {
+            if let PrimitiveKind::Parallelogram {
+                corner,
+                edge_u,
+                edge_v,
+            } = p.kind
+            {
+                if edge_u.cross(edge_v).z < 0.0 {
+                    continue;
+                }
+                let f = move |i: usize, j: usize| {
+                    corner + edge_u * (i as f64 / 4.0) + edge_v * (j as f64 / 4.0)
+                };
+                grid(&mut mesh, &f, 4, 4, false);
+            }
         }
     }
     mesh

@@ -100,48 +100,20 @@ impl Primitive {
         let d = ray.dir;
         match self.kind {
             PrimitiveKind::Triangle { v0, e1, e2 } => {
-                let p = d.cross(e2);
-                let det = e1.dot(p);
-                if det.abs() < 1e-300 {
-                    return None;
-                }
-                let inv = 1.0 / det;
-                let s = o - v0;
-                let u = s.dot(p) * inv;
-                if !(0.0..=1.0).contains(&u) {
-                    return None;
-                }
-                let q = s.cross(e1);
-                let v = d.dot(q) * inv;
-                if v < 0.0 || u + v > 1.0 {
-                    return None;
-                }
-                let t = e2.dot(q) * inv;
-                (t > SELF_HIT_EPSILON_M && t < t_max_m).then(|| (t, e1.cross(e2).normalize()))
+                let (t, u, v) = moller_trumbore(o, d, v0, e1, e2)?;
+                (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > SELF_HIT_EPSILON_M && t < t_max_m)
+                    .then(|| (t, e1.cross(e2).normalize()))
             }
             PrimitiveKind::Parallelogram {
                 corner,
                 edge_u,
                 edge_v,
             } => {
-                let p = d.cross(edge_v);
-                let det = edge_u.dot(p);
-                if det.abs() < 1e-300 {
-                    return None;
-                }
-                let inv = 1.0 / det;
-                let s = o - corner;
-                let u = s.dot(p) * inv;
-                if !(0.0..=1.0).contains(&u) {
-                    return None;
-                }
-                let q = s.cross(edge_u);
-                let v = d.dot(q) * inv;
-                if !(0.0..=1.0).contains(&v) {
-                    return None;
-                }
-                let t = edge_v.dot(q) * inv;
-                (t > SELF_HIT_EPSILON_M && t < t_max_m)
+                let (t, u, v) = moller_trumbore(o, d, corner, edge_u, edge_v)?;
+                ((0.0..=1.0).contains(&u)
+                    && (0.0..=1.0).contains(&v)
+                    && t > SELF_HIT_EPSILON_M
+                    && t < t_max_m)
                     .then(|| (t, edge_u.cross(edge_v).normalize()))
             }
             PrimitiveKind::Sphere { centre, radius_m } => {
@@ -205,6 +177,21 @@ impl Primitive {
             }
         }
     }
+}
+
+/// Ray `o + t·d` against the plane `p0 + u·e1 + v·e2`: (t, u, v), or None if parallel
+/// (Möller & Trumbore 1997).
+#[inline]
+fn moller_trumbore(o: DVec3, d: DVec3, p0: DVec3, e1: DVec3, e2: DVec3) -> Option<(f64, f64, f64)> {
+    let p = d.cross(e2);
+    let det = e1.dot(p);
+    if det.abs() < 1e-300 {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let s = o - p0;
+    let q = s.cross(e1);
+    Some((e2.dot(q) * inv, s.dot(p) * inv, d.dot(q) * inv))
 }
 
 #[inline]
