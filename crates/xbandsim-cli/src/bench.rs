@@ -229,7 +229,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
             std::hint::black_box(&ppi);
         });
         put(
-            &format!("paper-equivalent frame (3.6 M rays, 512^2 PPI), {pw} us"),
+            &format!("paper-equivalent frame (3.6 M-ray grid, bounding-sphere prefilter, 512^2 PPI), {pw} us"),
             t * 1e3,
             "ms",
         );

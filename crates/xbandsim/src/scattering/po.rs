@@ -736,7 +736,14 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         let radius = obj.shape.bounding_radius_m();
         let nearest_m = (centre - radar.position_m).length() - radius;
         let ground_m = ((centre - radar.position_m).truncate().length() - radius).max(0.0);
-        if nearest_m > radar.max_range_m + radar.eclipse_range_m() || (s.earth_curvature && !crate::environment::above_horizon(radar.position_m.z, ground_m, centre.z + radius)) {
+        if nearest_m > radar.max_range_m + radar.eclipse_range_m()
+            || (s.earth_curvature
+                && !crate::environment::above_horizon(
+                    radar.position_m.z,
+                    ground_m,
+                    centre.z + radius,
+                ))
+        {
             continue;
         }
         let illumination = Illumination::FromPoint {

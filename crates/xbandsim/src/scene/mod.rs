@@ -891,7 +891,7 @@ fn build_scattering(s: &ScatteringSpec) -> Result<ScatteringConfig> {
     }
     let paper_reference_voltage_v = positive(
         "scattering.paper_reference_voltage_uv",
-        s.paper_reference_voltage_uv.unwrap_or(1.0),
+        s.paper_reference_voltage_uv.unwrap_or(1000.0),
     )? * 1e-6;
     Ok(ScatteringConfig {
         model,

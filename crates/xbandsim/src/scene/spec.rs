@@ -174,7 +174,7 @@ pub struct ScatteringSpec {
     pub paper_rays_per_degree_az: Option<usize>,
     /// "paper" model: rays across the elevation beamwidth (default 100).
     pub paper_rays_elevation: Option<usize>,
-    /// "paper" model: voltage of a unit-amplitude ray, microvolts (default 1).
+    /// "paper" model: voltage of a unit-amplitude ray, microvolts (default 1000).
     pub paper_reference_voltage_uv: Option<f64>,
 }
 
