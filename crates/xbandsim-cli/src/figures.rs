@@ -146,9 +146,10 @@ fn fig2(out: &Path, scene: &Scene) -> Result<()> {
 /// Fig. 3: (a) the chirp, (b) echoes from three ranges, (c) the received record with noise,
 /// (d) the matched-filter output — all from the library's signal chain.
 fn fig3(out: &Path, base: &Scene, seed: u64) -> Result<()> {
-    // Three point targets on the north axis, 1 µs pulse, blanking on.
+    // Three point targets on the north axis in free space (as in the paper), 1 µs pulse,
+    // blanking on.
     let mut text =
-        String::from("[radar]\npulse_width_us = 1.0\nmax_range_m = 900.0\nspokes = 360\n");
+        String::from("[environment]\nclutter = false\nmultipath = false\n[radar]\npulse_width_us = 1.0\nmax_range_m = 900.0\nspokes = 360\n");
     for (i, (r, rcs)) in [(250.0, 1.0), (450.0, 10.0), (700.0, 30.0)]
         .iter()
         .enumerate()
@@ -235,80 +236,28 @@ fn fig3(out: &Path, base: &Scene, seed: u64) -> Result<()> {
                 ))
                 .map_err(plot_err)?;
         }
-        // (b) echoes
-        {
-            let n = per_target[0].len();
-            let t_max = n as f64 / fs * 1e6;
-            let peak = per_target
-                .iter()
-                .flat_map(|e| e.iter())
-                .map(|c| c.re.abs())
-                .fold(0f32, f32::max) as f64
-                * 1.1;
-            let mut chart = ChartBuilder::on(&panels[1])
-                .caption(
-                    "(b) echoes from 250 m (1 m2), 450 m (10 m2), 700 m (30 m2)",
-                    (FONT, 18),
-                )
-                .margin(12)
-                .x_label_area_size(40)
-                .y_label_area_size(55)
-                .build_cartesian_2d(0f64..t_max, -peak..peak)
-                .map_err(plot_err)?;
-            chart
-                .configure_mesh()
-                .x_desc("time after transmission (us)")
-                .y_desc("Re r(t) / noise rms")
-                .label_style((FONT, 13))
-                .draw()
-                .map_err(plot_err)?;
-            for (e, colour) in per_target.iter().zip([BLUE, GREEN, RED]) {
-                chart
-                    .draw_series(LineSeries::new(
-                        e.iter()
-                            .enumerate()
-                            .map(|(i, v)| (i as f64 / fs * 1e6, v.re as f64)),
-                        colour,
-                    ))
-                    .map_err(plot_err)?;
-            }
-        }
-        // (c) received record with noise
-        {
-            let n = raw.received_iq.len();
-            let peak = raw
-                .received_iq
-                .iter()
-                .map(|c| c.re.abs())
-                .fold(0f32, f32::max) as f64
-                * 1.1;
-            let mut chart = ChartBuilder::on(&panels[2])
-                .caption(
-                    "(c) received: echoes + thermal noise kT0F fs, blanked while transmitting",
-                    (FONT, 18),
-                )
-                .margin(12)
-                .x_label_area_size(40)
-                .y_label_area_size(55)
-                .build_cartesian_2d(0f64..n as f64 / fs * 1e6, -peak..peak)
-                .map_err(plot_err)?;
-            chart
-                .configure_mesh()
-                .x_desc("time after transmission (us)")
-                .y_desc("Re r(t) / noise rms")
-                .label_style((FONT, 13))
-                .draw()
-                .map_err(plot_err)?;
-            chart
-                .draw_series(LineSeries::new(
-                    raw.received_iq
-                        .iter()
-                        .enumerate()
-                        .map(|(i, v)| (i as f64 / fs * 1e6, v.re as f64)),
-                    BLACK.mix(0.7),
-                ))
-                .map_err(plot_err)?;
-        }
+        // (b) echoes, each target alone; (c) the received record with noise.
+        let to_points = |iq: &[Complex32]| -> Vec<(f64, f64)> {
+            iq.iter()
+                .enumerate()
+                .map(|(i, v)| (i as f64 / fs * 1e6, v.re as f64))
+                .collect()
+        };
+        let echoes: Vec<(Vec<(f64, f64)>, RGBColor)> = per_target
+            .iter()
+            .zip([BLUE, GREEN, RED])
+            .map(|(e, c)| (to_points(e), c))
+            .collect();
+        time_panel(
+            &panels[1],
+            "(b) echoes from 250 m (1 m2), 450 m (10 m2), 700 m (30 m2)",
+            &echoes,
+        )?;
+        time_panel(
+            &panels[2],
+            "(c) received: echoes + thermal noise kT0F fs, blanked while transmitting",
+            &[(to_points(&raw.received_iq), BLACK)],
+        )?;
         // (d) matched-filter output
         {
             let db: Vec<f64> = raw
@@ -345,6 +294,43 @@ fn fig3(out: &Path, base: &Scene, seed: u64) -> Result<()> {
         }
         Ok(())
     })
+}
+
+/// A panel of real-part time series (µs, noise-rms units) sharing symmetric y limits.
+fn time_panel(
+    area: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
+    caption: &str,
+    series: &[(Vec<(f64, f64)>, RGBColor)],
+) -> Result<()> {
+    let t_max = series
+        .iter()
+        .flat_map(|(p, _)| p.last().map(|l| l.0))
+        .fold(1e-3, f64::max);
+    let peak = series
+        .iter()
+        .flat_map(|(p, _)| p.iter().map(|q| q.1.abs()))
+        .fold(1e-6, f64::max)
+        * 1.1;
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, (FONT, 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(55)
+        .build_cartesian_2d(0f64..t_max, -peak..peak)
+        .map_err(plot_err)?;
+    chart
+        .configure_mesh()
+        .x_desc("time after transmission (us)")
+        .y_desc("Re r(t) / noise rms")
+        .label_style((FONT, 13))
+        .draw()
+        .map_err(plot_err)?;
+    for (points, colour) in series {
+        chart
+            .draw_series(LineSeries::new(points.iter().copied(), colour))
+            .map_err(plot_err)?;
+    }
+    Ok(())
 }
 
 /// Fig. 4: PPIs for 1, 20 and 50 µs pulses; top row as in the paper (receiver not blanked),
