@@ -5,7 +5,10 @@
 mod common;
 use common::*;
 use xbandsim::constants::wavelength_m;
-use xbandsim::validation::{find_null_range_m, multipath_point_power_db, two_ray_null_range_m};
+use xbandsim::validation::{
+    find_lobe_range_m, find_null_range_m, multipath_point_power_db, two_ray_extremum_range_m,
+    two_ray_null_range_m,
+};
 
 /// Point target: nulls where the path difference is nλ (±1 %), for two geometries.
 #[test]
@@ -13,7 +16,7 @@ fn point_target_four_path_nulls() {
     let lambda = wavelength_m(9.41e9);
     for (hr, ht) in [(10.0, 5.0), (6.0, 3.0)] {
         for n in [1.0, 2.0, 3.0] {
-            let expected = two_ray_null_range_m(n, hr, ht, lambda);
+            let expected = two_ray_extremum_range_m(n, hr, ht, lambda);
             let measured = find_null_range_m(expected, hr, ht);
             assert!(
                 (measured / expected - 1.0).abs() < 0.01,
@@ -25,6 +28,25 @@ fn point_target_four_path_nulls() {
                 depth < -20.0,
                 "null {n} only {depth:.1} dB below free space"
             );
+        }
+    }
+}
+
+/// Point target: lobe peaks where the path difference is (n + ½)λ (±1 %), about +12 dB.
+#[test]
+fn point_target_four_path_lobes() {
+    let lambda = wavelength_m(9.41e9);
+    for (hr, ht) in [(10.0, 5.0), (6.0, 3.0)] {
+        for n in [0.5, 1.5, 2.5] {
+            let expected = two_ray_extremum_range_m(n, hr, ht, lambda);
+            let measured = find_lobe_range_m(expected, hr, ht);
+            assert!(
+                (measured / expected - 1.0).abs() < 0.01,
+                "h {hr}/{ht} lobe {n}: {measured:.1} m vs {expected:.1} m"
+            );
+            let gain = multipath_point_power_db(measured, hr, ht, true)
+                - multipath_point_power_db(measured, hr, ht, false);
+            assert!((gain - 12.0).abs() < 0.6, "lobe {n} gain {gain:.2} dB");
         }
     }
 }
