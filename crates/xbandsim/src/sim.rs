@@ -122,6 +122,31 @@ impl Simulation {
         )
     }
 
+    /// Adds one pulse's band-limited impulse response (targets weighted by the azimuth pattern
+    /// for a beam at `beam_az_rad`, plus clutter) into `impulse_response` (noise-rms units);
+    /// returns the earliest target sample written.
+    fn impulse_response(
+        &self,
+        clutter: Option<&ClutterMap>,
+        groups: &EchoGroups,
+        beam_az_rad: f64,
+        seed: u64,
+        frame: u64,
+        spoke: u64,
+        impulse_response: &mut [Complex32],
+    ) -> Option<usize> {
+        let earliest = groups.accumulate(
+            &self.scene.radar.antenna,
+            beam_az_rad,
+            MIN_GROUP_AMPLITUDE,
+            impulse_response,
+        );
+        if let Some(c) = clutter {
+            c.add_to_spoke(spoke as usize, seed, frame, impulse_response);
+        }
+        earliest
+    }
+
     /// Compressed output of one spoke at `beam_az_rad` into `scratch.buffer[..bins]`
     /// (amplitude in noise-rms units).
     pub fn compress_spoke(
@@ -137,15 +162,15 @@ impl Simulation {
         let radar = &self.scene.radar;
         let record = self.compressor.record_len();
         scratch.buffer.fill(Complex32::new(0.0, 0.0));
-        let earliest = groups.accumulate(
-            &radar.antenna,
+        let earliest = self.impulse_response(
+            clutter,
+            groups,
             beam_az_rad,
-            MIN_GROUP_AMPLITUDE,
+            seed,
+            frame,
+            spoke,
             &mut scratch.buffer[..record],
         );
-        if let Some(c) = clutter {
-            c.add_to_spoke(spoke as usize, seed, frame, &mut scratch.buffer[..record]);
-        }
         let noise = self.scene.environment.noise;
         if noise {
             let mut rng = stream_rng(seed, frame, spoke);
@@ -174,15 +199,15 @@ impl Simulation {
         let radar = &self.scene.radar;
         let record = self.compressor.record_len();
         let mut scratch = self.compressor.scratch();
-        groups.accumulate(
-            &radar.antenna,
+        self.impulse_response(
+            clutter,
+            groups,
             beam_az_rad,
-            0.0,
+            seed,
+            frame,
+            spoke,
             &mut scratch.buffer[..record],
         );
-        if let Some(c) = clutter {
-            c.add_to_spoke(spoke as usize, seed, frame, &mut scratch.buffer[..record]);
-        }
         let mut echo = scratch.buffer.clone();
         self.compressor.synthesize_record(&mut echo, &mut scratch);
         echo[record..].fill(Complex32::new(0.0, 0.0));

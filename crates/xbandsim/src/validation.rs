@@ -224,8 +224,9 @@ pub fn noise_mean_db(seed: u64) -> f64 {
     linear_to_db(sum / n as f64)
 }
 
-/// Peak (dB) of a noise-free 1 m² point target at range bin `bin` with a 2 µs pulse.
-pub fn eclipse_peak_db(bin: f64, blanking: bool) -> f32 {
+/// Peak (dB) of a noise-free 1 m² point target at range bin `bin` with a 2 µs pulse, and
+/// its visibility in the truth.
+pub fn eclipse_peak_db(bin: f64, blanking: bool) -> (f32, crate::labels::Visibility) {
     let fs = 100e6;
     let range_m = bin_range_m(bin, fs);
     let text = format!(
@@ -237,10 +238,13 @@ pub fn eclipse_peak_db(bin: f64, blanking: bool) -> f32 {
     );
     let (_, frame) = render_text(&text, 1);
     let j = bin.round() as usize;
-    spoke(&frame, 0)[j - 2..=j + 2]
-        .iter()
-        .cloned()
-        .fold(f32::MIN, f32::max)
+    (
+        spoke(&frame, 0)[j - 2..=j + 2]
+            .iter()
+            .cloned()
+            .fold(f32::MIN, f32::max),
+        frame.truth[0].visibility,
+    )
 }
 
 /// Peak (dB) of a noise-free point target at 900 m, `az_deg` off spoke 0.
@@ -738,7 +742,7 @@ pub fn run_all() -> Vec<CheckResult> {
     ));
 
     // Eclipsing: τ = T/2 keeps half the chirp → −6.02 dB.
-    let half = eclipse_peak_db(100.0, true) - eclipse_peak_db(100.0, false);
+    let half = eclipse_peak_db(100.0, true).0 - eclipse_peak_db(100.0, false).0;
     out.push(check(
         "eclipsing loss at τ = T/2: 20·log10(τ/T)",
         -6.02,

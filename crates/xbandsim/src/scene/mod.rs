@@ -373,6 +373,23 @@ fn fmt_vec(v: DVec3) -> String {
     format!("[{}, {}, {}]", v.x, v.y, v.z)
 }
 
+/// The value named by `text` among `options`, else an error naming the field and listing
+/// the accepted names.
+fn choice<T: Copy>(field: &str, text: &str, options: &[(&str, T)]) -> Result<T> {
+    options
+        .iter()
+        .find(|(name, _)| *name == text)
+        .map(|(_, v)| *v)
+        .ok_or_else(|| {
+            let names: Vec<String> = options.iter().map(|(n, _)| format!("\"{n}\"")).collect();
+            Error::invalid(
+                field,
+                format!("\"{text}\""),
+                format!("expected one of {}", names.join(", ")),
+            )
+        })
+}
+
 /// A finite number, else an error naming the field.
 fn finite(field: &str, v: f64) -> Result<f64> {
     if v.is_finite() {
@@ -661,17 +678,11 @@ fn build_environment(s: &EnvironmentSpec, carrier_freq_hz: f64) -> Result<Enviro
         permittivity: sea_water_permittivity(carrier_freq_hz, temperature_c, salinity_psu),
         rms_height_m,
     });
-    let model = match s.clutter_model.as_deref().unwrap_or("nrl") {
-        "nrl" => Sigma0Model::Nrl,
-        "git" => Sigma0Model::Git,
-        other => {
-            return Err(Error::invalid(
-                "environment.clutter_model",
-                format!("\"{other}\""),
-                "expected \"nrl\" or \"git\"",
-            ))
-        }
-    };
+    let model = choice(
+        "environment.clutter_model",
+        s.clutter_model.as_deref().unwrap_or("nrl"),
+        &[("nrl", Sigma0Model::Nrl), ("git", Sigma0Model::Git)],
+    )?;
     let distribution = match s.clutter_distribution.as_deref().unwrap_or("k") {
         "k" => ClutterDistribution::K {
             shape_nu: s
@@ -811,18 +822,16 @@ fn build_display(s: &DisplaySpec) -> Result<Display> {
             "must be 0 (no rings) or more",
         ));
     }
-    let colormap = match s.colormap.as_deref().unwrap_or("viridis") {
-        "viridis" => Colormap::Viridis,
-        "green" => Colormap::Green,
-        "gray" | "grey" => Colormap::Gray,
-        other => {
-            return Err(Error::invalid(
-                "display.colormap",
-                format!("\"{other}\""),
-                "expected \"viridis\", \"green\" or \"gray\"",
-            ))
-        }
-    };
+    let colormap = choice(
+        "display.colormap",
+        s.colormap.as_deref().unwrap_or("viridis"),
+        &[
+            ("viridis", Colormap::Viridis),
+            ("green", Colormap::Green),
+            ("gray", Colormap::Gray),
+            ("grey", Colormap::Gray),
+        ],
+    )?;
     let min_db = finite("display.min_db", s.min_db.unwrap_or(0.0))?;
     let max_db = finite("display.max_db", s.max_db.unwrap_or(60.0))?;
     if max_db <= min_db {
@@ -842,17 +851,15 @@ fn build_display(s: &DisplaySpec) -> Result<Display> {
 }
 
 fn build_scattering(s: &ScatteringSpec) -> Result<ScatteringConfig> {
-    let model = match s.model.as_deref().unwrap_or("po") {
-        "po" | "physical-optics" => ScatteringModel::PhysicalOptics,
-        "paper" => ScatteringModel::Paper,
-        other => {
-            return Err(Error::invalid(
-                "scattering.model",
-                format!("\"{other}\""),
-                "expected \"po\" or \"paper\"",
-            ))
-        }
-    };
+    let model = choice(
+        "scattering.model",
+        s.model.as_deref().unwrap_or("po"),
+        &[
+            ("po", ScatteringModel::PhysicalOptics),
+            ("physical-optics", ScatteringModel::PhysicalOptics),
+            ("paper", ScatteringModel::Paper),
+        ],
+    )?;
     let ray_spacing_wavelengths = positive(
         "scattering.ray_spacing_wavelengths",
         s.ray_spacing_wavelengths.unwrap_or(0.5),
