@@ -1,7 +1,6 @@
 //! Antenna pattern against closed forms, alone and through the rotating-beam pipeline.
 
-mod common;
-use common::*;
+use super::common::*;
 use xbandsim::antenna::{sinc2_pattern, uniform_aperture_gain, SINC_BEAMWIDTH_FACTOR};
 use xbandsim::constants::linear_to_db;
 

@@ -1,10 +1,9 @@
 //! Same seed, same output, whatever the thread count; another seed, other noise.
 
-mod common;
-use common::*;
+use super::common::*;
 use xbandsim::sim::Simulation;
 
-const SCENE: &str = include_str!("../../../scenes/paper.toml");
+const SCENE: &str = include_str!("../../../../scenes/paper.toml");
 
 fn render_with_threads(threads: usize, seed: u64) -> Vec<f32> {
     let pool = rayon::ThreadPoolBuilder::new()

@@ -2,8 +2,7 @@
 //! model, the same lobing for a physical-optics sphere traced with SBR over the sea, and
 //! shadowing of one object by another.
 
-mod common;
-use common::*;
+use super::common::*;
 use xbandsim::constants::wavelength_m;
 use xbandsim::validation::{
     find_lobe_range_m, find_null_range_m, multipath_point_power_db, two_ray_extremum_range_m,

@@ -1,8 +1,7 @@
 //! The signal chain against closed forms (DESIGN.md §5, docs/validation.md): delay, resolution,
 //! sidelobes, noise floor, radar-equation SNR, eclipsing, FFT vs direct matched filter.
 
-mod common;
-use common::*;
+use super::common::*;
 use num_complex::{Complex32, Complex64};
 use xbandsim::constants::linear_to_db;
 use xbandsim::echo::{EchoGroups, FractionalDelayKernel};

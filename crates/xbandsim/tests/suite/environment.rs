@@ -1,8 +1,7 @@
 //! Sea clutter, rain and the horizon against closed forms (through `xbandsim::validation`,
 //! the code `xbandsim validate` prints) and their qualitative behaviour.
 
-mod common;
-use common::*;
+use super::common::*;
 use xbandsim::environment::clutter::{git_sigma0_db, nrl_sigma0_db, wind_direction_factor};
 use xbandsim::labels::Visibility;
 use xbandsim::validation::{
