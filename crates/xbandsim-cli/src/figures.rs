@@ -180,7 +180,7 @@ fn fig3(out: &Path, base: &Scene, seed: u64) -> Result<()> {
                 .collect();
             let subset = xbandsim::scattering::ScatterSet {
                 contributions: only,
-                rays_cast: 0,
+                ..Default::default()
             };
             let g: EchoGroups = sim.echo_groups(&subset);
             sim.raw_spoke(None, &g, 0.0, seed, 0, 0).echo_iq

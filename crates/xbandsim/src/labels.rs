@@ -1,29 +1,63 @@
 //! Stage: labels. Ground truth for every object, from the scene and the traced physics, not
-//! from detection: position, range, azimuth, aspect RCS, expected SNR, visibility, and boxes in
-//! polar (spoke, bin) and PPI pixel coordinates.
+//! from detection: position, range, azimuth, aspect RCS, every loss its echo suffers, the
+//! expected SNR, a visibility flag that names the physical reason, and boxes in polar
+//! (spoke, bin) and PPI pixel coordinates (docs/formats.md, "truth.json").
+//!
+//! No sentinel numbers: a value that does not exist (the RCS of an object that returns no
+//! echo, a box around nothing) is `None` (JSON `null`).
 
-use crate::constants::linear_to_db;
+use crate::constants::{linear_to_db, SPEED_OF_LIGHT_M_PER_S};
+use crate::geometry::{Bvh, Ray};
 use crate::ppi::PpiGeometry;
-use crate::scattering::azimuth_elevation_rad;
-use crate::scene::Scene;
+use crate::scattering::po::TubeBudget;
+use crate::scattering::{azimuth_elevation_rad, ScatterSet};
+use crate::scene::{Polarisation, ScatteringModel, Scene};
+use glam::DVec3;
+use num_complex::Complex64;
 use serde::Serialize;
 
-/// Why an object can or cannot be seen in this frame.
+/// Why an object can or cannot be seen in this frame; the first reason that applies, in
+/// this order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Visibility {
-    /// Returns an echo above the noise.
-    Visible,
-    /// Nearer than c·T/2 while the receiver is blanked.
-    Eclipsed,
-    /// Farther than the radar's maximum range.
-    BeyondMaxRange,
-    /// Below the radar horizon of the 4/3 earth: no echo.
+    /// Wholly below the radar horizon of the 4/3 earth: no echo.
     BeyondHorizon,
-    /// No ray reaches it (hidden behind other objects).
+    /// Its nearest point is farther than the radar's maximum range: not recorded.
+    BeyondMaxRange,
+    /// No echo, and the line of sight to it is blocked by another object.
     Shadowed,
+    /// No echo although the line of sight is clear: nothing on it scatters back toward the
+    /// radar (physical optics), e.g. a flat plate seen exactly edge-on.
+    NoReturn,
+    /// `paper` model only: the model's uniform ray grid passes around it (a small object
+    /// between two elevation rows, or a `point`, which has no geometry to hit), so that
+    /// model gives it no echo. Not a physical effect.
+    MissedByRayGrid,
+    /// Inside c·T/2 while the receiver is blanked, and the echo is lost to it: nothing of
+    /// the pulse is received, or the eclipse loss alone takes its SNR below 0 dB.
+    Eclipsed,
     /// Its expected single-pulse SNR is below 0 dB.
     BelowNoise,
+    /// Seen, but inside c·T/2: only the tail of the pulse is received
+    /// (`eclipse_received_fraction` < 1, `losses_db.eclipse` > 0).
+    PartiallyEclipsed,
+    /// Returns an echo above the noise.
+    Visible,
+}
+
+impl Visibility {
+    /// Whether the object leaves an echo in the recorded data (so it gets boxes).
+    pub fn has_echo(&self) -> bool {
+        !matches!(
+            self,
+            Visibility::BeyondHorizon
+                | Visibility::BeyondMaxRange
+                | Visibility::Shadowed
+                | Visibility::NoReturn
+                | Visibility::MissedByRayGrid
+        )
+    }
 }
 
 /// A box in polar coordinates; `spoke_min > spoke_max` means it wraps through north.
@@ -37,6 +71,23 @@ pub struct PolarBox {
     pub bin_min: usize,
     /// Last range bin (inclusive).
     pub bin_max: usize,
+}
+
+/// The losses of an object's echo against the free-space radar equation on the beam axis,
+/// dB (each ≥ 0; subtract them all, and add the multipath gain, to get the expected SNR).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct EchoLosses {
+    /// Matched-filter window loss `(Σw)²/(N·Σw²)`.
+    pub window: f64,
+    /// Two-way elevation pattern at the object's elevation, `−20·log10 Gn_el`.
+    pub elevation_pattern: f64,
+    /// Two-way atmospheric attenuation.
+    pub atmosphere: f64,
+    /// Two-way rain attenuation along the path (ITU-R P.838-3 through the rain cells).
+    pub rain: f64,
+    /// Eclipsing: `−20·log10(received fraction)` of the matched-filter peak; null when
+    /// nothing is received (total eclipse).
+    pub eclipse: Option<f64>,
 }
 
 /// Ground truth of one object in one frame.
@@ -60,41 +111,163 @@ pub struct ObjectTruth {
     pub azimuth_deg: f64,
     /// Elevation from the radar, degrees.
     pub elevation_deg: f64,
-    /// Monostatic RCS at this aspect from the scattering model, m² (null for `paper`).
+    /// Monostatic free-space RCS at this aspect from the scattering model, m²; null for the
+    /// `paper` model and for objects with no free-space return.
     pub rcs_m2: Option<f64>,
     /// The same in dBsm.
     pub rcs_dbsm: Option<f64>,
     /// Power gain of the sea paths over free space, `|Σ all paths|²/|Σ direct|²`, dB
-    /// (0 without multipath; null for `paper`).
+    /// (0 without multipath; null for `paper` and when there is no free-space return).
     pub multipath_gain_db: Option<f64>,
-    /// Radar-equation single-pulse SNR on the beam axis with that RCS, after the window,
-    /// elevation-pattern, atmospheric and multipath factors, dB (null for `paper`).
+    /// Every loss on the echo's way, dB.
+    pub losses_db: EchoLosses,
+    /// Part of the matched-filter peak amplitude received while the receiver is blanked:
+    /// 1 outside c·T/2, the window-weighted fraction of the pulse's tail inside it, 0 at
+    /// the radar.
+    pub eclipse_received_fraction: f64,
+    /// Expected matched-filter peak with that RCS on the beam axis, dB over the mean noise:
+    /// the radar equation's single-pulse SNR plus the multipath gain minus `losses_db`
+    /// (null when `rcs_m2` is null).
     pub expected_snr_db: Option<f64>,
     /// Whether and why it is or is not seen.
     pub visibility: Visibility,
-    /// Box in polar coordinates.
-    pub polar_box: PolarBox,
-    /// Box in PPI pixels `[x_min, y_min, x_max, y_max]`, clamped to the image.
-    pub ppi_box_px: [f64; 4],
+    /// The PO tube grid it was traced with (null for points, the `paper` model and objects
+    /// not traced); `capped` says the ray budget widened the tubes.
+    pub po_tubes: Option<TubeBudget>,
+    /// Box in polar coordinates; null when the object leaves no echo in the record.
+    pub polar_box: Option<PolarBox>,
+    /// Box in PPI pixels `[x_min, y_min, x_max, y_max]`, clipped to the image; null when the
+    /// object leaves no echo in the image.
+    pub ppi_box_px: Option<[f64; 4]>,
 }
 
-/// Builds the truth of every object. `rcs_m2[i]` is the traced free-space RCS and
-/// `multipath_gain[i]` the sea paths' power gain (None for uncalibrated models);
-/// `has_returns[i]` whether any ray reached object i.
+/// Fraction of the matched-filter peak amplitude received from an echo at `delay_samples`
+/// when the receiver is blanked for the pulse's `chirp.len()` samples: the echo's samples
+/// before the end of transmission are lost, so only the chirp's last `delay_samples`
+/// samples are correlated with the reference `w·chirp`. The fraction is the largest
+/// correlation magnitude of that tail over lags, over the full pulse's `Σw` (exactly `τ/T`
+/// without a window, where the peak stays at zero lag; with a window the tail meets larger
+/// weights a few lags off, so the peak moves and is searched). Fractional delays
+/// interpolate between whole samples.
+pub fn eclipse_received_fraction(delay_samples: f64, chirp: &[Complex64], weights: &[f64]) -> f64 {
+    let n = chirp.len();
+    if delay_samples >= n as f64 {
+        return 1.0;
+    }
+    let d = delay_samples.max(0.0);
+    let lo = d.floor() as usize;
+    let f = d - lo as f64;
+    let at = |m: usize| tail_peak_fraction(m.min(n), chirp, weights);
+    let a = at(lo);
+    if f > 0.0 {
+        a * (1.0 - f) + at(lo + 1) * f
+    } else {
+        a
+    }
+}
+
+/// Peak correlation magnitude of the chirp's last `m` samples against the windowed
+/// reference, over `Σw`.
+fn tail_peak_fraction(m: usize, chirp: &[Complex64], weights: &[f64]) -> f64 {
+    let n = chirp.len();
+    if m == 0 {
+        return 0.0;
+    }
+    let total: f64 = weights.iter().sum();
+    let start = n - m;
+    // The tail's own bandwidth is m/n of the chirp's: its peak lies within a few of its
+    // (wider) resolution cells of zero lag.
+    let span = (4 * n / m).clamp(4, 4096) as isize;
+    let mut best = 0.0f64;
+    for lag in -span..=span {
+        let mut acc = Complex64::new(0.0, 0.0);
+        for i in start..n {
+            let r = i as isize - lag;
+            if r < 0 || r >= n as isize {
+                continue;
+            }
+            let r = r as usize;
+            acc += chirp[i] * chirp[r].conj() * weights[r];
+        }
+        best = best.max(acc.norm());
+    }
+    (best / total).min(1.0)
+}
+
+/// A power factor ≤ 1 as a loss in dB (≥ 0, never −0).
+fn loss_db(power_factor: f64) -> f64 {
+    let db = -linear_to_db(power_factor);
+    if db > 0.0 {
+        db
+    } else {
+        0.0
+    }
+}
+
+/// Two-way rain attenuation along the straight path from the radar to `target_m`, dB.
+pub fn rain_two_way_loss_db(scene: &Scene, target_m: DVec3) -> f64 {
+    let Some(rain) = &scene.environment.rain else {
+        return 0.0;
+    };
+    let radar = &scene.radar;
+    let rel = (target_m - radar.position_m).truncate();
+    let ground = rel.length();
+    if ground <= 0.0 {
+        return 0.0;
+    }
+    2.0 * rain.one_way_attenuation_db(
+        radar.position_m.truncate(),
+        rel / ground,
+        ground,
+        radar.carrier_freq_hz / 1e9,
+        radar.polarisation == Polarisation::Hh,
+    )
+}
+
+/// Whether the straight line from the radar to `p` meets another object than `object`
+/// before reaching `p`.
+fn line_of_sight_blocked(bvh: &Bvh, radar_m: DVec3, p: DVec3, object: u32) -> bool {
+    let v = p - radar_m;
+    let len = v.length();
+    if len <= 0.0 {
+        return false;
+    }
+    bvh.closest_hit(
+        &Ray {
+            origin_m: radar_m,
+            dir: v / len,
+        },
+        len,
+    )
+    .is_some_and(|h| h.object != object)
+}
+
+/// Builds the truth of every object from a traced scene state.
 pub fn object_truth(
     scene: &Scene,
-    rcs_m2: Option<&[f64]>,
-    multipath_gain: Option<&[f64]>,
-    has_returns: &[bool],
+    set: &ScatterSet,
+    bvh: &Bvh,
     ppi: &PpiGeometry,
 ) -> Vec<ObjectTruth> {
     let radar = &scene.radar;
     let ant = &radar.antenna;
+    let n_objects = scene.objects.len();
+    let calibrated = scene.scattering.model == ScatteringModel::PhysicalOptics;
+    let rcs_all = set.rcs_per_object_m2(n_objects);
+    let gain_all = set.multipath_gain_per_object(n_objects);
+    let mut has_returns = vec![false; n_objects];
+    for c in &set.contributions {
+        if let Some(h) = has_returns.get_mut(c.object as usize) {
+            *h = true;
+        }
+    }
+    let weights = radar.window.coefficients(radar.chirp.num_samples());
+    let chirp = radar.chirp.samples();
     let window_loss = radar.window.snr_loss_linear(radar.chirp.num_samples());
     let bin_m = radar.range_bin_m();
     let spokes = radar.spokes;
     let spoke_rad = std::f64::consts::TAU / spokes as f64;
-    let resolution_m = crate::constants::SPEED_OF_LIGHT_M_PER_S / (2.0 * radar.chirp.bandwidth_hz);
+    let resolution_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * radar.chirp.bandwidth_hz);
     scene
         .objects
         .iter()
@@ -104,74 +277,88 @@ pub fn object_truth(
             let range_m = rel.length();
             let ground_range_m = rel.x.hypot(rel.y);
             let (az, el) = azimuth_elevation_rad(rel);
-            let rcs = rcs_m2.map(|r| r[i]);
-            let gain = multipath_gain.map(|g| g[i]);
-            let snr = rcs.map(|s| {
-                radar.point_target_snr(s, range_m)
-                    * window_loss
-                    * ant.elevation_pattern(el).powi(2)
-                    * scene.environment.attenuation_power(range_m)
-                    * gain.unwrap_or(1.0)
+            // RCS and gain exist only where the model is calibrated and a free-space path
+            // returned something.
+            let rcs = (calibrated && has_returns[i] && rcs_all[i] > 0.0).then_some(rcs_all[i]);
+            let gain = rcs.map(|_| gain_all[i]);
+            let eclipse_fraction = if radar.receiver_blanking {
+                eclipse_received_fraction(
+                    2.0 * range_m / SPEED_OF_LIGHT_M_PER_S * radar.sample_rate_hz(),
+                    &chirp,
+                    &weights,
+                )
+            } else {
+                1.0
+            };
+            let losses = EchoLosses {
+                window: loss_db(window_loss),
+                elevation_pattern: loss_db(ant.elevation_pattern(el).powi(2).max(1e-300)),
+                atmosphere: loss_db(scene.environment.attenuation_power(range_m)),
+                rain: rain_two_way_loss_db(scene, o.position_m),
+                eclipse: (eclipse_fraction > 0.0).then(|| loss_db(eclipse_fraction.powi(2))),
+            };
+            let snr_unclipped_db = rcs.map(|s| {
+                linear_to_db(radar.point_target_snr(s, range_m)) + linear_to_db(gain.unwrap_or(1.0))
+                    - losses.window
+                    - losses.elevation_pattern
+                    - losses.atmosphere
+                    - losses.rain
             });
-            let eclipsed = radar.receiver_blanking && range_m < radar.eclipse_range_m();
-            let top_m = o.bounding_centre_m().z + o.shape.bounding_radius_m();
+            let snr_db =
+                snr_unclipped_db.and_then(|s| losses.eclipse.map(|eclipse_db| s - eclipse_db));
+            let r_b = o.shape.bounding_radius_m();
+            let centre_range = (o.bounding_centre_m() - radar.position_m).length();
+            let top_m = o.bounding_centre_m().z + r_b;
             let beyond_horizon = scene.environment.earth_curvature
                 && !crate::environment::above_horizon(radar.position_m.z, ground_range_m, top_m);
             let visibility = if beyond_horizon {
                 Visibility::BeyondHorizon
-            } else if range_m > radar.max_range_m {
+            } else if centre_range - r_b > radar.max_range_m {
                 Visibility::BeyondMaxRange
-            } else if eclipsed {
-                Visibility::Eclipsed
             } else if !has_returns[i] {
-                Visibility::Shadowed
-            } else if snr.is_some_and(|s| s < 1.0) {
+                let idx = i as u32;
+                let blocked = [
+                    o.bounding_centre_m(),
+                    o.bounding_centre_m() + DVec3::Z * r_b,
+                ]
+                .iter()
+                .all(|&p| line_of_sight_blocked(bvh, radar.position_m, p, idx));
+                if blocked {
+                    Visibility::Shadowed
+                } else if calibrated {
+                    Visibility::NoReturn
+                } else {
+                    Visibility::MissedByRayGrid
+                }
+            } else if eclipse_fraction == 0.0
+                || (snr_db.is_some_and(|s| s < 0.0) && snr_unclipped_db.is_some_and(|s| s >= 0.0))
+            {
+                Visibility::Eclipsed
+            } else if snr_db.is_some_and(|s| s < 0.0) {
                 Visibility::BelowNoise
+            } else if eclipse_fraction < 1.0 {
+                Visibility::PartiallyEclipsed
             } else {
                 Visibility::Visible
             };
-            let r_b = o.shape.bounding_radius_m();
-            let centre_range = (o.bounding_centre_m() - radar.position_m).length();
-            let r_lo = (centre_range - r_b).max(0.0);
-            let r_hi = centre_range + r_b + resolution_m;
-            let half_az = (r_b / ground_range_m.max(1e-9)).atan() + ant.az_beamwidth_rad / 2.0;
-            let half_az = half_az.min(std::f64::consts::PI);
-            let max_bin = radar.num_range_bins() - 1;
-            let bin_min = ((r_lo / bin_m).floor() as usize).min(max_bin);
-            let bin_max = ((r_hi / bin_m).ceil() as usize).min(max_bin);
-            let s_lo = ((az - half_az) / spoke_rad).round() as i64;
-            let s_hi = ((az + half_az) / spoke_rad).round() as i64;
-            let (spoke_min, spoke_max) = if s_hi - s_lo + 1 >= spokes as i64 {
-                (0, spokes - 1)
-            } else {
-                (
-                    s_lo.rem_euclid(spokes as i64) as usize,
-                    s_hi.rem_euclid(spokes as i64) as usize,
+            let (polar_box, ppi_box_px) = if visibility.has_echo() {
+                boxes(
+                    rel,
+                    az,
+                    centre_range,
+                    r_b,
+                    ground_range_m,
+                    resolution_m,
+                    bin_m,
+                    radar.num_range_bins(),
+                    spokes,
+                    spoke_rad,
+                    ant.az_beamwidth_rad,
+                    ppi,
                 )
+            } else {
+                (None, None)
             };
-            // PPI box: bound the polar sector by sampling its outline (ground ranges).
-            let g_lo = (r_lo * r_lo - rel.z * rel.z).max(0.0).sqrt();
-            let g_hi = (r_hi * r_hi - rel.z * rel.z).max(0.0).sqrt();
-            let mut bx = [
-                f64::INFINITY,
-                f64::INFINITY,
-                f64::NEG_INFINITY,
-                f64::NEG_INFINITY,
-            ];
-            for k in 0..=32 {
-                let a = az - half_az + 2.0 * half_az * k as f64 / 32.0;
-                for g in [g_lo, g_hi] {
-                    let (px, py) = ppi.pixel_of(g * a.sin(), g * a.cos());
-                    bx = [bx[0].min(px), bx[1].min(py), bx[2].max(px), bx[3].max(py)];
-                }
-            }
-            let size = ppi.size_px as f64;
-            let ppi_box_px = [
-                bx[0].clamp(0.0, size),
-                bx[1].clamp(0.0, size),
-                bx[2].clamp(0.0, size),
-                bx[3].clamp(0.0, size),
-            ];
             ObjectTruth {
                 id: i as u32,
                 name: o.name.clone(),
@@ -183,18 +370,92 @@ pub fn object_truth(
                 azimuth_deg: az.to_degrees(),
                 elevation_deg: el.to_degrees(),
                 rcs_m2: rcs,
-                rcs_dbsm: rcs.map(|r| linear_to_db(r.max(1e-30))),
-                multipath_gain_db: gain.map(|g| linear_to_db(g.max(1e-30))),
-                expected_snr_db: snr.map(|s| linear_to_db(s.max(1e-30))),
+                rcs_dbsm: rcs.map(linear_to_db),
+                multipath_gain_db: gain.filter(|g| *g > 0.0).map(linear_to_db),
+                losses_db: losses,
+                eclipse_received_fraction: eclipse_fraction,
+                expected_snr_db: snr_db,
                 visibility,
-                polar_box: PolarBox {
-                    spoke_min,
-                    spoke_max,
-                    bin_min,
-                    bin_max,
-                },
+                po_tubes: set.tube_budgets.get(i).copied().flatten(),
+                polar_box,
                 ppi_box_px,
             }
         })
         .collect()
+}
+
+/// The polar and PPI boxes of an object's echo region: its bounding sphere's range extent
+/// plus one range resolution, its azimuth extent plus half the beamwidth each side. None
+/// where the region falls outside the record or the image.
+#[allow(clippy::too_many_arguments)]
+fn boxes(
+    rel: DVec3,
+    az: f64,
+    centre_range_m: f64,
+    radius_m: f64,
+    ground_range_m: f64,
+    resolution_m: f64,
+    bin_m: f64,
+    num_bins: usize,
+    spokes: usize,
+    spoke_rad: f64,
+    az_beamwidth_rad: f64,
+    ppi: &PpiGeometry,
+) -> (Option<PolarBox>, Option<[f64; 4]>) {
+    let r_lo = (centre_range_m - radius_m).max(0.0);
+    let r_hi = centre_range_m + radius_m + resolution_m;
+    let half_az = (radius_m / ground_range_m.max(1e-9)).atan() + az_beamwidth_rad / 2.0;
+    let half_az = half_az.min(std::f64::consts::PI);
+    let max_bin = num_bins - 1;
+    let first_bin = (r_lo / bin_m).floor();
+    let polar_box = (first_bin <= max_bin as f64).then(|| {
+        let bin_min = first_bin as usize;
+        let bin_max = ((r_hi / bin_m).ceil() as usize).min(max_bin);
+        let s_lo = ((az - half_az) / spoke_rad).round() as i64;
+        let s_hi = ((az + half_az) / spoke_rad).round() as i64;
+        let (spoke_min, spoke_max) = if s_hi - s_lo + 1 >= spokes as i64 {
+            (0, spokes - 1)
+        } else {
+            (
+                s_lo.rem_euclid(spokes as i64) as usize,
+                s_hi.rem_euclid(spokes as i64) as usize,
+            )
+        };
+        PolarBox {
+            spoke_min,
+            spoke_max,
+            bin_min,
+            bin_max,
+        }
+    });
+    // PPI box: bound the polar sector by sampling its outline (ground ranges), clipped to
+    // the displayed range and the image.
+    let g_of = |r: f64| (r * r - rel.z * rel.z).max(0.0).sqrt();
+    let g_lo = g_of(r_lo);
+    let g_hi = g_of(r_hi).min(ppi.display_range_m * std::f64::consts::SQRT_2);
+    if g_lo > ppi.display_range_m * std::f64::consts::SQRT_2 || g_hi < g_lo {
+        return (polar_box, None);
+    }
+    let mut bx = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for k in 0..=32 {
+        let a = az - half_az + 2.0 * half_az * k as f64 / 32.0;
+        for g in [g_lo, g_hi] {
+            let (px, py) = ppi.pixel_of(g * a.sin(), g * a.cos());
+            bx = [bx[0].min(px), bx[1].min(py), bx[2].max(px), bx[3].max(py)];
+        }
+    }
+    let size = ppi.size_px as f64;
+    let clipped = [
+        bx[0].clamp(0.0, size),
+        bx[1].clamp(0.0, size),
+        bx[2].clamp(0.0, size),
+        bx[3].clamp(0.0, size),
+    ];
+    let ppi_box = (clipped[2] > clipped[0] && clipped[3] > clipped[1]).then_some(clipped);
+    (polar_box, ppi_box)
 }

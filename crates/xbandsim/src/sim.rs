@@ -10,7 +10,7 @@ use crate::ppi::{PpiGeometry, ScanConverter};
 use crate::processing::PulseCompressor;
 use crate::receiver::{fill_unit_noise, stream_rng};
 use crate::scattering::{build_scene_bvh, trace_scene, ScatterSet};
-use crate::scene::{ScatteringModel, Scene};
+use crate::scene::Scene;
 use num_complex::Complex32;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -288,21 +288,7 @@ impl Simulation {
 
     /// Ground truth for a traced scene state.
     pub fn truth(&self, set: &ScatterSet) -> Vec<ObjectTruth> {
-        let n = self.scene.objects.len();
-        let mut has_returns = vec![false; n];
-        for c in &set.contributions {
-            has_returns[c.object as usize] = true;
-        }
-        let calibrated = self.scene.scattering.model == ScatteringModel::PhysicalOptics;
-        let rcs = calibrated.then(|| set.rcs_per_object_m2(n));
-        let gain = calibrated.then(|| set.multipath_gain_per_object(n));
-        object_truth(
-            &self.scene,
-            rcs.as_deref(),
-            gain.as_deref(),
-            &has_returns,
-            &self.ppi_geometry(),
-        )
+        object_truth(&self.scene, set, &self.bvh, &self.ppi_geometry())
     }
 
     /// Renders one revolution: trace, group, synthesise every spoke, label.

@@ -224,15 +224,19 @@ pub fn noise_mean_db(seed: u64) -> f64 {
     linear_to_db(sum / n as f64)
 }
 
-/// Peak (dB) of a noise-free 1 m² point target at range bin `bin` with a 2 µs pulse, and
-/// its visibility in the truth.
-pub fn eclipse_peak_db(bin: f64, blanking: bool) -> (f32, crate::labels::Visibility) {
+/// Peak (dB) of a noise-free 1 m² point target at range bin `bin` with a 2 µs pulse and
+/// the matched-filter `window`, and its truth.
+pub fn eclipse_peak_db(
+    bin: f64,
+    blanking: bool,
+    window: &str,
+) -> (f32, crate::labels::ObjectTruth) {
     let fs = 100e6;
     let range_m = bin_range_m(bin, fs);
     let text = format!(
         "{}{}",
         radar_block_no_noise(&format!(
-            "pulse_width_us = 2.0\nmax_range_m = 600.0\nreceiver_blanking = {blanking}"
+            "pulse_width_us = 2.0\nmax_range_m = 600.0\nreceiver_blanking = {blanking}\nwindow = \"{window}\""
         )),
         point_north("p", range_m, 1.0)
     );
@@ -243,7 +247,7 @@ pub fn eclipse_peak_db(bin: f64, blanking: bool) -> (f32, crate::labels::Visibil
             .iter()
             .cloned()
             .fold(f32::MIN, f32::max),
-        frame.truth[0].visibility,
+        frame.truth[0].clone(),
     )
 }
 
@@ -741,16 +745,33 @@ pub fn run_all() -> Vec<CheckResult> {
         "uniform specific attenuation",
     ));
 
-    // Eclipsing: τ = T/2 keeps half the chirp → −6.02 dB.
-    let half = eclipse_peak_db(100.0, true).0 - eclipse_peak_db(100.0, false).0;
+    // Eclipsing: τ = T/2 keeps half the chirp → −6.02 dB; the label carries the loss.
+    let (blanked, truth) = eclipse_peak_db(100.0, true, "none");
+    let half = blanked - eclipse_peak_db(100.0, false, "none").0;
     out.push(check(
         "eclipsing loss at τ = T/2: 20·log10(τ/T)",
-        -6.02,
+        -6.0206,
         half as f64,
         "dB",
-        Tolerance::Absolute(1.0),
-        "blanking while transmitting (PHYSICS-NOTES §1)",
+        Tolerance::Absolute(0.02),
+        "blanking while transmitting (docs/physics.md, Eclipsing)",
     ));
+    out.push(check(
+        "eclipse loss in the label = measured loss at τ = 0.3T, Hamming",
+        {
+            let (b, _) = eclipse_peak_db(60.0, true, "hamming");
+            (eclipse_peak_db(60.0, false, "hamming").0 - b) as f64
+        },
+        eclipse_peak_db(60.0, true, "hamming")
+            .1
+            .losses_db
+            .eclipse
+            .unwrap_or(f64::NAN),
+        "dB",
+        Tolerance::Absolute(0.02),
+        "Σ of the window over the received tail / Σ of the window",
+    ));
+    let _ = truth;
 
     // Multipath over the sea: two-ray nulls (radar 10 m, target 5 m).
     for n in [1.0, 2.0] {

@@ -116,7 +116,8 @@ pub fn wind_direction_factor(freq_ghz: f64, grazing_rad: f64, wind_rel_rad: f64)
     (b * wind_rel_rad.cos()).exp() / bessel_i0(b)
 }
 
-fn bessel_i0(x: f64) -> f64 {
+/// Modified Bessel function I0(x) by its power series (x of order 1 here).
+pub fn bessel_i0(x: f64) -> f64 {
     let (mut sum, mut term) = (1.0, 1.0);
     for k in 1..40 {
         term *= (x / 2.0) * (x / 2.0) / (k as f64 * k as f64);

@@ -20,8 +20,8 @@
 //! the horizon and return nothing.
 
 use super::clutter::{
-    erfc, git_sigma0_db, k_shape_default, nrl_sigma0_db, unit_mean_intensity,
-    wind_direction_factor, ClutterDistribution, GammaQuantile, GaussianField, Sigma0Model,
+    bessel_i0, erfc, git_sigma0_db, k_shape_default, nrl_sigma0_db, unit_mean_intensity,
+    ClutterDistribution, GammaQuantile, GaussianField, Sigma0Model,
 };
 use super::rain::volume_reflectivity_m2_per_m3;
 use super::EFFECTIVE_EARTH_RADIUS_M;
@@ -151,8 +151,8 @@ impl ClutterMap {
                 let cell_area_m2 =
                     ground_m * ant.az_beamwidth_rad * resolution_m / grazing_rad.cos();
                 let dir_b = 0.2 * (1.0 - 2.8 * grazing_rad) * (lambda + 0.015).powf(-0.4);
-                let dir_norm =
-                    1.0 / wind_direction_factor(freq_ghz, grazing_rad, std::f64::consts::FRAC_PI_2);
+                // exp(b·cos φ) averages to I0(b) over φ: divide by it for a unit mean.
+                let dir_norm = 1.0 / bessel_i0(dir_b);
                 // k_shape_default at a 45° swell angle has cos(2θ) = 0: the row part alone.
                 let log_nu_row = k_shape_default(
                     grazing_rad.to_degrees(),

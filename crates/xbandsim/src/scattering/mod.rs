@@ -61,6 +61,10 @@ pub struct ScatterSet {
     pub contributions: Vec<Contribution>,
     /// Rays cast (including bounce and shadow rays).
     pub rays_cast: u64,
+    /// Per object (by index): the PO tube grid it was traced with; None for points, objects
+    /// not traced (beyond the recorded range or the horizon) and the `paper` model. Empty
+    /// when not recorded.
+    pub tube_budgets: Vec<Option<po::TubeBudget>>,
 }
 
 impl ScatterSet {

@@ -98,5 +98,6 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
     ScatterSet {
         contributions,
         rays_cast: (columns.len() * n_el) as u64,
+        tube_budgets: Vec::new(),
     }
 }

@@ -183,6 +183,8 @@ pub struct TubeGrid {
     pub radius_m: f64,
     /// The tubes reach the object after a sea reflection.
     pub via_sea: bool,
+    /// The ray budget bound: `spacing_m` is wider than the requested spacing.
+    pub capped: bool,
     /// Plane-wave mode: the launch/reference plane's point on the axis, m.
     plane_origin_m: DVec3,
 }
@@ -214,9 +216,12 @@ impl TubeGrid {
             .sqrt()
             .floor() as usize)
             .max(1);
-        if cells > max_side {
+        let capped = cells > max_side;
+        if capped {
             cells = max_side;
         }
+        // Every tube is sized with this spacing (not the requested one), so that the tubes
+        // tile the disk whatever the budget: a wider spacing costs accuracy, never energy.
         TubeGrid {
             illumination,
             centre_m,
@@ -226,6 +231,7 @@ impl TubeGrid {
             cells_per_side: cells,
             radius_m,
             via_sea,
+            capped,
             plane_origin_m: centre_m + toward * (radius_m + 1.0),
         }
     }
@@ -411,7 +417,7 @@ pub fn trace_tube(
         object_hits += 1;
         if object_hits == 1 {
             range_tx_m = path_m;
-            let side = spread_ref_m.map_or(s.spacing_m, |r| s.spacing_m * path_m / r);
+            let side = spread_ref_m.map_or(grid.spacing_m, |r| grid.spacing_m * path_m / r);
             edge_u = unit_u * side;
             edge_v = unit_v * side;
         }
@@ -523,6 +529,30 @@ pub fn trace_tube(
     rays
 }
 
+/// The tube grid an object was traced with, against what was asked for.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct TubeBudget {
+    /// Requested tube side (`ray_spacing_wavelengths`·λ), m.
+    pub requested_spacing_m: f64,
+    /// Tube side used at the grid plane through the object's centre, m.
+    pub spacing_m: f64,
+    /// Tubes in the direct grid's disk (about π/4 of `cells_per_side²`).
+    pub tubes: usize,
+    /// `max_rays_per_object` bound, so `spacing_m > requested_spacing_m`.
+    pub capped: bool,
+}
+
+/// What tracing one object gave.
+#[derive(Debug, Clone)]
+pub struct ObjectTrace {
+    /// Returns of every tube, in a deterministic order.
+    pub returns: Vec<TubeReturn>,
+    /// Rays cast (including bounce and shadow rays).
+    pub rays: u64,
+    /// The direct grid's tube budget.
+    pub budget: TubeBudget,
+}
+
 /// All returns of one object lit by `illumination` (rows traced in parallel, collected in
 /// order so the result does not depend on the thread count). With the sea on (and a radar
 /// at a point), a second grid aimed at the object's mirror image adds the paths that reach
@@ -534,7 +564,7 @@ pub fn trace_object(
     radius_m: f64,
     index: u32,
     s: &SbrSettings,
-) -> (Vec<TubeReturn>, u64) {
+) -> ObjectTrace {
     let mut grids = vec![TubeGrid::new(
         illumination,
         centre_m,
@@ -556,6 +586,19 @@ pub fn trace_object(
             ));
         }
     }
+    let direct = &grids[0];
+    let budget = TubeBudget {
+        requested_spacing_m: s.spacing_m,
+        spacing_m: direct.spacing_m,
+        tubes: (0..direct.cells_per_side)
+            .map(|j| {
+                (0..direct.cells_per_side)
+                    .filter(|&i| direct.point(i, j).is_some())
+                    .count()
+            })
+            .sum(),
+        capped: direct.capped,
+    };
     let mut returns = Vec::new();
     let mut rays = 0;
     for grid in &grids {
@@ -575,7 +618,11 @@ pub fn trace_object(
             rays += n;
         }
     }
-    (returns, rays)
+    ObjectTrace {
+        returns,
+        rays,
+        budget,
+    }
 }
 
 /// Monostatic RCS of everything in `bvh` tagged `index`, lit by a plane wave from
@@ -588,19 +635,19 @@ pub fn plane_wave_rcs_m2(
     index: u32,
     s: &SbrSettings,
 ) -> f64 {
-    let (returns, _) = trace_object(
+    trace_object(
         bvh,
         Illumination::PlaneWave { toward_radar },
         centre_m,
         radius_m,
         index,
         s,
-    );
-    returns
-        .iter()
-        .map(|r| r.root_rcs_m)
-        .sum::<Complex64>()
-        .norm_sqr()
+    )
+    .returns
+    .iter()
+    .map(|r| r.root_rcs_m)
+    .sum::<Complex64>()
+    .norm_sqr()
 }
 
 /// SBR settings of a scene.
@@ -686,7 +733,10 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
     let radar = &scene.radar;
     let s = settings_for(scene);
     let volts = |r_tx: f64, r_rx: f64| super::path_volts_per_root_m2(scene, r_tx, r_rx);
-    let mut set = ScatterSet::default();
+    let mut set = ScatterSet {
+        tube_budgets: vec![None; scene.objects.len()],
+        ..ScatterSet::default()
+    };
     for (idx, obj) in scene.objects.iter().enumerate() {
         let index = idx as u32;
         if let ShapeGeometry::Point { rcs_m2 } = obj.shape {
@@ -749,7 +799,7 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         let illumination = Illumination::FromPoint {
             radar_m: radar.position_m,
         };
-        let (returns, rays) = trace_object(
+        let traced = trace_object(
             bvh,
             illumination,
             obj.bounding_centre_m(),
@@ -757,8 +807,9 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
             index,
             &s,
         );
-        set.rays_cast += rays;
-        set.contributions.extend(returns.iter().map(|r| {
+        set.rays_cast += traced.rays;
+        set.tube_budgets[idx] = Some(traced.budget);
+        set.contributions.extend(traced.returns.iter().map(|r| {
             let (az_tx, el_tx) = azimuth_elevation_rad(r.tx_dir);
             let (az_rx, el_rx) = azimuth_elevation_rad(r.rx_dir);
             Contribution {

@@ -129,37 +129,75 @@ fn point_target_snr_matches_radar_equation() {
 }
 
 /// Blanking while transmitting: an echo from τ < T loses the part sent back while the
-/// receiver is off; only the fraction τ/T of the chirp is received, so the compressed peak
-/// drops by 20·log10(τ/T) (±1 dB) against the same target with blanking off, and the truth
-/// calls it eclipsed.
+/// receiver is off; only the chirp's last τ·fs samples are received, so the compressed peak
+/// drops by 20·log10(Σ_tail w/Σ w) (τ/T without a window) against the same target with
+/// blanking off. The truth gives that loss and calls the target partially eclipsed; its
+/// expected SNR matches the measured peak.
 #[test]
 fn eclipsing_inside_c_t_over_2() {
+    use xbandsim::labels::Visibility;
     // 2 µs pulse at 100 MHz: 200 samples; `eclipse_peak_db` is the measurement `validate` uses.
     let pulse_samples = 200.0f64;
     let run = xbandsim::validation::eclipse_peak_db;
-    for fraction in [0.2, 0.5, 0.8] {
-        let bin = (fraction * pulse_samples).round();
-        let (whole, vis_whole) = run(bin, false);
-        let (blanked, vis_blanked) = run(bin, true);
-        let expected = 20.0 * (bin / pulse_samples).log10();
-        let loss = (blanked - whole) as f64;
-        assert!(
-            (loss - expected).abs() < 1.0,
-            "tau/T = {fraction}: loss {loss:.2} dB, expected {expected:.2} dB"
-        );
-        assert_eq!(vis_blanked, xbandsim::labels::Visibility::Eclipsed);
-        assert_eq!(vis_whole, xbandsim::labels::Visibility::Visible);
+    for window in ["none", "hamming", "taylor"] {
+        for fraction in [0.15, 0.45, 0.85] {
+            let bin = (fraction * pulse_samples).round();
+            let (whole, truth_whole) = run(bin, false, window);
+            let (blanked, truth) = run(bin, true, window);
+            let loss = (whole - blanked) as f64;
+            let label = truth.losses_db.eclipse.expect("partly received");
+            assert!(
+                (loss - label).abs() < 0.02,
+                "{window}, tau/T = {fraction}: measured loss {loss:.3} dB, label {label:.3} dB"
+            );
+            if window == "none" {
+                let expected = -20.0 * (bin / pulse_samples).log10();
+                assert!((label - expected).abs() < 1e-9, "{label} vs {expected}");
+            }
+            let snr = truth.expected_snr_db.unwrap();
+            assert!(
+                (snr - blanked as f64).abs() < 0.05,
+                "{window}: expected SNR {snr:.2} dB, peak {blanked:.2} dB"
+            );
+            assert_eq!(truth.visibility, Visibility::PartiallyEclipsed);
+            assert_eq!(truth_whole.visibility, Visibility::Visible);
+            assert!(truth.polar_box.is_some());
+        }
     }
     // Beyond c·T/2 nothing is lost.
     let bin = pulse_samples + 20.0;
-    let (whole, _) = run(bin, false);
-    let (blanked, vis) = run(bin, true);
+    let (whole, _) = run(bin, false, "none");
+    let (blanked, truth) = run(bin, true, "none");
     assert!(
         (blanked - whole).abs() < 0.01,
         "target beyond c*T/2 lost {} dB",
         whole - blanked
     );
-    assert_eq!(vis, xbandsim::labels::Visibility::Visible);
+    assert_eq!(truth.visibility, Visibility::Visible);
+    assert_eq!(truth.eclipse_received_fraction, 1.0);
+    assert_eq!(truth.losses_db.eclipse, Some(0.0));
+}
+
+/// A target whose eclipse loss alone takes it under the noise is labelled eclipsed (the
+/// physical reason), one under the noise without eclipsing below_noise.
+#[test]
+fn eclipse_that_hides_a_target_is_named() {
+    use xbandsim::labels::Visibility;
+    // 1 µs pulse: c·T/2 = 150 m. A 1e-7 m² point at 60 m has about 30 dB SNR unblanked.
+    let label = |range_m: f64, rcs_m2: f64| {
+        let text = format!(
+            "{}{}",
+            radar_block_no_noise("pulse_width_us = 1.0\nmax_range_m = 600.0"),
+            point_north("p", range_m, rcs_m2)
+        );
+        render(&text, 1).1.truth[0].clone()
+    };
+    let t = label(3.0, 1e-9);
+    assert!(t.losses_db.eclipse.unwrap() > 30.0, "{t:?}");
+    assert_eq!(t.visibility, Visibility::Eclipsed, "{t:?}");
+    let t = label(500.0, 1e-9);
+    assert!(t.expected_snr_db.unwrap() < 0.0);
+    assert_eq!(t.visibility, Visibility::BelowNoise);
 }
 
 /// The FFT matched filter equals direct correlation (relative error < 1e-4).
