@@ -237,15 +237,27 @@ impl Simulation {
 
     /// Polar output (spokes × bins, dB over noise) of one revolution from prepared groups.
     pub fn synthesize(&self, groups: &EchoGroups, seed: u64, frame: u64) -> Vec<f32> {
+        let clutter = self.clutter_map(seed, frame);
+        self.synthesize_with(groups, clutter.as_ref(), seed, frame)
+    }
+
+    /// As [`Simulation::synthesize`] with the revolution's clutter map already made (it must
+    /// be `clutter_map(seed, frame)`).
+    pub fn synthesize_with(
+        &self,
+        groups: &EchoGroups,
+        clutter: Option<&ClutterMap>,
+        seed: u64,
+        frame: u64,
+    ) -> Vec<f32> {
         let radar = &self.scene.radar;
         let bins = self.compressor.num_bins();
         let mut polar = vec![0f32; radar.spokes * bins];
-        let clutter = self.clutter_map(seed, frame);
         polar.par_chunks_mut(bins).enumerate().for_each_init(
             || self.compressor.scratch(),
             |scratch, (k, row)| {
                 self.compress_spoke(
-                    clutter.as_ref(),
+                    clutter,
                     groups,
                     radar.spoke_azimuth_rad(k),
                     seed,

@@ -31,7 +31,6 @@
 //! its quantile function (a Gaussian copula), which keeps the Gamma marginal exactly. It is
 //! periodic and drifts with the waves from frame to frame.
 
-use rand::Rng;
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
@@ -47,17 +46,44 @@ pub enum Sigma0Model {
     Git,
 }
 
-/// Amplitude statistics of the clutter.
+/// Amplitude statistics of the clutter in one output (matched-filter, beam) cell. Every
+/// option is compound Gaussian: the cell's intensity is `I = T·S`, a unit-mean texture `T`
+/// (the cell's local mean power, correlated in space) times exponential speckle `S` (new
+/// every pulse), which is what a matched filter preserves (docs/physics.md, Sea clutter).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ClutterDistribution {
-    /// Compound K: Gamma texture of shape ν (None: the empirical default per cell) × speckle.
+    /// K: Gamma texture of shape ν (None: Ward's empirical ν for the cell);
+    /// `E[I²]/E[I]² = 2(1 + 1/ν)`.
     K { shape_nu: Option<f64> },
-    /// Weibull intensity with shape parameter (1 = exponential), independent per sample.
+    /// Weibull amplitude with shape `c` (Sekine & Mao convention: c = 2 is Rayleigh, sea
+    /// clutter c ≈ 1.2–2), 0 < c ≤ 2: the texture is the inverse of a positive stable
+    /// variable of index c/2, which makes `I` exactly Weibull;
+    /// `E[I²]/E[I]² = Γ(1 + 4/c)/Γ(1 + 2/c)²`.
     Weibull { shape: f64 },
-    /// Log-normal intensity with the given standard deviation of 10·log10 I, dB.
+    /// Log-normal texture: `sigma_db` is the standard deviation of `10·log10 T`;
+    /// `E[I²]/E[I]² = 2·exp(s²)`, `s = sigma_db·ln10/10` (the speckle adds 5.57 dB in
+    /// quadrature to the spread of `10·log10 I`).
     LogNormal { sigma_db: f64 },
-    /// Complex Gaussian (Rayleigh amplitude).
+    /// Complex Gaussian (Rayleigh amplitude, T = 1); `E[I²]/E[I]² = 2`.
     Rayleigh,
+}
+
+impl ClutterDistribution {
+    /// `E[I²]/E[I]²` of an output cell's intensity; for K with the empirical shape, pass
+    /// the cell's ν in `cell_nu`.
+    pub fn intensity_second_moment(&self, cell_nu: f64) -> f64 {
+        match *self {
+            ClutterDistribution::K { shape_nu } => 2.0 * (1.0 + 1.0 / shape_nu.unwrap_or(cell_nu)),
+            ClutterDistribution::Weibull { shape } => {
+                (ln_gamma(1.0 + 4.0 / shape) - 2.0 * ln_gamma(1.0 + 2.0 / shape)).exp()
+            }
+            ClutterDistribution::LogNormal { sigma_db } => {
+                let s = sigma_db * std::f64::consts::LN_10 / 10.0;
+                2.0 * (s * s).exp()
+            }
+            ClutterDistribution::Rayleigh => 2.0,
+        }
+    }
 }
 
 /// NRL (Gregers-Hansen & Mital 2012) mean reflectivity, dB (m²/m²).
@@ -137,6 +163,19 @@ pub fn sea_state_rms_height_m(sea_state: f64) -> f64 {
     TABLE[i] * (1.0 - f) + TABLE[i + 1] * f
 }
 
+/// log10 of the empirical K shape ν (Ward, Tough & Watts 2006) before clamping.
+pub fn k_shape_log10(
+    grazing_deg: f64,
+    cell_area_m2: f64,
+    horizontal: bool,
+    swell_rel_rad: f64,
+) -> f64 {
+    let k_pol = if horizontal { 2.09 } else { 1.39 };
+    (2.0 / 3.0) * grazing_deg.max(1e-3).log10() + 0.625 * cell_area_m2.max(1e-3).log10()
+        - k_pol
+        - (2.0 * swell_rel_rad).cos() / 3.0
+}
+
 /// Empirical K shape ν (Ward, Tough & Watts 2006), clamped to 0.1…20.
 pub fn k_shape_default(
     grazing_deg: f64,
@@ -144,12 +183,14 @@ pub fn k_shape_default(
     horizontal: bool,
     swell_rel_rad: f64,
 ) -> f64 {
-    let k_pol = if horizontal { 2.09 } else { 1.39 };
-    let log_nu = (2.0 / 3.0) * grazing_deg.max(1e-3).log10()
-        + 0.625 * cell_area_m2.max(1e-3).log10()
-        - k_pol
-        - (2.0 * swell_rel_rad).cos() / 3.0;
-    10f64.powf(log_nu).clamp(0.1, 20.0)
+    10f64
+        .powf(k_shape_log10(
+            grazing_deg,
+            cell_area_m2,
+            horizontal,
+            swell_rel_rad,
+        ))
+        .clamp(0.1, 20.0)
 }
 
 /// Complementary error function (Numerical Recipes `erfcc`, fractional error < 1.2e-7).
@@ -267,61 +308,48 @@ impl GammaQuantile {
         let xs: Vec<f64> = (0..n)
             .map(|i| (lo + (hi - lo) * i as f64 / (n - 1) as f64).exp())
             .collect();
-        // CDF by the trapezoid rule in ln t of t·f(t), f the Gamma(ν, 1/ν) density, starting
-        // from the lower-tail series at the first point, then normalised to end at
-        // P(ν, ν·t_max) (checked against `gamma_p` in the tests).
-        let ln_norm = shape * shape.ln() - ln_gamma(shape);
-        let g = |t: f64| (ln_norm + shape * t.ln() - shape * t).exp();
-        let step = (hi - lo) / (n - 1) as f64;
-        let mut cdf = Vec::with_capacity(n);
-        let mut acc = ((shape * xs[0]).powf(shape) / ln_gamma(shape + 1.0).exp()).min(1.0);
-        cdf.push(acc);
-        for i in 1..n {
-            acc += 0.5 * (g(xs[i - 1]) + g(xs[i])) * step;
-            cdf.push(acc);
-        }
-        let end = gamma_p(shape, shape * xs[n - 1]);
-        let scale = end / acc;
-        cdf.iter_mut().for_each(|c| *c *= scale);
+        // The CDF at every point from the regularised incomplete gamma P(ν, ν·t) itself
+        // (a trapezoid rule in ln t lost 2 % of E[T²] at ν = 0.1, whose mass sits in a
+        // long upper tail).
+        let cdf: Vec<f64> = xs.iter().map(|&t| gamma_p(shape, shape * t)).collect();
         GammaQuantile { shape, xs, cdf }
     }
 
-    /// The table for shape ν (cached process-wide; ν snapped to one of 96 levels spaced
-    /// 4 % apart between 0.05 and 100, so a scene needs few tables).
+    /// The table for shape ν exactly (cached process-wide by ν).
     pub fn for_shape(shape: f64) -> Arc<GammaQuantile> {
-        Self::for_level(Self::level(shape))
+        static CACHE: OnceLock<Mutex<HashMap<u64, Arc<GammaQuantile>>>> = OnceLock::new();
+        let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+        let mut map = cache.lock().unwrap_or_else(|p| p.into_inner());
+        map.entry(shape.to_bits())
+            .or_insert_with(|| Arc::new(GammaQuantile::new(shape)))
+            .clone()
     }
 
-    /// Number of shape levels.
-    pub const LEVELS: usize = 193;
+    /// Smallest shape of the per-cell levels (the empirical formula's clamp).
+    pub const LEVEL_MIN: f64 = 0.1;
+    /// Largest shape of the per-cell levels.
+    pub const LEVEL_MAX: f64 = 20.0;
+    /// Ratio between consecutive levels, as a natural-log step (1 %).
+    const LEVEL_STEP: f64 = 0.01;
+    /// Number of per-cell shape levels: ν = 0.1·e^(0.01·i) up to 20, so that a cell's ν is
+    /// within 0.5 % of its formula value (and exactly 0.1 at the clamp).
+    pub const LEVELS: usize = 531;
 
-    /// The level (0..LEVELS) that shape ν snaps to.
-    pub fn level(shape: f64) -> usize {
-        let step = (100f64 / 0.05).ln() / 192.0;
-        (((shape.clamp(0.05, 100.0) / 0.05).ln() / step).round() as usize).min(Self::LEVELS - 1)
-    }
-
-    /// The level of a shape given as log10 ν.
+    /// The level of a shape given as log10 ν (clamped to 0.1…20).
     #[inline]
     pub fn level_from_log10(log10_shape: f64) -> usize {
-        let step = (100f64 / 0.05).ln() / 192.0;
-        (((log10_shape * std::f64::consts::LN_10 - 0.05f64.ln()) / step)
-            .round()
-            .max(0.0) as usize)
-            .min(Self::LEVELS - 1)
+        let x = (log10_shape * std::f64::consts::LN_10 - Self::LEVEL_MIN.ln()) / Self::LEVEL_STEP;
+        (x.round().max(0.0) as usize).min(Self::LEVELS - 1)
+    }
+
+    /// The shape of a level.
+    pub fn level_shape(level: usize) -> f64 {
+        (Self::LEVEL_MIN * (level as f64 * Self::LEVEL_STEP).exp()).min(Self::LEVEL_MAX)
     }
 
     /// The (cached) table of a level.
     pub fn for_level(level: usize) -> Arc<GammaQuantile> {
-        static CACHE: OnceLock<Mutex<HashMap<u64, Arc<GammaQuantile>>>> = OnceLock::new();
-        let step = (100f64 / 0.05).ln() / 192.0;
-        let rounded = 0.05 * (level as f64 * step).exp();
-        let key = rounded.to_bits();
-        let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
-        let mut map = cache.lock().unwrap_or_else(|p| p.into_inner());
-        map.entry(key)
-            .or_insert_with(|| Arc::new(GammaQuantile::new(rounded)))
-            .clone()
+        Self::for_shape(Self::level_shape(level))
     }
 
     /// Texture value (mean 1) at probability `u`.
@@ -350,6 +378,8 @@ impl GammaQuantile {
 pub struct GaussianField {
     side: usize,
     spacing_m: f64,
+    /// Correlation of neighbouring grid values, `exp(−(spacing/L)²)`.
+    neighbour_correlation: f64,
     values: Vec<f32>,
 }
 
@@ -406,11 +436,16 @@ impl GaussianField {
         GaussianField {
             side,
             spacing_m,
+            neighbour_correlation: (-(spacing_m / correlation_m).powi(2)).exp(),
             values,
         }
     }
 
-    /// Bilinear value at (x, y) metres (periodic).
+    /// Value at (x, y) metres (periodic): bilinear between grid values, divided by the
+    /// standard deviation of that interpolation so that every point has unit variance
+    /// (a weighted mean of correlated values has less: `v(t) = (1−t)² + t² + 2t(1−t)ρ` per
+    /// axis for neighbour correlation ρ, the correlation being separable) — otherwise the
+    /// copula's marginals would be less spiky between grid points.
     #[inline]
     pub fn at(&self, x_m: f64, y_m: f64) -> f64 {
         let fx = x_m / self.spacing_m;
@@ -425,25 +460,104 @@ impl GaussianField {
         let v = |r: usize, c: usize| self.values[r * self.side + c];
         let a = v(iy, ix) * (1.0 - tx) + v(iy, ix1) * tx;
         let b = v(iy1, ix) * (1.0 - tx) + v(iy1, ix1) * tx;
-        (a * (1.0 - ty) + b * ty) as f64
+        let rho = self.neighbour_correlation;
+        let var = |t: f64| (1.0 - t) * (1.0 - t) + t * t + 2.0 * t * (1.0 - t) * rho;
+        (a * (1.0 - ty) + b * ty) as f64 / (var(tx as f64) * var(ty as f64)).sqrt()
     }
 }
 
-/// Unit-mean intensity draw of a non-compound distribution (Weibull, log-normal, Rayleigh).
-pub fn unit_mean_intensity(rng: &mut Pcg64Mcg, distribution: &ClutterDistribution) -> f64 {
-    match *distribution {
-        ClutterDistribution::Weibull { shape } => {
-            // I = scale·(−ln U)^(1/shape), mean scale·Γ(1 + 1/shape).
-            let u: f64 = rng.random::<f64>().max(1e-300);
-            (-u.ln()).powf(1.0 / shape) / ln_gamma(1.0 + 1.0 / shape).exp()
-        }
-        ClutterDistribution::LogNormal { sigma_db } => {
-            let s = sigma_db * std::f64::consts::LN_10 / 10.0;
-            let g: f64 = StandardNormal.sample(rng);
-            (s * g - 0.5 * s * s).exp()
-        }
-        _ => 1.0,
+/// Quantile function of a positive distribution tabulated from its CDF on a log grid.
+#[derive(Debug)]
+pub struct TabulatedQuantile {
+    xs: Vec<f64>,
+    cdf: Vec<f64>,
+}
+
+impl TabulatedQuantile {
+    /// Tabulates `cdf` (non-decreasing) at 2048 points log-spaced over `[lo, hi]`.
+    pub fn from_cdf(lo: f64, hi: f64, cdf: impl Fn(f64) -> f64) -> TabulatedQuantile {
+        let n = 2048;
+        let (a, b) = (lo.ln(), hi.ln());
+        let xs: Vec<f64> = (0..n)
+            .map(|i| (a + (b - a) * i as f64 / (n - 1) as f64).exp())
+            .collect();
+        let mut last = 0.0f64;
+        let cdf: Vec<f64> = xs
+            .iter()
+            .map(|&x| {
+                last = last.max(cdf(x));
+                last
+            })
+            .collect();
+        TabulatedQuantile { xs, cdf }
     }
+
+    /// The value at probability `u` (clamped to the tabulated range).
+    pub fn quantile(&self, u: f64) -> f64 {
+        let n = self.cdf.len();
+        if u <= self.cdf[0] {
+            return self.xs[0];
+        }
+        if u >= self.cdf[n - 1] {
+            return self.xs[n - 1];
+        }
+        let i = self.cdf.partition_point(|&c| c < u).clamp(1, n - 1);
+        let (c0, c1) = (self.cdf[i - 1], self.cdf[i]);
+        let f = if c1 > c0 { (u - c0) / (c1 - c0) } else { 0.0 };
+        self.xs[i - 1] * (1.0 - f) + self.xs[i] * f
+    }
+}
+
+/// Unit-mean texture that makes compound-Gaussian clutter exactly Weibull with amplitude
+/// shape `c` (0 < c < 2). With `α = c/2`, the Weibull intensity survival `exp(−x^α)` is the
+/// Laplace transform of a positive α-stable `Z`, so `I = S/Z` (S exponential) is Weibull
+/// (Bernstein; Feller, *An Introduction to Probability Theory*, vol. II, §XIII.6). Its CDF
+/// follows Kanter's representation (Kanter, Ann. Probab. 3(4), 1975):
+/// `P(Z ≤ z) = (1/π)∫₀^π exp(−A(u)·z^(−α/(1−α))) du`,
+/// `A(u) = (sin αu / sin u)^(1/(1−α)) · sin((1−α)u)/sin αu`, so
+/// `P(1/Z ≤ t) = 1 − (1/π)∫₀^π exp(−A(u)·t^(α/(1−α))) du`; `T = (1/Z)/Γ(1 + 1/α)`.
+pub fn weibull_texture_quantile(amplitude_shape: f64) -> Arc<TabulatedQuantile> {
+    static CACHE: OnceLock<Mutex<HashMap<u64, Arc<TabulatedQuantile>>>> = OnceLock::new();
+    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+    let mut map = cache.lock().unwrap_or_else(|p| p.into_inner());
+    map.entry(amplitude_shape.to_bits())
+        .or_insert_with(|| {
+            let alpha = (amplitude_shape / 2.0).clamp(1e-3, 1.0 - 1e-6);
+            let nodes = 4000;
+            let a: Vec<f64> = (0..nodes)
+                .map(|i| {
+                    let u = std::f64::consts::PI * (i as f64 + 0.5) / nodes as f64;
+                    ((alpha * u).sin() / u.sin()).powf(1.0 / (1.0 - alpha))
+                        * ((1.0 - alpha) * u).sin()
+                        / (alpha * u).sin()
+                })
+                .collect();
+            let mean_inverse = ln_gamma(1.0 + 1.0 / alpha).exp();
+            let p = alpha / (1.0 - alpha);
+            // t is the unit-mean texture; 1/Z = t·Γ(1 + 1/α).
+            let cdf = |t: f64| {
+                let x = (t * mean_inverse).powf(p);
+                1.0 - a.iter().map(|ai| (-ai * x).exp()).sum::<f64>() / nodes as f64
+            };
+            // Range: where the CDF leaves 1e-12 and reaches 1 − 1e-12.
+            let (mut lo, mut hi) = (1e-3, 10.0);
+            while cdf(lo) > 1e-12 && lo > 1e-300 {
+                lo *= 0.1;
+            }
+            while 1.0 - cdf(hi) > 1e-12 && hi < 1e12 {
+                hi *= 2.0;
+            }
+            Arc::new(TabulatedQuantile::from_cdf(lo, hi, cdf))
+        })
+        .clone()
+}
+
+/// Unit-mean log-normal texture `exp(s·g − s²/2)` of a standard normal `g`,
+/// `s = sigma_db·ln10/10`.
+#[inline]
+pub fn lognormal_texture(g: f64, sigma_db: f64) -> f64 {
+    let s = sigma_db * std::f64::consts::LN_10 / 10.0;
+    (s * g - 0.5 * s * s).exp()
 }
 
 #[cfg(test)]
@@ -468,6 +582,30 @@ mod tests {
         }
         // Exponential (ν = 1): P(1, x) = 1 − e^−x.
         assert!((gamma_p(1.0, 2.0) - (1.0 - (-2.0f64).exp())).abs() < 1e-12);
+    }
+
+    #[test]
+    fn weibull_texture_gives_weibull_moments() {
+        // E[T²] of the texture must be Γ(1+4/c)/(2·Γ(1+2/c)²) for the compound to be
+        // Weibull(c); check by integrating the quantile over u.
+        for c in [0.8, 1.2, 1.5, 1.9] {
+            let q = weibull_texture_quantile(c);
+            let n = 200_000;
+            let (mut m1, mut m2) = (0.0, 0.0);
+            for i in 0..n {
+                let t = q.quantile((i as f64 + 0.5) / n as f64);
+                m1 += t;
+                m2 += t * t;
+            }
+            m1 /= n as f64;
+            m2 /= n as f64;
+            let want = ClutterDistribution::Weibull { shape: c }.intensity_second_moment(0.0) / 2.0;
+            assert!((m1 - 1.0).abs() < 2e-3, "c {c}: mean {m1}");
+            assert!(
+                (m2 / want - 1.0).abs() < 5e-3,
+                "c {c}: E[T²] {m2} vs {want}"
+            );
+        }
     }
 
     #[test]

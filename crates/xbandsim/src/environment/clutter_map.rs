@@ -1,27 +1,36 @@
 //! Sea and rain clutter of one antenna revolution as distributed scatterers entering the
-//! echo before the matched filter (DESIGN.md §3, Environment; PHYSICS-NOTES §3).
+//! echo before the matched filter (docs/physics.md, Sea clutter and Rain).
 //!
 //! The sea within the record is cut into patches: one azimuth step δ = 2π/spokes wide (at the
 //! spokes' azimuths) and one range sample Δr = c/(2fs) deep. A patch at slant range R,
 //! ground range g and grazing angle ψ has area `A = g·δ·Δr·sec ψ` and mean power
 //! (in noise units) `m = σ0(ψ, wind)·A·Pt·G0²·λ²·Gn_el(−ψ)²/((4π)³·R⁴·L·N)`, times the two-way
-//! rain and atmospheric attenuation; the K texture T multiplies it. Rain adds
-//! `η·V` with `V = R²·δ·Δr·∫Gn_el²(θ)dθ` over the elevations filled with rain.
-//! Because speckle is independent pulse to pulse, the echo of spoke k in sample n is complex
-//! Gaussian with variance `P_k[n] = Σ_j Gn²(j·δ)·q_{k+j}[n]`, `q = m·T (+ rain)` — the same in
+//! rain and atmospheric attenuation. Rain adds `η·V` with `V = R²·δ·Δr·∫Gn_el²(θ)dθ` over the
+//! elevations filled with rain. Because speckle is independent pulse to pulse, the echo of
+//! spoke k in sample n is complex Gaussian with variance
+//! `P_k[n] = T_k[n]·Σ_j Gn²(j·δ)·m_{k+j}[n] + Σ_j Gn²(j·δ)·rain_{k+j}[n]` — the same in
 //! distribution as summing every patch's scatterers weighted by the two-way azimuth pattern,
-//! but at the cost of one draw per sample. The weights are scaled so that Σ_j Gn²(jδ)
+//! at the cost of one draw per sample. The weights are scaled so that Σ_j Gn²(jδ)
 //! equals the two-way beam integral `∫Gn²(θ)dθ = (2π/3)·θ3dB/2.783 = 0.753·θ3dB`, so that the
 //! mean clutter power of a cell equals the radar equation with `σ = σ0·A_c`,
-//! `A_c = R·(0.753·θ3dB)·(c/2B)·sec ψ` after the matched filter (the compressed range cell
-//! c/2B comes from the filter, docs/physics.md).
+//! `A_c = R·(0.753·θ3dB)·(c/2B)·sec ψ` after the matched filter.
+//!
+//! **Texture of a cell.** `T_k[n]` is the texture of the output cell at spoke k's beam centre
+//! and range sample n: the spatially correlated field's value there (drifting with the
+//! waves), mapped to the documented marginal. It multiplies the beam-weighted mean rather than
+//! each patch, because the shape parameters describe resolution cells (Ward's empirical ν
+//! is fitted to cells of area A_c): texturing patches and then averaging them over the beam
+//! would dilute the spikiness a second time. The matched filter then only mixes samples within
+//! the compressed pulse (c/2B, a few metres against the field's tens of metres), so output
+//! cells keep the marginal (`E[I²]/E[I]²` checked in `xbandsim validate`) while neighbouring
+//! cells stay correlated over the field's correlation length.
 //!
 //! Grazing angle over the 4/3 earth: `sin ψ = h/R − R/(2a_e)`; patches with ψ ≤ 0 are beyond
 //! the horizon and return nothing.
 
 use super::clutter::{
-    bessel_i0, erfc, git_sigma0_db, k_shape_default, nrl_sigma0_db, unit_mean_intensity,
-    ClutterDistribution, GammaQuantile, GaussianField, Sigma0Model,
+    bessel_i0, erfc, git_sigma0_db, k_shape_log10, lognormal_texture, nrl_sigma0_db,
+    weibull_texture_quantile, ClutterDistribution, GammaQuantile, GaussianField, Sigma0Model,
 };
 use super::rain::volume_reflectivity_m2_per_m3;
 use super::EFFECTIVE_EARTH_RADIUS_M;
@@ -31,7 +40,6 @@ use crate::receiver::stream_rng;
 use crate::scene::{Polarisation, Scene};
 use glam::DVec2;
 use num_complex::Complex32;
-use rand::Rng;
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
@@ -39,12 +47,17 @@ use rayon::prelude::*;
 /// Stream offset separating clutter draws from noise draws.
 const CLUTTER_STREAM: u64 = 1 << 40;
 
-/// The clutter power of every (spoke, sample) of one revolution, before azimuth weighting.
+/// The clutter of one revolution: mean powers of every (spoke, sample) patch before azimuth
+/// weighting, and the texture of every output cell.
 pub struct ClutterMap {
     spokes: usize,
     samples: usize,
-    /// q = m·T (+ rain), noise units, spokes × samples.
-    q: Vec<f32>,
+    /// Texture-free mean sea power per patch, noise units, spokes × samples.
+    sea: Vec<f32>,
+    /// Rain power per patch (empty without rain).
+    rain: Vec<f32>,
+    /// Texture of each output cell (empty for Rayleigh clutter).
+    texture: Vec<f32>,
     /// Azimuth weights Gn²(jδ) for j = −J..=J, scaled to sum to the beam integral / δ.
     weights: Vec<f32>,
     distribution: ClutterDistribution,
@@ -153,14 +166,15 @@ impl ClutterMap {
                 let dir_b = 0.2 * (1.0 - 2.8 * grazing_rad) * (lambda + 0.015).powf(-0.4);
                 // exp(b·cos φ) averages to I0(b) over φ: divide by it for a unit mean.
                 let dir_norm = 1.0 / bessel_i0(dir_b);
-                // k_shape_default at a 45° swell angle has cos(2θ) = 0: the row part alone.
-                let log_nu_row = k_shape_default(
+                // k_shape_default at a 45° swell angle has cos(2θ) = 0: the row part alone
+                // (the swell-direction term −cos(2θ_sw)/3 is added per spoke).
+                // Unclamped: the clamp to 0.1…20 applies after the swell term.
+                let log_nu_row = k_shape_log10(
                     grazing_rad.to_degrees(),
                     cell_area_m2,
                     horizontal,
                     std::f64::consts::FRAC_PI_4,
-                )
-                .log10();
+                );
                 Some(Row {
                     ground_m,
                     grazing_rad,
@@ -175,20 +189,33 @@ impl ClutterMap {
             .collect();
         let clutter = env.clutter.as_ref();
         let distribution = clutter.map_or(ClutterDistribution::Rayleigh, |c| c.distribution);
+        let textured = clutter.is_some() && distribution != ClutterDistribution::Rayleigh;
         // Texture field (per scene seed), drifting downwind with time.
         let max_ground = rows
             .iter()
             .rev()
             .find_map(|r| r.as_ref().map(|r| r.ground_m))
             .unwrap_or(1.0);
-        let field = match (clutter, distribution) {
-            (Some(c), ClutterDistribution::K { .. }) => {
+        let field = match clutter {
+            Some(c) if textured => {
                 let mut rng = stream_rng(seed, u64::MAX, CLUTTER_STREAM - 1);
                 Some(GaussianField::new(
                     &mut rng,
                     2.0 * max_ground + 4.0 * c.correlation_m,
                     c.correlation_m,
                 ))
+            }
+            _ => None,
+        };
+        let fixed_gamma = match distribution {
+            ClutterDistribution::K { shape_nu: Some(nu) } if textured => {
+                Some(GammaQuantile::for_shape(nu))
+            }
+            _ => None,
+        };
+        let weibull = match distribution {
+            ClutterDistribution::Weibull { shape } if textured => {
+                Some(weibull_texture_quantile(shape))
             }
             _ => None,
         };
@@ -203,8 +230,12 @@ impl ClutterMap {
             .rain
             .as_ref()
             .map(|r| r.attenuator(freq_ghz, horizontal));
-        let mut q = vec![0f32; spokes * samples];
-        q.par_chunks_mut(samples).enumerate().for_each(|(k, out)| {
+        let has_rain = env.rain.is_some();
+        // One spoke's rows of sea mean, rain and texture.
+        let spoke_rows = |k: usize| -> (Vec<f32>, Vec<f32>, Vec<f32>) {
+            let mut sea_row = vec![0f32; samples];
+            let mut rain_row = vec![0f32; if has_rain { samples } else { 0 }];
+            let mut texture_row = vec![0f32; if textured { samples } else { 0 }];
             let az = radar.spoke_azimuth_rad(k);
             let dir = DVec2::new(az.sin(), az.cos());
             // Rain attenuation intervals along this spoke (one-way dB as a function of ground range).
@@ -217,20 +248,29 @@ impl ClutterMap {
                     .as_ref()
                     .map_or(0.0, |a| a.one_way_db_along(&chords, g))
             };
-            // Quantile tables used by this spoke, fetched once each from the shared cache.
-            let mut tables: Vec<Option<std::sync::Arc<GammaQuantile>>> =
-                vec![None; GammaQuantile::LEVELS];
+            // Quantile tables used by this spoke, fetched once each from the shared cache
+            // (empty unless the K shape is the per-cell default).
+            let per_cell_levels = fixed_gamma.is_none() && textured;
+            let mut tables: Vec<Option<std::sync::Arc<GammaQuantile>>> = vec![
+                None;
+                if per_cell_levels {
+                    GammaQuantile::LEVELS
+                } else {
+                    0
+                }
+            ];
             let wind_rel = clutter.map_or(0.0, |c| az - c.wind_from_rad);
-            let (cos_rel, cos_2rel) = (wind_rel.cos(), (2.0 * wind_rel).cos());
+            let swell_rel = clutter.map_or(0.0, |c| az - c.swell_from_rad);
+            let cos_rel = wind_rel.cos();
+            let cos_2swell = (2.0 * swell_rel).cos();
             for (n, row) in rows.iter().enumerate() {
                 let Some(row) = row else { continue };
                 let p = radar_xy + dir * row.ground_m;
-                let rain_loss = if env.rain.is_some() {
+                let rain_loss = if has_rain {
                     (-2.0 * rain_db(row.ground_m) / 10.0 * std::f64::consts::LN_10).exp()
                 } else {
                     1.0
                 };
-                let mut value = 0.0;
                 if let Some(c) = clutter {
                     let sigma0 = match c.model {
                         // exp(b·cos φ)/I0(b): wind_direction_factor with per-row constants.
@@ -248,53 +288,112 @@ impl ClutterMap {
                         ),
                     };
                     let mean = sigma0 * row.sea_factor;
-                    // Far below the noise (−60 dB) the texture cannot matter: skip drawing it.
-                    let texture = match (&field, c.distribution) {
-                        (Some(f), ClutterDistribution::K { shape_nu }) if mean > 1e-6 => {
-                            let level = match shape_nu {
-                                Some(nu) => GammaQuantile::level(nu),
-                                None => GammaQuantile::level_from_log10(
-                                    (row.log_nu_row - cos_2rel / 3.0).clamp(-1.0, 20f64.log10()),
-                                ),
-                            };
-                            let g = f.at(p.x - drift.x, p.y - drift.y);
-                            tables[level]
-                                .get_or_insert_with(|| GammaQuantile::for_level(level))
-                                .quantile(normal_cdf(g))
-                        }
-                        _ => 1.0,
-                    };
-                    value += mean * texture;
+                    sea_row[n] = (mean * rain_loss * delta) as f32;
+                    if let Some(f) = &field {
+                        let g = f.at(p.x - drift.x, p.y - drift.y);
+                        texture_row[n] = match c.distribution {
+                            ClutterDistribution::K { .. } => match &fixed_gamma {
+                                Some(q) => q.quantile(normal_cdf(g)),
+                                None => {
+                                    let level = GammaQuantile::level_from_log10(
+                                        row.log_nu_row - cos_2swell / 3.0,
+                                    );
+                                    tables[level]
+                                        .get_or_insert_with(|| GammaQuantile::for_level(level))
+                                        .quantile(normal_cdf(g))
+                                }
+                            },
+                            ClutterDistribution::Weibull { .. } => {
+                                weibull.as_ref().map_or(1.0, |q| q.quantile(normal_cdf(g)))
+                            }
+                            ClutterDistribution::LogNormal { sigma_db } => {
+                                lognormal_texture(g, sigma_db)
+                            }
+                            ClutterDistribution::Rayleigh => 1.0,
+                        } as f32;
+                    }
                 }
                 if let Some(rain) = &env.rain {
-                    value += volume_reflectivity_m2_per_m3(rain.rate_at(p), lambda)
-                        * row.rain_volume_factor;
+                    rain_row[n] = (volume_reflectivity_m2_per_m3(rain.rate_at(p), lambda)
+                        * row.rain_volume_factor
+                        * rain_loss
+                        * delta) as f32;
                 }
-                out[n] = (value * rain_loss * delta) as f32;
             }
-        });
+            (sea_row, rain_row, texture_row)
+        };
+        let per_spoke: Vec<(Vec<f32>, Vec<f32>, Vec<f32>)> =
+            (0..spokes).into_par_iter().map(spoke_rows).collect();
+        let mut sea = Vec::with_capacity(spokes * samples);
+        let mut rain = Vec::with_capacity(if has_rain { spokes * samples } else { 0 });
+        let mut texture = Vec::with_capacity(if textured { spokes * samples } else { 0 });
+        for (s_row, r_row, t_row) in per_spoke {
+            sea.extend_from_slice(&s_row);
+            rain.extend_from_slice(&r_row);
+            texture.extend_from_slice(&t_row);
+        }
         Some(ClutterMap {
             spokes,
             samples,
-            q,
+            sea,
+            rain,
+            texture,
             weights,
             distribution,
         })
     }
 
-    /// Mean clutter power of spoke `k`, sample `n`, after azimuth weighting (noise units).
+    /// Spoke index `k + t − J` wrapped around the revolution.
     #[inline]
-    pub fn power(&self, k: usize, n: usize) -> f32 {
+    fn neighbour(&self, k: usize, t: usize) -> usize {
         let half = (self.weights.len() / 2) as isize;
-        let mut p = 0f32;
-        for (t, w) in self.weights.iter().enumerate() {
-            let kk = (k as isize + t as isize - half).rem_euclid(self.spokes as isize) as usize;
-            p += w * self.q[kk * self.samples + n];
-        }
-        p
+        (k as isize + t as isize - half).rem_euclid(self.spokes as isize) as usize
     }
 
-    /// Adds spoke `k`'s clutter echo (one pulse) to `impulse_response` (noise-rms units).
+    /// Texture-free mean clutter power (sea and rain) of spoke `k`, sample `n`, after
+    /// azimuth weighting (noise units).
+    pub fn mean_power(&self, k: usize, n: usize) -> f32 {
+        let (sea, rain) = self.weighted(k, n);
+        sea + rain
+    }
+
+    /// Beam-weighted sea and rain power of spoke `k`, sample `n`.
+    #[inline]
+    fn weighted(&self, k: usize, n: usize) -> (f32, f32) {
+        let (mut sea, mut rain) = (0f32, 0f32);
+        for (t, w) in self.weights.iter().enumerate() {
+            let i = self.neighbour(k, t) * self.samples + n;
+            sea += w * self.sea[i];
+            if !self.rain.is_empty() {
+                rain += w * self.rain[i];
+            }
+        }
+        (sea, rain)
+    }
+
+    /// The texture of output cell (spoke `k`, sample `n`); 1 for Rayleigh clutter.
+    pub fn texture(&self, k: usize, n: usize) -> f32 {
+        if self.texture.is_empty() {
+            1.0
+        } else {
+            self.texture[k * self.samples + n]
+        }
+    }
+
+    /// Clutter power of spoke `k`, sample `n` with its texture (noise units).
+    #[inline]
+    pub fn power(&self, k: usize, n: usize) -> f32 {
+        let (sea, rain) = self.weighted(k, n);
+        self.texture(k, n) * sea + rain
+    }
+
+    /// The amplitude statistics.
+    pub fn distribution(&self) -> ClutterDistribution {
+        self.distribution
+    }
+
+    /// Adds spoke `k`'s clutter echo (one pulse) to `impulse_response` (noise-rms units):
+    /// complex Gaussian speckle with the cell's power.
     pub fn add_to_spoke(
         &self,
         k: usize,
@@ -303,36 +402,30 @@ impl ClutterMap {
         impulse_response: &mut [Complex32],
     ) {
         let mut rng: Pcg64Mcg = stream_rng(seed, frame, CLUTTER_STREAM + k as u64);
-        let half = (self.weights.len() / 2) as isize;
         let n_max = self.samples.min(impulse_response.len());
-        let rows: Vec<&[f32]> = (0..self.weights.len())
-            .map(|t| {
-                let kk = (k as isize + t as isize - half).rem_euclid(self.spokes as isize) as usize;
-                &self.q[kk * self.samples..(kk + 1) * self.samples]
-            })
+        let rows: Vec<usize> = (0..self.weights.len())
+            .map(|t| self.neighbour(k, t) * self.samples)
             .collect();
+        let texture = (!self.texture.is_empty())
+            .then(|| &self.texture[k * self.samples..(k + 1) * self.samples]);
+        let has_rain = !self.rain.is_empty();
         for n in 0..n_max {
-            let mut p = 0f32;
-            for (w, row) in self.weights.iter().zip(&rows) {
-                p += w * row[n];
+            let mut sea = 0f32;
+            let mut rain = 0f32;
+            for (w, &row) in self.weights.iter().zip(&rows) {
+                sea += w * self.sea[row + n];
+                if has_rain {
+                    rain += w * self.rain[row + n];
+                }
             }
+            let p = texture.map_or(sea, |t| t[n] * sea) + rain;
             if p <= 0.0 {
                 continue;
             }
-            let sample = match self.distribution {
-                ClutterDistribution::K { .. } | ClutterDistribution::Rayleigh => {
-                    let s = (p * 0.5).sqrt();
-                    let re: f32 = StandardNormal.sample(&mut rng);
-                    let im: f32 = StandardNormal.sample(&mut rng);
-                    Complex32::new(re * s, im * s)
-                }
-                _ => {
-                    let i = unit_mean_intensity(&mut rng, &self.distribution) as f32;
-                    let phase: f32 = rng.random::<f32>() * std::f32::consts::TAU;
-                    Complex32::from_polar((p * i).sqrt(), phase)
-                }
-            };
-            impulse_response[n] += sample;
+            let s = (p * 0.5).sqrt();
+            let re: f32 = StandardNormal.sample(&mut rng);
+            let im: f32 = StandardNormal.sample(&mut rng);
+            impulse_response[n] += Complex32::new(re * s, im * s);
         }
     }
 

@@ -1,12 +1,14 @@
-//! Stage: environment. The sea surface as a reflector (multipath) and propagation losses.
-//! Later: sea clutter, rain, earth curvature.
+//! Stage: environment. The sea surface as a reflector (multipath), sea clutter, rain,
+//! propagation losses and the 4/3-earth horizon (docs/physics.md).
 
 pub mod clutter;
 pub mod clutter_map;
 pub mod rain;
 pub mod sea;
 
-pub use sea::{fresnel_reflection, roughness_factor, sea_water_permittivity, SeaSurface};
+pub use sea::{
+    fresnel_reflection, roughness_factor, sea_water_permittivity, SeaRoughness, SeaSurface,
+};
 
 /// Two-way power factor of a uniform specific attenuation `two_way_db_per_km` over a one-way
 /// range `range_m`: `10^(−α·R/10)` with α in dB/km counted over the two-way trip already.

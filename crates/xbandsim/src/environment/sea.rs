@@ -11,8 +11,12 @@
 //! Electromagnetic Waves from Rough Surfaces*, 1963; Long, *Radar Reflectivity of Land and
 //! Sea*, 3rd ed., §3): `Γ_H = (sinψ − √(ε − cos²ψ))/(sinψ + √(ε − cos²ψ))` and
 //! `Γ_V = (ε sinψ − √(ε − cos²ψ))/(ε sinψ + √(ε − cos²ψ))`, in the basis where a perfect
-//! conductor has Γ_H = −1, Γ_V = +1. Rough-surface specular factor (Ament 1953):
-//! `ρ_s = exp(−2(2πσ_h sinψ/λ)²)`.
+//! conductor has Γ_H = −1, Γ_V = +1. Rough-surface specular factor, with
+//! `g = 2πσ_h sinψ/λ`: Miller, Brown & Vegh (IEE Proc. 131(2):114–116, 1984)
+//! `ρ_s = exp(−2g²)·I0(2g²)` (default), or Ament (1953) `ρ_s = exp(−2g²)`. Ament assumes
+//! Gaussian heights; Miller–Brown–Vegh derived theirs for the sea's wave height distribution
+//! and it matches measured sea forward scatter where Ament falls off too fast (g ≳ 0.5), so
+//! it is the usual choice for the sea at low grazing; both agree for a smooth sea.
 
 use num_complex::Complex64;
 
@@ -51,10 +55,48 @@ pub fn fresnel_reflection(eps: Complex64, grazing_rad: f64) -> (Complex64, Compl
     (gh, gv)
 }
 
-/// Ament's specular reduction for a surface of rms height `rms_height_m`.
-pub fn roughness_factor(rms_height_m: f64, grazing_rad: f64, wavelength_m: f64) -> f64 {
+/// Which rough-surface specular reduction is used.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SeaRoughness {
+    /// Miller, Brown & Vegh 1984: `exp(−2g²)·I0(2g²)`.
+    MillerBrownVegh,
+    /// Ament 1953: `exp(−2g²)`.
+    Ament,
+}
+
+/// Specular reduction ρ_s for a surface of rms height `rms_height_m`.
+pub fn roughness_factor(
+    model: SeaRoughness,
+    rms_height_m: f64,
+    grazing_rad: f64,
+    wavelength_m: f64,
+) -> f64 {
     let g = std::f64::consts::TAU * rms_height_m * grazing_rad.sin() / wavelength_m;
-    (-2.0 * g * g).exp()
+    let x = 2.0 * g * g;
+    match model {
+        SeaRoughness::Ament => (-x).exp(),
+        SeaRoughness::MillerBrownVegh => exp_scaled_bessel_i0(x),
+    }
+}
+
+/// `exp(−x)·I0(x)` for x ≥ 0, without overflow: the power series below 15 and the
+/// asymptotic series `(1 + 1/(8x) + 9/(2(8x)²) + …)/√(2πx)` above (Abramowitz & Stegun 9.7.1).
+pub fn exp_scaled_bessel_i0(x: f64) -> f64 {
+    if x < 15.0 {
+        let (mut sum, mut term) = (1.0f64, 1.0f64);
+        for k in 1..80 {
+            term *= (x / 2.0) * (x / 2.0) / (k as f64 * k as f64);
+            sum += term;
+            if term < sum * 1e-17 {
+                break;
+            }
+        }
+        sum * (-x).exp()
+    } else {
+        let z = 1.0 / (8.0 * x);
+        (1.0 + z + 9.0 / 2.0 * z * z + 225.0 / 6.0 * z * z * z)
+            / (2.0 * std::f64::consts::PI * x).sqrt()
+    }
 }
 
 /// The sea surface at z = 0 as seen by the scattering code.
@@ -64,13 +106,15 @@ pub struct SeaSurface {
     pub permittivity: Complex64,
     /// Rms wave height σ_h, m.
     pub rms_height_m: f64,
+    /// Rough-surface specular reduction.
+    pub roughness: SeaRoughness,
 }
 
 impl SeaSurface {
     /// Specular reflection (Γ_H·ρ, Γ_V·ρ) at `grazing_rad` for `wavelength_m`.
     pub fn reflection(&self, grazing_rad: f64, wavelength_m: f64) -> (Complex64, Complex64) {
         let (gh, gv) = fresnel_reflection(self.permittivity, grazing_rad);
-        let rho = roughness_factor(self.rms_height_m, grazing_rad, wavelength_m);
+        let rho = roughness_factor(self.roughness, self.rms_height_m, grazing_rad, wavelength_m);
         (gh * rho, gv * rho)
     }
 }

@@ -19,7 +19,9 @@ use crate::environment::clutter::{
     sea_state_rms_height_m, sea_state_wind_speed_m_per_s, ClutterDistribution, Sigma0Model,
 };
 use crate::environment::rain::{Rain, RainCell};
-use crate::environment::{sea_water_permittivity, two_way_attenuation_power, SeaSurface};
+use crate::environment::{
+    sea_water_permittivity, two_way_attenuation_power, SeaRoughness, SeaSurface,
+};
 use crate::error::{Error, Result};
 use crate::geometry::{object_frame, MeshUnit, ShapeGeometry, TriangleMesh};
 use crate::waveform::{LfmChirp, Window};
@@ -187,6 +189,8 @@ pub struct SeaClutter {
     pub sea_state: f64,
     /// Direction the wind blows from, rad (nautical).
     pub wind_from_rad: f64,
+    /// Direction the swell comes from, rad (nautical): sets the K shape's swell term.
+    pub swell_from_rad: f64,
     /// Amplitude statistics.
     pub distribution: ClutterDistribution,
     /// Texture correlation length, m.
@@ -669,14 +673,28 @@ fn build_environment(s: &EnvironmentSpec, carrier_freq_hz: f64) -> Result<Enviro
         100.0,
         "dB/km",
     )?;
-    let wind_from_rad = finite(
+    let wind_from_deg = finite(
         "environment.wind_direction_deg",
         s.wind_direction_deg.unwrap_or(0.0),
+    )?;
+    let wind_from_rad = wind_from_deg.to_radians();
+    let swell_from_rad = finite(
+        "environment.swell_direction_deg",
+        s.swell_direction_deg.unwrap_or(wind_from_deg),
     )?
     .to_radians();
+    let roughness = choice(
+        "environment.sea_roughness",
+        s.sea_roughness.as_deref().unwrap_or("miller-brown-vegh"),
+        &[
+            ("miller-brown-vegh", SeaRoughness::MillerBrownVegh),
+            ("ament", SeaRoughness::Ament),
+        ],
+    )?;
     let sea = s.multipath.unwrap_or(true).then(|| SeaSurface {
         permittivity: sea_water_permittivity(carrier_freq_hz, temperature_c, salinity_psu),
         rms_height_m,
+        roughness,
     });
     let model = choice(
         "environment.clutter_model",
@@ -694,18 +712,18 @@ fn build_environment(s: &EnvironmentSpec, carrier_freq_hz: f64) -> Result<Enviro
             shape: in_range(
                 "environment.clutter_weibull_shape",
                 s.clutter_weibull_shape.unwrap_or(1.5),
-                0.2,
-                10.0,
-                "",
+                0.3,
+                2.0,
+                "(the amplitude's Weibull shape c; 2 is Rayleigh, and sea clutter is never less spiky than Rayleigh)",
             )?,
         },
         "lognormal" => ClutterDistribution::LogNormal {
             sigma_db: in_range(
                 "environment.clutter_lognormal_sigma_db",
-                s.clutter_lognormal_sigma_db.unwrap_or(5.6),
-                0.1,
-                20.0,
-                "dB",
+                s.clutter_lognormal_sigma_db.unwrap_or(3.0),
+                0.0,
+                12.0,
+                "dB (standard deviation of the texture's 10·log10)",
             )?,
         },
         "rayleigh" => ClutterDistribution::Rayleigh,
@@ -736,6 +754,7 @@ fn build_environment(s: &EnvironmentSpec, carrier_freq_hz: f64) -> Result<Enviro
         model,
         sea_state,
         wind_from_rad,
+        swell_from_rad,
         distribution,
         correlation_m,
         drift_m_per_s,

@@ -97,6 +97,12 @@ pub struct EnvironmentSpec {
     pub sea_state: Option<f64>,
     /// Direction the wind blows from, nautical degrees (default 0: from the north).
     pub wind_direction_deg: Option<f64>,
+    /// Direction the swell comes from, nautical degrees (default: the wind direction); sets
+    /// the K shape's look-direction term −cos(2θ_sw)/3.
+    pub swell_direction_deg: Option<f64>,
+    /// Rough-sea reduction of the specular reflection: "miller-brown-vegh" (default) or
+    /// "ament".
+    pub sea_roughness: Option<String>,
     /// Polarisation "HH" or "VV" (same as `radar.polarisation`; give one of the two).
     pub polarisation: Option<String>,
     /// Sea clutter on or off (default true).
@@ -105,11 +111,13 @@ pub struct EnvironmentSpec {
     pub clutter_model: Option<String>,
     /// Amplitude statistics: "k" (default), "weibull", "lognormal" or "rayleigh".
     pub clutter_distribution: Option<String>,
-    /// K-distribution shape ν (default: the empirical formula per cell).
+    /// K shape ν of a resolution cell's Gamma texture (default: Ward's empirical formula
+    /// for the cell's area, grazing angle and swell direction).
     pub clutter_shape_nu: Option<f64>,
-    /// Weibull shape parameter of the intensity (default 1.5).
+    /// Weibull shape c of the clutter amplitude, 0.3–2 (2 = Rayleigh; default 1.5).
     pub clutter_weibull_shape: Option<f64>,
-    /// Log-normal standard deviation of the intensity, dB (default 5.6).
+    /// Log-normal texture: standard deviation of 10·log10 of a cell's texture, dB
+    /// (default 3).
     pub clutter_lognormal_sigma_db: Option<f64>,
     /// Correlation length of the clutter texture, m (default 30).
     pub clutter_correlation_m: Option<f64>,

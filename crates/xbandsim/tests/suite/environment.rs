@@ -5,8 +5,8 @@ use super::common::*;
 use xbandsim::environment::clutter::{git_sigma0_db, nrl_sigma0_db, wind_direction_factor};
 use xbandsim::labels::Visibility;
 use xbandsim::validation::{
-    clutter_mean_power_db, clutter_second_moment, horizon_echo, rain_attenuation_db,
-    rain_clutter_power_db,
+    clutter_cell_statistics, clutter_mean_power_db, horizon_echo, rain_attenuation_db,
+    rain_clutter_power_db, CLUTTER_FRAMES, CLUTTER_MOMENT_TOLERANCE,
 };
 
 #[test]
@@ -55,33 +55,71 @@ fn upwind_is_brighter_than_crosswind() {
     );
 }
 
+/// The azimuth mean of the clutter power equals σ0·A_c in the radar equation (the
+/// wind-direction factor has unit mean) within 0.3 dB, at other sea states and ranges than
+/// `validate` uses.
 #[test]
-fn mean_clutter_power_follows_radar_equation_and_fades_with_range() {
-    let (e1, m1) = clutter_mean_power_db(400);
-    let (e2, m2) = clutter_mean_power_db(800);
+fn mean_clutter_power_follows_radar_equation() {
+    let (e1, m1) = clutter_mean_power_db(5.0, 450.0);
+    let (e2, m2) = clutter_mean_power_db(1.0, 900.0);
     assert!(
-        (e1 - m1).abs() < 1.0 && (e2 - m2).abs() < 1.0,
-        "{e1} {m1} {e2} {m2}"
-    );
-    assert!(
-        m1 > m2 + 6.0,
-        "clutter does not fade with range: {m1} vs {m2}"
+        (e1 - m1).abs() < 0.3 && (e2 - m2).abs() < 0.3,
+        "SS 5 at 450 m: {m1:.2} dB from expected; SS 1 at 900 m: {m2:.2} dB"
     );
 }
 
+/// The exp(b·cos φ) wind-direction factor averages to one over look directions.
 #[test]
-fn k_distribution_second_moment() {
-    for nu in [1.0, 2.0] {
-        let (m, n) = clutter_second_moment(&format!("clutter_shape_nu = {nu}"));
-        assert!(n >= 1_000_000, "{n} samples");
-        let expected = 2.0 * (1.0 + 1.0 / nu);
-        assert!(
-            (m / expected - 1.0).abs() < 0.05,
-            "nu {nu}: {m:.3} vs {expected}"
-        );
+fn wind_direction_factor_has_unit_mean() {
+    for psi_deg in [0.3, 1.0, 5.0] {
+        let n = 3600;
+        let mean: f64 = (0..n)
+            .map(|i| {
+                wind_direction_factor(
+                    9.41,
+                    f64::to_radians(psi_deg),
+                    std::f64::consts::TAU * i as f64 / n as f64,
+                )
+            })
+            .sum::<f64>()
+            / n as f64;
+        assert!((mean - 1.0).abs() < 1e-9, "{psi_deg}°: {mean}");
     }
-    let (m, _) = clutter_second_moment("clutter_distribution = \"rayleigh\"");
-    assert!((m / 2.0 - 1.0).abs() < 0.03, "Rayleigh: {m}");
+}
+
+/// Matched-filter output cells at the default radar and clutter settings have the second
+/// moment the documented parameters give (within 8 %), for shapes other than those
+/// `validate` uses, and keep the texture's spatial correlation.
+#[test]
+fn clutter_cells_have_the_documented_statistics() {
+    for lines in [
+        "clutter_shape_nu = 0.8",
+        "clutter_shape_nu = 4.0",
+        "sea_state = 4.0\nwind_direction_deg = 120.0\nswell_direction_deg = 75.0",
+        "clutter_distribution = \"weibull\"\nclutter_weibull_shape = 1.2",
+        "clutter_distribution = \"lognormal\"\nclutter_lognormal_sigma_db = 4.5",
+        "clutter_distribution = \"rayleigh\"",
+    ] {
+        let st = clutter_cell_statistics(lines, CLUTTER_FRAMES);
+        eprintln!("{lines}: {st:?}");
+        assert!(
+            (st.measured_moment / st.expected_moment - 1.0).abs() < CLUTTER_MOMENT_TOLERANCE,
+            "{lines}: E[I²]/E[I]² measured {:.3}, expected {:.3} ({} cells)",
+            st.measured_moment,
+            st.expected_moment,
+            st.cells
+        );
+        if !lines.contains("rayleigh") {
+            assert!(
+                st.correlation_15_m > 0.1 && st.correlation_300_m.abs() < 0.03,
+                "{lines}: correlation {:.3} at 15 m, {:.3} at 300 m",
+                st.correlation_15_m,
+                st.correlation_300_m
+            );
+        } else {
+            assert!(st.correlation_15_m.abs() < 0.03, "{st:?}");
+        }
+    }
 }
 
 #[test]

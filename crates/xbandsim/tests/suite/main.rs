@@ -8,6 +8,7 @@ mod antenna;
 mod determinism;
 mod environment;
 mod geometry;
+mod labels;
 mod meshes;
 mod multipath;
 mod rcs;

@@ -1,0 +1,141 @@
+//! Ground-truth labels: every loss of the echo is in its label, visibility flags name the
+//! physical reason, and nothing is labelled with a sentinel number or boxed where there is
+//! no echo.
+
+use super::common::*;
+use xbandsim::labels::Visibility;
+use xbandsim::validation::{bin_range_m, radar_block_no_noise};
+
+/// A point target behind a rain cell: the label's rain loss equals 2·γ·(chord through the
+/// cell) with ITU-R P.838-3's γ, and its expected SNR equals the measured matched-filter
+/// peak (target on an output bin, noise off) within 0.05 dB.
+#[test]
+fn rain_on_the_path_is_in_the_label() {
+    let range_m = bin_range_m(1800.0, 100e6);
+    let text = format!(
+        "[environment]\nnoise = false\nclutter = false\nmultipath = false\nrain_top_m = 1.0\n\
+         [[environment.rain_cell]]\ncentre_m = [0.0, 1400.0]\nradius_m = 400.0\nrate_mm_per_h = 40.0\n\
+         [radar]\nposition_m = [0.0, 0.0, 4.0]\nmax_range_m = 3000.0\n{}",
+        point_north("p", range_m, 10.0)
+    );
+    let (_, frame) = render(&text, 1);
+    let t = &frame.truth[0];
+    let gamma = xbandsim::environment::rain::specific_attenuation_db_per_km(9.41, 40.0, true);
+    let expected_rain_db = 2.0 * gamma * 0.8;
+    assert!(
+        (t.losses_db.rain - expected_rain_db).abs() < 0.01,
+        "label rain loss {:.3} dB, 2γ·800 m = {expected_rain_db:.3} dB",
+        t.losses_db.rain
+    );
+    let j = 1800;
+    let peak = spoke(&frame, 0)[j - 2..=j + 2]
+        .iter()
+        .cloned()
+        .fold(f32::MIN, f32::max) as f64;
+    let snr = t.expected_snr_db.unwrap();
+    assert!(
+        (snr - peak).abs() < 0.05,
+        "label {snr:.2} dB, peak {peak:.2} dB"
+    );
+    assert!(
+        expected_rain_db > 1.0,
+        "rain too weak to test: {expected_rain_db}"
+    );
+}
+
+/// No sentinels and no boxes around nothing: an edge-on plate returns nothing (null RCS and
+/// SNR, `no_return`), an object behind a wall is `shadowed`, one past the maximum range is
+/// `beyond_max_range`; none of them gets a box, and the JSON says null.
+#[test]
+fn objects_without_an_echo_have_null_values_and_no_box() {
+    let text = format!(
+        "{}{}",
+        radar_block_no_noise("max_range_m = 1500.0"),
+        r#"[[object]]
+name = "edge-on"
+shape = "plate"
+width_m = 2.0
+height_m = 1.0
+position_m = [500.0, 0.0, 4.0]
+yaw_deg = 0.0
+[[object]]
+name = "wall"
+shape = "box"
+size_m = [20.0, 2.0, 12.0]
+position_m = [0.0, 300.0, 4.0]
+[[object]]
+name = "hidden"
+shape = "sphere"
+radius_m = 1.0
+position_m = [0.0, 700.0, 4.0]
+[[object]]
+name = "far"
+shape = "sphere"
+radius_m = 1.0
+position_m = [-2500.0, 0.0, 4.0]
+"#
+    );
+    let (_, frame) = render(&text, 1);
+    let by = |n: &str| frame.truth.iter().find(|t| t.name == n).unwrap().clone();
+    let edge = by("edge-on");
+    assert_eq!(edge.visibility, Visibility::NoReturn, "{edge:?}");
+    assert!(edge.rcs_m2.is_none() && edge.rcs_dbsm.is_none() && edge.expected_snr_db.is_none());
+    let hidden = by("hidden");
+    assert_eq!(hidden.visibility, Visibility::Shadowed, "{hidden:?}");
+    let far = by("far");
+    assert_eq!(far.visibility, Visibility::BeyondMaxRange);
+    for t in [&edge, &hidden, &far] {
+        assert!(t.polar_box.is_none() && t.ppi_box_px.is_none(), "{t:?}");
+        let json = serde_json::to_string(t).unwrap();
+        assert!(
+            json.contains("\"polar_box\":null") && !json.contains("-300"),
+            "{json}"
+        );
+    }
+    let wall = by("wall");
+    assert_eq!(wall.visibility, Visibility::Visible);
+    assert!(wall.polar_box.is_some() && wall.ppi_box_px.is_some());
+}
+
+/// The `paper` model's uniform grid can pass between the rows around a small object; that
+/// is labelled as the model's grid missing it, not as a shadow; a real shadow stays one.
+#[test]
+fn paper_grid_misses_are_not_shadows() {
+    let text = format!(
+        "{}{}",
+        radar_block_no_noise("max_range_m = 1500.0").replace(
+            "[radar]",
+            "[scattering]\nmodel = \"paper\"\npaper_rays_elevation = 5\n[radar]"
+        ),
+        r#"[[object]]
+name = "small"
+shape = "sphere"
+radius_m = 0.05
+position_m = [0.0, 800.0, 4.5]
+[[object]]
+name = "wall"
+shape = "box"
+size_m = [30.0, 2.0, 30.0]
+position_m = [300.0, 0.0, 4.0]
+[[object]]
+name = "behind"
+shape = "sphere"
+radius_m = 0.5
+position_m = [900.0, 0.0, 4.0]
+"#
+    );
+    let (_, frame) = render(&text, 1);
+    assert_eq!(
+        frame.truth[0].visibility,
+        Visibility::MissedByRayGrid,
+        "{:?}",
+        frame.truth[0]
+    );
+    assert_eq!(
+        frame.truth[2].visibility,
+        Visibility::Shadowed,
+        "{:?}",
+        frame.truth[2]
+    );
+    assert!(frame.truth[0].polar_box.is_none());
+}
