@@ -76,8 +76,13 @@ impl TriangleMesh {
             .and_then(|e| e.to_str())
             .map(|e| e.to_ascii_lowercase())
             .unwrap_or_default();
-        if !path.is_file() {
-            return Err(mesh_err(path, "no such file"));
+        match std::fs::metadata(path) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                return Err(mesh_err(path, "no such file"))
+            }
+            Err(e) => return Err(mesh_err(path, format!("cannot be read: {e}"))),
+            Ok(m) if m.is_dir() => return Err(mesh_err(path, "is a directory, not a mesh file")),
+            Ok(_) => {}
         }
         let mut mesh = match ext.as_str() {
             "obj" => load_obj(path)?,
@@ -109,6 +114,15 @@ impl TriangleMesh {
             return Err(mesh_err(
                 path,
                 format!("triangle {t:?} refers to a vertex beyond the {n} vertices"),
+            ));
+        }
+        if self.area_m2() <= 0.0 {
+            return Err(mesh_err(
+                path,
+                format!(
+                    "the mesh has zero surface area (all {} triangles are degenerate: their corners lie on a line or coincide)",
+                    self.triangles.len()
+                ),
             ));
         }
         Ok(())
@@ -196,9 +210,45 @@ fn load_obj(path: &Path) -> Result<TriangleMesh> {
     Ok(mesh)
 }
 
+/// Checks an STL file's layout before parsing, so that a truncated or foreign file gets a
+/// message saying so: a binary STL is an 80-byte header, a u32 triangle count N and N
+/// 50-byte records (84 + 50·N bytes); an ASCII STL starts with `solid` and holds `facet`s.
+fn check_stl_layout(path: &Path, bytes: &[u8]) -> Result<()> {
+    let ascii = bytes.starts_with(b"solid")
+        && std::str::from_utf8(&bytes[..bytes.len().min(4096)])
+            .map(|t| t.contains("facet") || bytes.len() < 4096)
+            .unwrap_or(false);
+    if ascii {
+        return Ok(());
+    }
+    if bytes.len() < 84 {
+        return Err(mesh_err(
+            path,
+            format!(
+                "not an STL file: {} bytes, shorter than a binary STL's 84-byte header, and not ASCII STL (which starts with \"solid\")",
+                bytes.len()
+            ),
+        ));
+    }
+    let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as u64;
+    let needed = 84 + 50 * n;
+    if (bytes.len() as u64) < needed {
+        return Err(mesh_err(
+            path,
+            format!(
+                "truncated or not a binary STL: its header declares {n} triangles ({needed} bytes), the file has {} bytes",
+                bytes.len()
+            ),
+        ));
+    }
+    Ok(())
+}
+
 fn load_stl(path: &Path) -> Result<TriangleMesh> {
-    let mut file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-    let stl = stl_io::read_stl(&mut file).map_err(|e| mesh_err(path, format!("STL: {e}")))?;
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    check_stl_layout(path, &bytes)?;
+    let stl = stl_io::read_stl(&mut std::io::Cursor::new(&bytes))
+        .map_err(|e| mesh_err(path, format!("STL could not be parsed: {e}")))?;
     Ok(TriangleMesh {
         vertices_m: stl
             .vertices
@@ -222,7 +272,24 @@ fn load_stl(path: &Path) -> Result<TriangleMesh> {
 fn load_gltf(path: &Path) -> Result<TriangleMesh> {
     use base64::Engine as _;
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| mesh_err(path, format!("glTF: {e}")))?;
+    let is_glb = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("glb"));
+    if is_glb && !bytes.starts_with(b"glTF") {
+        return Err(mesh_err(
+            path,
+            "not a binary glTF (.glb) file: it does not start with the magic bytes \"glTF\"",
+        ));
+    }
+    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| {
+        mesh_err(
+            path,
+            format!(
+                "not a valid glTF {} file: {e}",
+                if is_glb { "binary" } else { "JSON" }
+            ),
+        )
+    })?;
     let dir = path
         .parent()
         .map(Path::to_path_buf)
@@ -248,6 +315,17 @@ fn load_gltf(path: &Path) -> Result<TriangleMesh> {
                 }
             }
         };
+        if data.len() < b.length() {
+            return Err(mesh_err(
+                path,
+                format!(
+                    "glTF buffer {} holds {} bytes but the file declares {} (truncated buffer?)",
+                    b.index(),
+                    data.len(),
+                    b.length()
+                ),
+            ));
+        }
         buffers.push(data);
     }
     let mut mesh = TriangleMesh {
@@ -270,9 +348,21 @@ fn load_gltf(path: &Path) -> Result<TriangleMesh> {
                 }
                 let reader = prim.reader(|b| buffers.get(b.index()).map(|v| v.as_slice()));
                 let base = mesh.vertices_m.len() as u32;
-                let positions = reader
-                    .read_positions()
-                    .ok_or_else(|| mesh_err(path, "glTF: a primitive has no POSITION"))?;
+                if prim.get(&gltf::Semantic::Positions).is_none() {
+                    return Err(mesh_err(
+                        path,
+                        format!("glTF mesh {}: a primitive has no POSITION", gm.index()),
+                    ));
+                }
+                let positions = reader.read_positions().ok_or_else(|| {
+                    mesh_err(
+                        path,
+                        format!(
+                            "glTF mesh {}: the POSITION data lies outside its buffer (accessor or buffer view beyond the buffer's end)",
+                            gm.index()
+                        ),
+                    )
+                })?;
                 for p in positions {
                     let v =
                         world.transform_point3(DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64));

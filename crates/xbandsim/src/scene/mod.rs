@@ -45,6 +45,10 @@ pub const SHAPES: &[&str] = &[
 /// Largest number of spokes per revolution.
 pub const MAX_SPOKES: usize = 8192;
 
+/// Largest polar output, spokes × range bins (256 MB of float32; the clutter map and the
+/// images take a few times that again).
+pub const MAX_POLAR_CELLS: usize = 64_000_000;
+
 /// The radar, in SI units.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Radar {
@@ -278,6 +282,18 @@ pub struct SceneObject {
 }
 
 impl SceneObject {
+    /// Height of the object's highest point, m (its position for a point object).
+    pub fn top_m(&self) -> f64 {
+        let prims = self.shape.primitives(self.position_m, self.rotation, 0);
+        if prims.is_empty() {
+            return self.position_m.z;
+        }
+        prims
+            .iter()
+            .map(|p| p.bounds().max.z)
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
+
     /// Centre of the object's bounding sphere, ENU m.
     pub fn bounding_centre_m(&self) -> DVec3 {
         self.position_m + self.rotation * self.shape.bounding_centre_local_m()
@@ -350,6 +366,14 @@ impl Scene {
                     format!("object[{i}].name"),
                     format!("\"{}\"", obj.name),
                     "another object already has this name",
+                ));
+            }
+            let top_m = obj.top_m();
+            if top_m < 0.0 {
+                return Err(Error::invalid(
+                    format!("object \"{}\".position_m", obj.name),
+                    fmt_vec(obj.position_m),
+                    format!("the object lies entirely below the sea surface (its highest point is at z = {top_m:.2} m; the sea is the plane z = 0): a radar cannot see it; raise it"),
                 ));
             }
             let clearance = obj.shape.bounding_radius_m().max(0.5);
@@ -441,6 +465,13 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
     // drs4d-nxt: Furuno DRS4D-NXT-like figures from the seed paper (f0, B, beamwidths, Pt,
     // fs); PRF, noise figure, mast height, range and rotation are typical values, assumed.
     let position_m = finite_vec("radar.position_m", s.position_m.unwrap_or([0.0, 0.0, 4.0]))?;
+    if position_m.z <= 0.0 {
+        return Err(Error::invalid(
+            "radar.position_m",
+            fmt_vec(position_m),
+            "the antenna must be above the sea surface (z > 0; the sea is the plane z = 0)",
+        ));
+    }
     let frequency_ghz = positive("radar.frequency_ghz", s.frequency_ghz.unwrap_or(9.41))?;
     let bandwidth_mhz = positive("radar.bandwidth_mhz", s.bandwidth_mhz.unwrap_or(50.0))?;
     let pulse_width_us = positive("radar.pulse_width_us", s.pulse_width_us.unwrap_or(1.0))?;
@@ -494,8 +525,23 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
     }
     let az_bw = az_bw_deg.to_radians();
     let el_bw = el_bw_deg.to_radians();
+    // A lossless aperture with these beamwidths cannot exceed 4π/(θaz·θel) (Balanis,
+    // Antenna Theory, §2.6, with Kraus's approximation; the uniform aperture reaches 0.78 of it).
+    let max_gain_dbi = 10.0 * (4.0 * std::f64::consts::PI / (az_bw * el_bw)).log10();
     let peak_gain_linear = match s.gain_dbi {
-        Some(g) => db_to_linear(finite("radar.gain_dbi", g)?),
+        Some(g) => {
+            let g = finite("radar.gain_dbi", g)?;
+            if !(0.0..=max_gain_dbi + 1.0).contains(&g) {
+                return Err(Error::invalid(
+                    "radar.gain_dbi",
+                    g,
+                    format!(
+                        "implausible for beamwidths {az_bw_deg}° × {el_bw_deg}°: an antenna with them has at most 4π/(θaz·θel) = {max_gain_dbi:.1} dBi (and a radar antenna has gain above 0 dBi); change the gain or the beamwidths"
+                    ),
+                ));
+            }
+            db_to_linear(g)
+        }
         None => uniform_aperture_gain(az_bw, el_bw),
     };
     let prf_hz = positive("radar.prf_hz", s.prf_hz.unwrap_or(1200.0))?;
@@ -580,11 +626,40 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
         ));
     }
     let range_bin_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * sample_rate_hz);
-    if max_range_m / range_bin_m > 4.0e6 {
+    // Echoes from beyond c/(2·PRF) arrive after the next pulse has gone out (second-trace
+    // echoes): the simulator records one pulse repetition interval, so it does not model
+    // them and the recorded range must stay inside it.
+    let unambiguous_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * prf_hz);
+    if max_range_m + SPEED_OF_LIGHT_M_PER_S * pulse_width_s / 2.0 > unambiguous_m {
+        return Err(Error::invalid(
+            "radar.max_range_m",
+            max_range_m,
+            format!(
+                "beyond the unambiguous range: max_range_m plus the pulse's c·T/2 must stay within c/(2·prf_hz) = {:.1} km at prf_hz = {prf_hz} (echoes from farther arrive after the next pulse, which is not modelled); lower max_range_m or prf_hz",
+                unambiguous_m / 1000.0
+            ),
+        ));
+    }
+    let bins = max_range_m / range_bin_m;
+    if bins > 4.0e6 {
         return Err(Error::invalid(
             "radar.max_range_m",
             max_range_m,
             "over 4 million range bins; lower max_range_m or sample_rate_mhz",
+        ));
+    }
+    let cells = bins * spokes as f64;
+    if cells > MAX_POLAR_CELLS as f64 {
+        return Err(Error::invalid(
+            "radar.max_range_m",
+            max_range_m,
+            format!(
+                "the output would have {spokes} spokes × {:.0} range bins = {:.0} M cells ({:.1} GB of polar data alone); the limit is {} M cells: lower max_range_m, spokes or sample_rate_mhz",
+                bins.ceil(),
+                cells / 1e6,
+                cells * 4.0 / 1e9,
+                MAX_POLAR_CELLS / 1_000_000
+            ),
         ));
     }
     if frequency_ghz * 1e9 <= bandwidth_hz {

@@ -213,6 +213,41 @@ fn bad_mesh_input_is_reported() {
     assert!(e.contains("mesh_scale"), "{e}");
     let e = err("[[object]]\nname = \"m\"\nshape = \"mesh\"\nposition_m = [0.0, 100.0, 0.0]\n");
     assert!(e.contains("mesh_file") && e.contains("missing"), "{e}");
+    // A binary STL cut short: the header's triangle count says how long it must be.
+    let mut bytes = Vec::new();
+    write_stl_binary(&dir.path().join("full.stl"), &trihedral_triangles(0.7));
+    bytes.extend(std::fs::read(dir.path().join("full.stl")).unwrap());
+    std::fs::write(dir.path().join("cut.stl"), &bytes[..bytes.len() - 30]).unwrap();
+    let e = err(&mesh_object("cut.stl", ""));
+    assert!(e.contains("truncated") && e.contains("3 triangles"), "{e}");
+    std::fs::write(dir.path().join("tiny.stl"), [7u8; 40]).unwrap();
+    let e = err(&mesh_object("tiny.stl", ""));
+    assert!(e.contains("not an STL file"), "{e}");
+    // Garbage named .glb, and a glTF whose buffer is shorter than it declares.
+    std::fs::write(dir.path().join("junk.glb"), [0x5au8; 64]).unwrap();
+    let e = err(&mesh_object("junk.glb", ""));
+    assert!(e.contains("not a binary glTF"), "{e}");
+    write_gltf(&dir.path().join("ok.gltf"), &plate_triangles(2.0, 1.0));
+    let text = std::fs::read_to_string(dir.path().join("ok.gltf")).unwrap();
+    let short = text.replacen("\"byteLength\":72,\"uri\"", "\"byteLength\":720,\"uri\"", 1);
+    assert_ne!(text, short, "test glTF layout changed");
+    std::fs::write(dir.path().join("short.gltf"), short).unwrap();
+    let e = err(&mesh_object("short.gltf", ""));
+    assert!(
+        e.contains("holds 72 bytes but the file declares 720"),
+        "{e}"
+    );
+    // A directory where a mesh file should be, and a mesh with no area.
+    std::fs::create_dir(dir.path().join("folder.obj")).unwrap();
+    let e = err(&mesh_object("folder.obj", ""));
+    assert!(e.contains("is a directory"), "{e}");
+    std::fs::write(
+        dir.path().join("flat.obj"),
+        "v 0 0 0\nv 1 1 1\nv 3 3 3\nf 1 2 3\n",
+    )
+    .unwrap();
+    let e = err(&mesh_object("flat.obj", ""));
+    assert!(e.contains("zero surface area"), "{e}");
 }
 
 /// The shipped vessel mesh is what `vessel()` generates (so it can be regenerated).

@@ -138,3 +138,46 @@ fn missing_file_names_the_path() {
         .to_string();
     assert!(msg.contains("/nonexistent/scene.toml"), "{msg}");
 }
+
+/// A radar at or below the sea surface, objects wholly under it, ranges beyond the
+/// unambiguous range, outputs far too large and antenna gains no aperture with the given
+/// beamwidths can have are refused with the field named.
+#[test]
+fn physically_impossible_setups_are_refused() {
+    assert_mentions(
+        &format!("[radar]\nposition_m = [0.0, 0.0, -2.0]\n{OK_OBJECT}"),
+        &["radar.position_m", "-2", "above the sea"],
+    );
+    assert_mentions(
+        "[[object]]\nname = \"sub\"\nshape = \"box\"\nsize_m = [4.0, 4.0, 1.0]\nposition_m = [0.0, 300.0, -1.5]\n",
+        &["object \"sub\".position_m", "below the sea"],
+    );
+    assert_mentions(
+        "[[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 1.0\nposition_m = [0.0, 300.0, -0.1]\n",
+        &["object \"p\".position_m", "below the sea"],
+    );
+    // c/(2·PRF) = 75 km at 2 kHz.
+    assert_mentions(
+        &format!("[radar]\nprf_hz = 2000.0\nmax_range_m = 80000.0\nspokes = 16\n{OK_OBJECT}"),
+        &["radar.max_range_m", "80000", "unambiguous", "74.9 km"],
+    );
+    assert_mentions(
+        &format!("[radar]\nprf_hz = 20.0\nmax_range_m = 7000000.0\nspokes = 4\n{OK_OBJECT}"),
+        &["radar.max_range_m", "4 million range bins"],
+    );
+    assert_mentions(
+        &format!("[radar]\nprf_hz = 200.0\nmax_range_m = 400000.0\nspokes = 720\n{OK_OBJECT}"),
+        &["radar.max_range_m", "M cells", "limit"],
+    );
+    assert_mentions(
+        &format!("[radar]\ngain_dbi = 55.0\n{OK_OBJECT}"),
+        &["radar.gain_dbi", "55", "implausible", "3.9° × 25°"],
+    );
+    assert_mentions(
+        &format!("[radar]\ngain_dbi = -3.0\n{OK_OBJECT}"),
+        &["radar.gain_dbi", "-3"],
+    );
+    // A plausible gain is kept.
+    let s = Scene::from_toml_str(&format!("[radar]\ngain_dbi = 27.0\n{OK_OBJECT}"), "t").unwrap();
+    assert!((10.0 * s.radar.antenna.peak_gain_linear.log10() - 27.0).abs() < 1e-9);
+}
