@@ -12,13 +12,16 @@ use xbandsim::scattering::{build_scene_bvh, direction_from_az_el, paper};
 use xbandsim::scene::{Scene, SceneSpec};
 use xbandsim::sim::Simulation;
 
+/// The paper's scene, built into the binary so that `xbandsim bench` runs from any folder.
+const PAPER_SCENE: &str = include_str!("../../../scenes/paper.toml");
+
 /// Arguments of `xbandsim bench`.
 #[derive(Args, Debug)]
 pub struct BenchArgs {
-    /// Scene to measure.
-    #[arg(long, default_value = "scenes/paper.toml")]
-    pub scene: PathBuf,
-    /// Timed repetitions of each measurement (the median is printed).
+    /// Scene to measure (default: the paper's 5-target scene, scenes/paper.toml, built in).
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// Timed repetitions of each measurement (the median is printed); at least 1.
     #[arg(long, default_value_t = 5)]
     pub repeats: usize,
     /// Print the results as JSON.
@@ -77,13 +80,31 @@ struct Row {
 
 /// Runs `xbandsim bench`.
 pub fn run(a: &BenchArgs) -> Result<()> {
-    let spec: SceneSpec = crate::render::read_spec(&a.scene)?;
-    let scene = Scene::from_spec_in(&spec, crate::render::scene_dir(&a.scene))
-        .with_context(|| format!("in scene {}", a.scene.display()))?;
+    if a.repeats == 0 {
+        anyhow::bail!("invalid --repeats 0: at least one timed run is needed");
+    }
+    let (spec, scene_label, base_dir): (SceneSpec, String, PathBuf) = match &a.scene {
+        Some(path) => (
+            crate::render::read_spec(path)?,
+            path.display().to_string(),
+            crate::render::scene_dir(path).to_path_buf(),
+        ),
+        None => (
+            toml::from_str(PAPER_SCENE).context("the built-in paper scene")?,
+            "paper (built in)".to_string(),
+            PathBuf::from("."),
+        ),
+    };
+    let base = base_dir.as_path();
+    let scene =
+        Scene::from_spec_in(&spec, base).with_context(|| format!("in scene {scene_label}"))?;
+    let progress = crate::progress::spinner("bench: measurements");
     let mut rows: Vec<Row> = Vec::new();
     let mut put = |name: &str, value: f64, unit: &str| {
+        progress.inc(1);
+        progress.set_message(name.to_string());
         if !a.json {
-            crate::say!("{name:<62} {value:>12.3} {unit}");
+            progress.suspend(|| crate::say!("{name:<62} {value:>12.3} {unit}"));
         }
         rows.push(Row {
             name: name.into(),
@@ -94,8 +115,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     let threads = rayon::current_num_threads();
     if !a.json {
         crate::say!(
-            "xbandsim bench: scene {}, {threads} threads, median of {} runs",
-            a.scene.display(),
+            "xbandsim bench: scene {scene_label}, {threads} threads, median of {} runs",
             a.repeats
         );
     }
@@ -156,7 +176,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     );
     let mut big = spec.clone();
     big.radar.max_range_m = Some(3100.0);
-    let big_scene = Scene::from_spec_in(&big, crate::render::scene_dir(&a.scene))?;
+    let big_scene = Scene::from_spec_in(&big, base)?;
     let bins = big_scene.radar.num_range_bins();
     let sim_big = Simulation::new(big_scene);
     let t = median_s(a.repeats, || {
@@ -174,10 +194,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     sea.radar.max_range_m = Some(2048.0 * 1.499);
     sea.environment.clutter = Some(false);
     sea.environment.rain = Some(false);
-    let plain = Simulation::new(Scene::from_spec_in(
-        &sea,
-        crate::render::scene_dir(&a.scene),
-    )?);
+    let plain = Simulation::new(Scene::from_spec_in(&sea, base)?);
     sea.environment.clutter = Some(true);
     sea.environment.rain = Some(true);
     sea.environment.sea_state = Some(4.0);
@@ -186,10 +203,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         radius_m: Some(600.0),
         rate_mm_per_h: Some(16.0),
     }];
-    let cluttered = Simulation::new(Scene::from_spec_in(
-        &sea,
-        crate::render::scene_dir(&a.scene),
-    )?);
+    let cluttered = Simulation::new(Scene::from_spec_in(&sea, base)?);
     let groups_plain = plain.echo_groups(&plain.trace());
     let groups_sea = cluttered.echo_groups(&cluttered.trace());
     let t_plain = median_s(a.repeats, || {
@@ -219,7 +233,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         p.scattering.model = Some("paper".into());
         p.radar.pulse_width_us = Some(pw);
         p.display.image_size_px = Some(512);
-        let ps = Scene::from_spec_in(&p, crate::render::scene_dir(&a.scene))?;
+        let ps = Scene::from_spec_in(&p, base)?;
         let psim = Simulation::new(ps);
         let conv = psim.scan_converter();
         let mut ppi = vec![0f32; 512 * 512];
@@ -267,6 +281,8 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     if let Some(mb) = peak_rss_mb() {
         put("peak resident memory (whole bench process)", mb, "MB");
     }
+    drop(put);
+    progress.finish_and_clear();
     if a.json {
         crate::say!("{}", serde_json::to_string_pretty(&rows)?);
     }

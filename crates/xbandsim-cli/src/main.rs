@@ -17,6 +17,7 @@ macro_rules! say {
 
 mod bench;
 mod figures;
+mod progress;
 mod rcs;
 mod render;
 mod validate;
@@ -42,12 +43,17 @@ enum Command {
     Render(render::RenderArgs),
     /// Print the JSON Schema of the scene file format.
     Schema,
-    /// Reproduce the seed paper's Figs. 2, 3 and 4 as PNGs.
+    /// Draw the figures as PNGs: fig2_antenna_pattern.png (the paper's Fig. 2, antenna
+    /// pattern), fig3_signal_chain.png (Fig. 3, chirp, echoes, received and compressed
+    /// signals), fig4_ppi_pulse_widths.png (Fig. 4, PPIs for 1, 20 and 50 us),
+    /// fig5_sea_clutter_rain.png (PPIs without and with sea clutter and rain) and
+    /// object_frames.png (each shape's object frame and aspect convention).
     Figures {
-        /// Output directory.
+        /// Output directory (created if missing).
         #[arg(long)]
         out: PathBuf,
-        /// Scene used for Fig. 4.
+        /// Scene of Figs. 2-4; Fig. 5 uses sea-state-4-rain.toml and harbour-calm.toml from
+        /// the same folder.
         #[arg(long, default_value = "scenes/paper.toml")]
         scene: PathBuf,
         /// Random seed for the noise.
@@ -64,7 +70,7 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
         /// Overall length, m.
-        #[arg(long, default_value_t = 30.0)]
+        #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
         length_m: f64,
         /// Resolution: segments along the hull (128 gives about 10 800 triangles).
         #[arg(long, default_value_t = 128)]

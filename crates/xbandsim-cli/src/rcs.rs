@@ -27,12 +27,12 @@ pub struct RcsArgs {
     #[arg(long)]
     pub pol: Option<String>,
     /// Frequency, GHz (default: the scene's radar frequency).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub freq_ghz: Option<f64>,
     /// Ray-tube side in wavelengths (default 0.25).
-    #[arg(long, default_value_t = 0.25)]
+    #[arg(long, default_value_t = 0.25, allow_negative_numbers = true)]
     pub spacing_wavelengths: f64,
-    /// Cap on ray tubes per aspect.
+    /// Cap on ray tubes per aspect; the tube side grows when the object would need more.
     #[arg(long, default_value_t = 262_144)]
     pub max_rays: usize,
     /// Print JSON instead of a table.
@@ -106,6 +106,9 @@ pub fn run(a: &RcsArgs) -> Result<()> {
         Some(p) => Polarisation::parse("--pol", p)?,
         None => scene.radar.polarisation,
     };
+    if a.max_rays == 0 {
+        bail!("invalid --max-rays 0: at least one ray tube is needed per aspect");
+    }
     if !(a.spacing_wavelengths.is_finite() && a.spacing_wavelengths > 0.0) {
         bail!(
             "invalid --spacing-wavelengths {}: must be a positive number",
@@ -116,14 +119,20 @@ pub fn run(a: &RcsArgs) -> Result<()> {
         freq_hz,
         polarisation,
         ray_spacing_wavelengths: a.spacing_wavelengths,
-        max_rays: a.max_rays.max(1),
+        max_rays: a.max_rays,
         max_bounces: scene.scattering.max_bounces,
     };
     let target = RcsTarget::new(object);
     let el = a.el_deg.to_radians();
     let aspects: Vec<(f64, f64)> = azimuths.iter().map(|az| (az.to_radians(), el)).collect();
     let t0 = std::time::Instant::now();
-    let rcs = target.sweep_m2(&aspects, &settings);
+    let progress = if aspects.len() >= 16 {
+        crate::progress::bar(aspects.len() as u64, "rcs: aspects")
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let rcs = target.sweep_m2_progress(&aspects, &settings, &|| progress.inc(1));
+    progress.finish_and_clear();
     let rows: Vec<Row> = azimuths
         .iter()
         .zip(&rcs)
@@ -140,7 +149,7 @@ pub fn run(a: &RcsArgs) -> Result<()> {
             path,
             &rows,
             &format!(
-                "{} ({}), {:.2} GHz {:?}, el {} deg",
+                "{} ({}), {:.2} GHz {}, el {} deg",
                 object.name,
                 object.shape_name,
                 freq_hz / 1e9,
@@ -154,7 +163,7 @@ pub fn run(a: &RcsArgs) -> Result<()> {
         crate::say!("{}", serde_json::to_string_pretty(&rows)?);
     } else {
         crate::say!(
-            "# RCS of {:?} ({}) at {:.3} GHz {:?}, el {} deg, {} aspects in {:.2} s",
+            "# RCS of {:?} ({}) at {:.3} GHz {}, el {} deg, {} aspects in {:.2} s",
             object.name,
             object.shape_name,
             freq_hz / 1e9,

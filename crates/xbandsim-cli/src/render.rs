@@ -6,7 +6,7 @@ use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use xbandsim::labels::ObjectTruth;
-use xbandsim::output::{write_json, write_npy_f32, write_png};
+use xbandsim::output::{json_bytes, npy_f32_bytes, png_bytes, write_set};
 use xbandsim::ppi::{colour_image, gray_image};
 use xbandsim::scene::{Scene, SceneSpec};
 use xbandsim::sim::{Frame, FrameStats, Simulation};
@@ -23,13 +23,13 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Override radar.pulse_width_us.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub pulse_width_us: Option<f64>,
     /// Override radar.spokes.
-    #[arg(long)]
-    pub spokes: Option<usize>,
+    #[arg(long, allow_negative_numbers = true)]
+    pub spokes: Option<i64>,
     /// Override radar.max_range_m.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub max_range_m: Option<f64>,
     /// Override scattering.model ("po" or "paper").
     #[arg(long)]
@@ -38,8 +38,8 @@ pub struct RenderArgs {
     #[arg(long)]
     pub window: Option<String>,
     /// Override display.image_size_px.
-    #[arg(long)]
-    pub image_size_px: Option<u32>,
+    #[arg(long, allow_negative_numbers = true)]
+    pub image_size_px: Option<i64>,
     /// Turn receiver noise off.
     #[arg(long)]
     pub no_noise: bool,
@@ -65,13 +65,20 @@ pub fn read_spec(path: &Path) -> Result<SceneSpec> {
     })
 }
 
+/// A whole-number option that must not be negative, as the scene field's type.
+fn count<T: TryFrom<i64>>(flag: &str, field: &str, v: i64) -> Result<T> {
+    T::try_from(v).map_err(|_| {
+        anyhow::anyhow!("invalid {flag} {v} (overrides {field}): must be a whole number of 0 or more and not too large")
+    })
+}
+
 /// Applies the command-line overrides to a scene description.
-pub fn apply_overrides(spec: &mut SceneSpec, a: &RenderArgs) {
+pub fn apply_overrides(spec: &mut SceneSpec, a: &RenderArgs) -> Result<()> {
     if let Some(v) = a.pulse_width_us {
         spec.radar.pulse_width_us = Some(v);
     }
     if let Some(v) = a.spokes {
-        spec.radar.spokes = Some(v);
+        spec.radar.spokes = Some(count("--spokes", "radar.spokes", v)?);
     }
     if let Some(v) = a.max_range_m {
         spec.radar.max_range_m = Some(v);
@@ -83,11 +90,12 @@ pub fn apply_overrides(spec: &mut SceneSpec, a: &RenderArgs) {
         spec.radar.window = Some(v.clone());
     }
     if let Some(v) = a.image_size_px {
-        spec.display.image_size_px = Some(v);
+        spec.display.image_size_px = Some(count("--image-size-px", "display.image_size_px", v)?);
     }
     if a.no_noise {
         spec.environment.noise = Some(false);
     }
+    Ok(())
 }
 
 #[derive(Serialize)]
@@ -123,7 +131,8 @@ impl TraceCounts {
     }
 }
 
-/// Writes the four outputs of a frame into `out`.
+/// Writes the four outputs of a frame into `out` as a set (all encoded first, then written
+/// together: a failure leaves the previous set in place and no temporary files).
 pub fn write_frame(
     sim: &Simulation,
     frame: &Frame,
@@ -131,20 +140,14 @@ pub fn write_frame(
     scene_name: &str,
     seed: u64,
 ) -> Result<()> {
-    std::fs::create_dir_all(out)
-        .with_context(|| format!("creating output directory {}", out.display()))?;
     let scene = sim.scene();
     let conv = sim.scan_converter();
     let size = conv.size_px();
     let mut ppi = vec![0f32; (size * size) as usize];
     conv.convert(&frame.polar_db, f32::NAN, &mut ppi);
     let d = &scene.display;
-    write_npy_f32(
-        &out.join("polar.npy"),
-        &[frame.spokes, frame.range_bins],
-        &frame.polar_db,
-    )?;
-    write_png(
+    let polar = npy_f32_bytes(&[frame.spokes, frame.range_bins], &frame.polar_db);
+    let colour = png_bytes(
         &out.join("ppi.png"),
         size,
         size,
@@ -158,7 +161,7 @@ pub fn write_frame(
             d.range_ring_spacing_m,
         ),
     )?;
-    write_png(
+    let gray = png_bytes(
         &out.join("ppi_gray.png"),
         size,
         size,
@@ -177,7 +180,17 @@ pub fn write_frame(
         objects: &frame.truth,
         trace: TraceCounts::of(&frame.stats),
     };
-    write_json(&out.join("truth.json"), &truth)?;
+    let truth = json_bytes(&out.join("truth.json"), &truth)?;
+    write_set(
+        out,
+        &[
+            ("polar.npy", polar),
+            ("ppi.png", colour),
+            ("ppi_gray.png", gray),
+            ("truth.json", truth),
+        ],
+    )
+    .with_context(|| format!("writing the outputs into {}", out.display()))?;
     Ok(())
 }
 
@@ -198,11 +211,20 @@ pub fn warn_ray_caps(truth: &[ObjectTruth]) {
 pub fn run(a: &RenderArgs) -> Result<()> {
     let t0 = Instant::now();
     let mut spec = read_spec(&a.scene)?;
-    apply_overrides(&mut spec, a);
+    apply_overrides(&mut spec, a)?;
     let scene = Scene::from_spec_in(&spec, crate::render::scene_dir(&a.scene))
         .with_context(|| format!("in scene {}", a.scene.display()))?;
     let sim = Simulation::new(scene);
-    let frame = sim.render(a.seed);
+    let radar = &sim.scene().radar;
+    // A bar for renders of more than a few million cells (a second or more).
+    let big = radar.spokes * radar.num_range_bins() > 2_000_000;
+    let progress = if big {
+        crate::progress::bar(radar.spokes as u64, "render: spokes")
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let frame = sim.render_frame_progress(a.seed, 0, &|| progress.inc(1));
+    progress.finish_and_clear();
     warn_ray_caps(&frame.truth);
     write_frame(&sim, &frame, &a.out, &a.scene.display().to_string(), a.seed)?;
     let s = &frame.stats;

@@ -1,12 +1,17 @@
 //! `xbandsim validate`: the physics checks of `xbandsim::validation`, printed as a table.
 
 use anyhow::{bail, Result};
-use xbandsim::validation::{run_all, CheckResult};
+use xbandsim::validation::{run_all_with, CheckResult};
 
 /// Runs every check; prints a table (or JSON) and fails if any check fails.
 pub fn run(json: bool) -> Result<()> {
     let t0 = std::time::Instant::now();
-    let results: Vec<CheckResult> = run_all();
+    let progress = crate::progress::spinner("validate: checks");
+    let results: Vec<CheckResult> = run_all_with(&mut |c| {
+        progress.inc(1);
+        progress.set_message(c.name.clone());
+    });
+    progress.finish_and_clear();
     if json {
         crate::say!("{}", serde_json::to_string_pretty(&results)?);
     } else {

@@ -23,12 +23,12 @@ pub enum Error {
     #[error("missing `{field}`: {reason}")]
     MissingField { field: String, reason: String },
 
-    /// Reading or writing a file failed.
-    #[error("{path}: {source}")]
+    /// Reading or writing a file failed. The OS error is part of the message (and not
+    /// chained as a source as well, so it is printed once).
+    #[error("{path}: {error}")]
     Io {
         path: PathBuf,
-        #[source]
-        source: std::io::Error,
+        error: std::io::Error,
     },
 
     /// A mesh file could not be read or is not a usable triangle mesh.
@@ -69,7 +69,7 @@ impl Error {
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         Error::Io {
             path: path.into(),
-            source,
+            error: source,
         }
     }
 }

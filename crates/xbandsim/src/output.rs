@@ -1,6 +1,7 @@
 //! Output files: NumPy `.npy`, PNG and JSON, each written to a temporary file in the target
 //! directory and renamed into place, so a reader never sees a half-written file and an
-//! existing file is replaced only by a complete one.
+//! existing file is replaced only by a complete one. A frame's files are written as a set
+//! ([`write_set`]): all of them or none replace the previous set.
 //!
 //! `.npy` format version 1.0 (NumPy Enhancement Proposal 1, "A simple file format for NumPy
 //! arrays").
@@ -30,6 +31,77 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         let _ = std::fs::remove_file(&tmp);
         return Err(Error::io(path, e));
     }
+    Ok(())
+}
+
+/// Writes several files into `dir` as a set: every file is first written in full to a
+/// staging folder inside `dir`, then the previous files are moved aside and the new ones
+/// renamed into place; if anything fails, the previous files are put back and the staging
+/// folder is removed, so `dir` holds either the whole old set or the whole new one and no
+/// temporary files. (Renames within one folder are atomic on POSIX file systems; the set as
+/// a whole is replaced in a few renames with a rollback.)
+pub fn write_set(dir: &Path, files: &[(&str, Vec<u8>)]) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    // Only plain files are ever replaced: anything else in the way stops the set unwritten.
+    for (name, _) in files {
+        let target = dir.join(name);
+        if let Ok(meta) = std::fs::symlink_metadata(&target) {
+            if !meta.is_file() {
+                return Err(Error::io(
+                    &target,
+                    std::io::Error::other(
+                        "is in the way and is not a plain file (a directory or link); nothing was written",
+                    ),
+                ));
+            }
+        }
+    }
+    let staging = dir.join(format!(".xbandsim-staging-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&staging);
+    std::fs::create_dir(&staging).map_err(|e| Error::io(&staging, e))?;
+    let cleanup = |e: Error| {
+        let _ = std::fs::remove_dir_all(&staging);
+        e
+    };
+    for (name, bytes) in files {
+        let path = staging.join(name);
+        let written = std::fs::File::create(&path).and_then(|mut f| {
+            f.write_all(bytes)?;
+            f.sync_all()
+        });
+        if let Err(e) = written {
+            return Err(cleanup(Error::io(dir.join(name), e)));
+        }
+    }
+    // Move the old files aside, then the new ones in; undo on the first failure.
+    let mut moved_aside: Vec<&str> = Vec::new();
+    let mut placed: Vec<&str> = Vec::new();
+    let mut failure: Option<Error> = None;
+    for (name, _) in files {
+        let target = dir.join(name);
+        if target.exists() {
+            if let Err(e) = std::fs::rename(&target, staging.join(format!("{name}.previous"))) {
+                failure = Some(Error::io(&target, e));
+                break;
+            }
+            moved_aside.push(name);
+        }
+        if let Err(e) = std::fs::rename(staging.join(name), &target) {
+            failure = Some(Error::io(&target, e));
+            break;
+        }
+        placed.push(name);
+    }
+    if let Some(e) = failure {
+        for name in &placed {
+            let _ = std::fs::remove_file(dir.join(name));
+        }
+        for name in &moved_aside {
+            let _ = std::fs::rename(staging.join(format!("{name}.previous")), dir.join(name));
+        }
+        return Err(cleanup(e));
+    }
+    let _ = std::fs::remove_dir_all(&staging);
     Ok(())
 }
 
@@ -139,11 +211,17 @@ pub fn write_png(path: &Path, width: u32, height: u32, channels: u8, pixels: &[u
     write_atomic(path, &png_bytes(path, width, height, channels, pixels)?)
 }
 
-/// Writes pretty JSON atomically.
-pub fn write_json<T: serde::Serialize>(path: &Path, value: &T) -> Result<()> {
-    let text = serde_json::to_string_pretty(value).map_err(|e| Error::Encode {
+/// Pretty JSON bytes (with a final newline).
+pub fn json_bytes<T: serde::Serialize>(path: &Path, value: &T) -> Result<Vec<u8>> {
+    let mut text = serde_json::to_string_pretty(value).map_err(|e| Error::Encode {
         path: path.to_path_buf(),
         message: e.to_string(),
     })?;
-    write_atomic(path, text.as_bytes())
+    text.push('\n');
+    Ok(text.into_bytes())
+}
+
+/// Writes pretty JSON atomically.
+pub fn write_json<T: serde::Serialize>(path: &Path, value: &T) -> Result<()> {
+    write_atomic(path, &json_bytes(path, value)?)
 }

@@ -250,6 +250,19 @@ impl Simulation {
         seed: u64,
         frame: u64,
     ) -> Vec<f32> {
+        self.synthesize_progress(groups, clutter, seed, frame, &|| {})
+    }
+
+    /// As [`Simulation::synthesize_with`], calling `spoke_done` after every spoke (from the
+    /// worker threads) so that a caller can show progress.
+    pub fn synthesize_progress(
+        &self,
+        groups: &EchoGroups,
+        clutter: Option<&ClutterMap>,
+        seed: u64,
+        frame: u64,
+        spoke_done: &(dyn Fn() + Sync),
+    ) -> Vec<f32> {
         let radar = &self.scene.radar;
         let bins = self.compressor.num_bins();
         let mut polar = vec![0f32; radar.spokes * bins];
@@ -268,6 +281,7 @@ impl Simulation {
                 for (o, y) in row.iter_mut().zip(&scratch.buffer[..bins]) {
                     *o = (10.0 * y.norm_sqr().log10()).max(POLAR_FLOOR_DB);
                 }
+                spoke_done();
             },
         );
         polar
@@ -311,12 +325,23 @@ impl Simulation {
     /// Renders revolution number `frame` (the clutter texture has drifted for `frame` antenna
     /// periods; noise and speckle are new each frame).
     pub fn render_frame(&self, seed: u64, frame: u64) -> Frame {
+        self.render_frame_progress(seed, frame, &|| {})
+    }
+
+    /// As [`Simulation::render_frame`], calling `spoke_done` after every spoke.
+    pub fn render_frame_progress(
+        &self,
+        seed: u64,
+        frame: u64,
+        spoke_done: &(dyn Fn() + Sync),
+    ) -> Frame {
         let t0 = Instant::now();
         let set = self.trace();
         let trace_s = t0.elapsed().as_secs_f64();
         let t1 = Instant::now();
         let groups = self.echo_groups(&set);
-        let polar_db = self.synthesize(&groups, seed, frame);
+        let clutter = self.clutter_map(seed, frame);
+        let polar_db = self.synthesize_progress(&groups, clutter.as_ref(), seed, frame, spoke_done);
         let synthesis_s = t1.elapsed().as_secs_f64();
         let truth = self.truth(&set);
         let radar = &self.scene.radar;

@@ -811,9 +811,30 @@ pub fn horizon_echo(ground_range_m: f64) -> (bool, crate::labels::Visibility) {
     )
 }
 
+/// The checks as they are made, told to an observer (for progress).
+struct Checks<'a> {
+    done: Vec<CheckResult>,
+    on_check: &'a mut dyn FnMut(&CheckResult),
+}
+
+impl Checks<'_> {
+    fn push(&mut self, c: CheckResult) {
+        (self.on_check)(&c);
+        self.done.push(c);
+    }
+}
+
 /// Runs every check.
 pub fn run_all() -> Vec<CheckResult> {
-    let mut out = Vec::new();
+    run_all_with(&mut |_| {})
+}
+
+/// Runs every check, telling `on_check` about each as it completes.
+pub fn run_all_with(on_check: &mut dyn FnMut(&CheckResult)) -> Vec<CheckResult> {
+    let mut out = Checks {
+        done: Vec::new(),
+        on_check,
+    };
     let c = SPEED_OF_LIGHT_M_PER_S;
     let b = 50e6;
     let f0 = 9.41e9;
@@ -1347,5 +1368,5 @@ pub fn run_all() -> Vec<CheckResult> {
         Tolerance::Absolute(0.5),
         "convergence criterion (docs/validation.md)",
     ));
-    out
+    out.done
 }

@@ -79,9 +79,23 @@ impl RcsTarget {
 
     /// RCS at many aspects (in parallel, results in input order), m².
     pub fn sweep_m2(&self, aspects_rad: &[(f64, f64)], s: &RcsSettings) -> Vec<f64> {
+        self.sweep_m2_progress(aspects_rad, s, &|| {})
+    }
+
+    /// As [`RcsTarget::sweep_m2`], calling `aspect_done` after every aspect.
+    pub fn sweep_m2_progress(
+        &self,
+        aspects_rad: &[(f64, f64)],
+        s: &RcsSettings,
+        aspect_done: &(dyn Fn() + Sync),
+    ) -> Vec<f64> {
         aspects_rad
             .par_iter()
-            .map(|&(az, el)| self.rcs_m2(az, el, s))
+            .map(|&(az, el)| {
+                let v = self.rcs_m2(az, el, s);
+                aspect_done();
+                v
+            })
             .collect()
     }
 }

@@ -91,6 +91,16 @@ pub enum Polarisation {
     Vv,
 }
 
+impl std::fmt::Display for Polarisation {
+    /// "HH" or "VV".
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Polarisation::Hh => "HH",
+            Polarisation::Vv => "VV",
+        })
+    }
+}
+
 impl Polarisation {
     /// Parses "HH" or "VV" (any case); `field` names the source in the error.
     pub fn parse(field: &str, text: &str) -> Result<Polarisation> {
