@@ -281,7 +281,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     if let Some(mb) = peak_rss_mb() {
         put("peak resident memory (whole bench process)", mb, "MB");
     }
-    drop(put);
+
     progress.finish_and_clear();
     if a.json {
         crate::say!("{}", serde_json::to_string_pretty(&rows)?);
