@@ -1,7 +1,7 @@
 //! Stage: antenna. Normalised sinc² power patterns, peak gain from the beamwidths, and the
 //! two-way voltage weight applied to each scattering contribution.
 //!
-//! One-way normalised power pattern per plane (DESIGN.md §3, docs/physics.md §Antenna):
+//! One-way normalised power pattern per plane (docs/physics.md §3):
 //!
 //! `Gn(θ) = [sin(u)/u]²`, `u = 2.783·θ/θ3dB`, so that `Gn(±θ3dB/2) = ½` (−3 dB), the first null
 //! is at `θ = π·θ3dB/2.783 ≈ 1.129·θ3dB` and the first sidelobe is −13.26 dB.
@@ -79,7 +79,7 @@ impl Antenna {
 
     /// Two-way voltage weight (0..1) of a path leaving the radar toward (`az_tx`, `el_tx`) and
     /// returning from (`az_rx`, `el_rx`), with the beam pointing at `beam_az_rad`:
-    /// `sqrt(Gn_tx · Gn_rx)` in each plane (PHYSICS-NOTES §2).
+    /// `sqrt(Gn_tx · Gn_rx)` in each plane (docs/physics.md §3).
     #[inline]
     pub fn two_way_voltage_weight(
         &self,

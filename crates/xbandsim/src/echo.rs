@@ -1,7 +1,7 @@
 //! Stage: echo synthesis. Bins scattering contributions into band-limited impulse responses,
 //! grouped by object and by direction cell so that each beam only rescales and adds groups.
 //!
-//! The received baseband of one pulse is `r(t) = Σ_i g_i·a_i·s(t − τ_i)` (PHYSICS-NOTES §1),
+//! The received baseband of one pulse is `r(t) = Σ_i g_i·a_i·s(t − τ_i)` (docs/physics.md §5),
 //! with `a_i` the contribution's peak-gain voltage (carrier phase `exp(−j2πf0τ_i)` included)
 //! and `g_i` the two-way antenna voltage weight of the beam. Because `s` is band-limited,
 //! `r = h ⊛ s` where `h[n] = Σ_i g_i·a_i·k(n − τ_i·fs)` and `k` is a band-limited

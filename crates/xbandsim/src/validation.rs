@@ -1,4 +1,4 @@
-//! Physics checks of the whole pipeline against closed forms (DESIGN.md §5), run by
+//! Physics checks of the whole pipeline against closed forms (docs/validation.md), run by
 //! `xbandsim validate` and by the test suite. Each check builds a scene, runs the real
 //! pipeline (scattering → echoes → noise → matched filter → polar output, or the RCS tool)
 //! and compares one measured number with its closed form. docs/validation.md lists sources.
@@ -1159,7 +1159,7 @@ pub fn run_all_with(on_check: &mut dyn FnMut(&CheckResult)) -> Vec<CheckResult> 
         two_way,
         "dB",
         Tolerance::Absolute(0.1),
-        "voltage ∝ G0·Gn (DESIGN.md §3)",
+        "voltage ∝ G0·Gn (docs/physics.md §3)",
     ));
 
     // Canonical RCS at 9.41 GHz.

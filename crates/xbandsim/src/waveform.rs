@@ -1,7 +1,7 @@
 //! Stage: waveform. Baseband linear-FM chirp and the amplitude windows used on the
 //! matched-filter reference.
 //!
-//! Chirp (DESIGN.md §3; Richards, *Fundamentals of Radar Signal Processing*, 2nd ed., §4.6):
+//! Chirp (docs/physics.md §4; Richards, *Fundamentals of Radar Signal Processing*, 2nd ed., §4.6):
 //! `s(t) = exp(jπ(B/T)(t − T/2)²)`, `0 ≤ t < T`, sampled at `t_n = n/fs`, `n = 0..N_T`,
 //! `N_T = round(T·fs)`. Its instantaneous frequency sweeps −B/2 … +B/2; |s| = 1.
 //!
@@ -11,7 +11,7 @@
 //! `A = acosh(10^(−SLL/20))/π`, `σ² = n̄²/(A² + (n̄−½)²)`,
 //! `F_m = (−1)^{m+1} Π_{n=1}^{n̄−1}[1 − m²/(σ²(A²+(n−½)²))] / (2 Π_{n≠m}[1 − m²/n²])`,
 //! `w(x) = 1 + 2 Σ_{m=1}^{n̄−1} F_m cos(2πm·x)`, `x = (n − (N−1)/2)/N`.
-//! SNR loss of a window on the reference only: `(Σw)²/(N·Σw²)` (PHYSICS-NOTES §1).
+//! SNR loss of a window on the reference only: `(Σw)²/(N·Σw²)` (docs/physics.md §7).
 
 use num_complex::Complex64;
 use std::f64::consts::PI;

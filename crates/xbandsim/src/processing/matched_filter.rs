@@ -1,6 +1,6 @@
 //! Matched filter by FFT, with the echo synthesis that feeds it.
 //!
-//! Reference `h = w·s/‖w·s‖` (PHYSICS-NOTES §1): white noise of variance N keeps variance N at
+//! Reference `h = w·s/‖w·s‖` (docs/physics.md §7): white noise of variance N keeps variance N at
 //! the output and a point echo `a·s(t−τ)` peaks at `|a|·Σw/√Σw²` in bin `τ·fs`.
 //! Correlation `y[n] = Σ_m r[n+m]·h*[m]` is computed as `y = IFFT(R·H*)` (Richards,
 //! *Fundamentals of Radar Signal Processing*, 2nd ed., §4.3), on an FFT length that holds the

@@ -1,12 +1,12 @@
 //! Stage: scattering. Turns the scene into a list of complex scattering contributions
 //! `(amplitude, two-way path, transmit and receive directions, object)`, traced once per scene
-//! state and reused by every beam (DESIGN.md §3, "Key efficiency idea").
+//! state and reused by every beam (docs/physics.md §5).
 //!
 //! Two amplitude models (swappable, chosen by `[scattering] model`):
 //! - [`po`]: shooting-and-bouncing rays with physical-optics ray tubes (Ling, Chou & Lee,
 //!   IEEE TAP 37(2), 1989), each tube giving a complex root-RCS `S` (m) such that an isolated
 //!   object's RCS is `σ = |Σ S|²`, converted to volts with the radar equation
-//!   (PHYSICS-NOTES §2, docs/physics.md §Scattering).
+//!   (docs/physics.md §2).
 //! - [`paper`]: the seed paper's law `A = 1/(1 + ℓ²/1000)` on a uniform az × el grid of rays
 //!   (uncalibrated, kept to reproduce the paper's figures and for like-for-like benchmarks).
 
@@ -128,7 +128,7 @@ pub fn direction_from_az_el(az_rad: f64, el_rad: f64) -> DVec3 {
 }
 
 /// Radar-equation voltage factor `sqrt(Pt·G0²·λ²/((4π)³·L)) / (R_tx·R_rx)`, V per m of root-RCS
-/// (PHYSICS-NOTES §2): multiplying a path's `S` by it gives its peak-gain voltage.
+/// (docs/physics.md §2.4): multiplying a path's `S` by it gives its peak-gain voltage.
 #[inline]
 pub fn radar_equation_volts_per_root_m2(radar: &Radar, range_tx_m: f64, range_rx_m: f64) -> f64 {
     let lambda = radar.wavelength_m();

@@ -5,7 +5,7 @@
 //! phase centre toward a grid over the disk that covers the object's bounding sphere, seen
 //! from the radar. A tube whose first hit is on another object is shadowed and dropped (that
 //! object has tubes of its own). At every hit the tube's PO integral toward the radar gives
-//! (PHYSICS-NOTES §2; Ling, Chou & Lee 1989; Knott, Shaeffer & Tuley, *Radar Cross Section*,
+//! (docs/physics.md §2.2; Ling, Chou & Lee 1989; Knott, Shaeffer & Tuley, *Radar Cross Section*,
 //! 2nd ed., ch. 5):
 //!
 //! `S = (√(4π)/λ) · A⊥ · P · F · exp(−j2πℓ/λ)`

@@ -5,7 +5,7 @@ use xbandsim::antenna::{sinc2_pattern, uniform_aperture_gain, SINC_BEAMWIDTH_FAC
 use xbandsim::constants::linear_to_db;
 
 /// −3 dB at ±θ3dB/2, first null at π·θ3dB/2.783, first sidelobe −13.26 dB (sinc², e.g.
-/// Balanis, *Antenna Theory*, 4th ed., §12.5; DESIGN.md §3).
+/// Balanis, *Antenna Theory*, 4th ed., §12.5; docs/physics.md §3).
 #[test]
 fn sinc2_pattern_landmarks() {
     for bw_deg in [3.9, 25.0, 1.2] {

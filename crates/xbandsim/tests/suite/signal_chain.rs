@@ -1,4 +1,4 @@
-//! The signal chain against closed forms (DESIGN.md §5, docs/validation.md): delay, resolution,
+//! The signal chain against closed forms (docs/validation.md): delay, resolution,
 //! sidelobes, noise floor, radar-equation SNR, eclipsing, FFT vs direct matched filter.
 
 use super::common::*;
@@ -92,7 +92,7 @@ fn noise_floor_is_kt0f_fs() {
 }
 
 /// Single-pulse SNR of a point target equals the radar equation minus the window loss
-/// (±0.5 dB), for each window and two pulse widths (Skolnik 2001, eq. 2.51; PHYSICS-NOTES §1).
+/// (±0.5 dB), for each window and two pulse widths (Skolnik 2001, eq. 2.51; docs/physics.md §7).
 #[test]
 fn point_target_snr_matches_radar_equation() {
     for (window, pulse_us) in [
