@@ -286,3 +286,37 @@ fn command_line_values_get_real_messages() {
     let e = run(&["render", "no-such-scene.toml", "--out", "/tmp/xb-none"]);
     assert_eq!(e.matches("No such file").count(), 1, "{e}");
 }
+
+/// Every option of every command (as `--help` lists it) is documented in the README's
+/// command table.
+#[test]
+fn readme_lists_every_option() {
+    let readme =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../README.md"))
+            .unwrap();
+    for cmd in [
+        "render",
+        "figures",
+        "rcs",
+        "validate",
+        "make-vessel",
+        "schema",
+        "bench",
+    ] {
+        let help = xbandsim().args([cmd, "--help"]).output().unwrap();
+        let text = String::from_utf8_lossy(&help.stdout);
+        let row = readme
+            .lines()
+            .find(|l| l.starts_with(&format!("| `xbandsim {cmd}")))
+            .unwrap_or_else(|| panic!("README has no row for `xbandsim {cmd}`"));
+        for word in text.split_whitespace() {
+            let flag = word.trim_matches(|c: char| !(c.is_ascii_alphanumeric() || c == '-'));
+            if flag.starts_with("--") && flag.len() > 2 && flag != "--help" {
+                assert!(
+                    row.contains(flag),
+                    "README's `xbandsim {cmd}` row lacks {flag}"
+                );
+            }
+        }
+    }
+}

@@ -40,6 +40,7 @@ pub const SHAPES: &[&str] = &[
     "dihedral",
     "cylinder",
     "box",
+    "mesh",
 ];
 
 /// Largest number of spokes per revolution.
