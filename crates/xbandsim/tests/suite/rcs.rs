@@ -30,7 +30,8 @@ fn db_err(measured: f64, expected: f64) -> f64 {
 
 const FREQS_HZ: [f64; 2] = [9.41e9, 5.6e9];
 
-/// Sphere: σ = πr² for kr ≫ 1 (±1 dB at ka ≥ 20).
+/// Sphere: σ = πr² for kr ≫ 1 (±0.3 dB at ka ≥ 20: PO's own error there is a few
+/// hundredths of a dB, the faceting of the sphere per tube the rest).
 #[test]
 fn sphere_pi_r_squared() {
     for f in FREQS_HZ {
@@ -40,12 +41,14 @@ fn sphere_pi_r_squared() {
             let t = target(&format!("shape = \"sphere\"\nradius_m = {r}"));
             let s = t.rcs_m2(0.3, 0.2, &settings(f));
             let e = db_err(s, PI * r * r);
-            assert!(e.abs() < 1.0, "sphere ka={ka} f={f}: {e:.2} dB");
+            assert!(e.abs() < 0.3, "sphere ka={ka} f={f}: {e:.2} dB");
         }
     }
 }
 
-/// Flat plate: 4πA²/λ² at normal incidence (±0.5 dB), both polarisations.
+/// Flat plate: 4πA²/λ² at normal incidence, both polarisations, within the tube count's
+/// bound: the lit area is counted in λ/4 tubes, ±δ per edge, so σ ∝ A² is known to
+/// `1 + 2δ(1/W + 1/H)` (0.13–0.58 dB for these sizes).
 #[test]
 fn plate_normal_incidence() {
     for f in FREQS_HZ {
@@ -63,7 +66,13 @@ fn plate_normal_incidence() {
                 );
                 let a = w * h;
                 let e = db_err(s, 4.0 * PI * a * a / (lambda * lambda));
-                assert!(e.abs() < 0.5, "plate {w}x{h} f={f} {pol:?}: {e:.2} dB");
+                // Tubes of side δ counted by their centres: ±δ per edge, σ ∝ A².
+                let delta = 0.25 * lambda;
+                let tol = linear_to_db(1.0 + 2.0 * delta * (1.0 / w + 1.0 / h));
+                assert!(
+                    e.abs() < tol,
+                    "plate {w}x{h} f={f} {pol:?}: {e:.2} dB (±{tol:.2})"
+                );
             }
         }
     }
@@ -110,11 +119,11 @@ fn plate_sinc_lobes_versus_angle() {
             .map(|i| t.rcs_m2(a1 + (a2 - a1) * i as f64 / 60.0, 0.0, &s))
             .fold(0.0, f64::max);
         let sl = linear_to_db(peak / sigma0);
-        assert!((sl + 13.26).abs() < 1.0, "first sidelobe {sl:.2} dB");
+        assert!((sl + 13.26).abs() < 0.5, "first sidelobe {sl:.2} dB");
     }
 }
 
-/// Dihedral at its bisector: 8πa²b²/λ² (±1 dB), both polarisations.
+/// Dihedral at its bisector: 8πa²b²/λ² (±0.3 dB), both polarisations.
 #[test]
 fn dihedral_bisector() {
     for f in FREQS_HZ {
@@ -133,13 +142,13 @@ fn dihedral_bisector() {
                     },
                 );
                 let e = db_err(s, 8.0 * PI * a * a * b * b / (lambda * lambda));
-                assert!(e.abs() < 1.0, "dihedral {a}x{b} f={f} {pol:?}: {e:.2} dB");
+                assert!(e.abs() < 0.3, "dihedral {a}x{b} f={f} {pol:?}: {e:.2} dB");
             }
         }
     }
 }
 
-/// Triangular trihedral on its symmetry axis: 4πa⁴/(3λ²) (±1.5 dB); and its wide angular
+/// Triangular trihedral on its symmetry axis: 4πa⁴/(3λ²) (±0.25 dB); and its wide angular
 /// response: within 3 dB of the peak 15° off axis in azimuth and elevation.
 #[test]
 fn trihedral_axis_and_wide_response() {
@@ -150,7 +159,7 @@ fn trihedral_axis_and_wide_response() {
             let s = settings(f);
             let peak = t.rcs_m2(0.0, 0.0, &s);
             let e = db_err(peak, 4.0 * PI * a.powi(4) / (3.0 * lambda * lambda));
-            assert!(e.abs() < 1.5, "trihedral a={a} f={f}: {e:.2} dB");
+            assert!(e.abs() < 0.25, "trihedral a={a} f={f}: {e:.2} dB");
             for (az, el) in [(15.0f64, 0.0f64), (-15.0, 0.0), (0.0, 12.0), (0.0, -12.0)] {
                 let v = t.rcs_m2(az.to_radians(), el.to_radians(), &s);
                 let d = linear_to_db(v / peak);
@@ -163,7 +172,8 @@ fn trihedral_axis_and_wide_response() {
     }
 }
 
-/// Cylinder at broadside: 2πrh²/λ (±1 dB).
+/// Cylinder at broadside: 2πrh²/λ (±0.5 dB: the closed form is the kr ≫ 1 limit and the
+/// tubes count the height to ±δ at each end, σ ∝ h²).
 #[test]
 fn cylinder_broadside() {
     for f in FREQS_HZ {
@@ -174,7 +184,7 @@ fn cylinder_broadside() {
             ));
             let s = t.rcs_m2(0.7, 0.0, &settings(f));
             let e = db_err(s, 2.0 * PI * r * h * h / lambda);
-            assert!(e.abs() < 1.0, "cylinder r={r} h={h} f={f}: {e:.2} dB");
+            assert!(e.abs() < 0.5, "cylinder r={r} h={h} f={f}: {e:.2} dB");
         }
     }
 }
