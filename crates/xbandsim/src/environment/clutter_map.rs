@@ -52,12 +52,12 @@ const CLUTTER_STREAM: u64 = 1 << 40;
 pub struct ClutterMap {
     spokes: usize,
     samples: usize,
-    /// Texture-free mean sea power per patch, noise units, spokes × samples.
-    sea: Vec<f32>,
-    /// Rain power per patch (empty without rain).
-    rain: Vec<f32>,
-    /// Texture of each output cell (empty for Rayleigh clutter).
-    texture: Vec<f32>,
+    /// Texture-free mean sea power per patch, noise units, one row of samples per spoke.
+    sea: Vec<Vec<f32>>,
+    /// Rain power per patch (rows empty without rain).
+    rain: Vec<Vec<f32>>,
+    /// Texture of each output cell (rows empty for Rayleigh clutter).
+    texture: Vec<Vec<f32>>,
     /// Azimuth weights Gn²(jδ) for j = −J..=J, scaled to sum to the beam integral / δ.
     weights: Vec<f32>,
     distribution: ClutterDistribution,
@@ -324,13 +324,13 @@ impl ClutterMap {
         };
         let per_spoke: Vec<(Vec<f32>, Vec<f32>, Vec<f32>)> =
             (0..spokes).into_par_iter().map(spoke_rows).collect();
-        let mut sea = Vec::with_capacity(spokes * samples);
-        let mut rain = Vec::with_capacity(if has_rain { spokes * samples } else { 0 });
-        let mut texture = Vec::with_capacity(if textured { spokes * samples } else { 0 });
+        let mut sea = Vec::with_capacity(spokes);
+        let mut rain = Vec::with_capacity(spokes);
+        let mut texture = Vec::with_capacity(spokes);
         for (s_row, r_row, t_row) in per_spoke {
-            sea.extend_from_slice(&s_row);
-            rain.extend_from_slice(&r_row);
-            texture.extend_from_slice(&t_row);
+            sea.push(s_row);
+            rain.push(r_row);
+            texture.push(t_row);
         }
         Some(ClutterMap {
             spokes,
@@ -362,10 +362,10 @@ impl ClutterMap {
     fn weighted(&self, k: usize, n: usize) -> (f32, f32) {
         let (mut sea, mut rain) = (0f32, 0f32);
         for (t, w) in self.weights.iter().enumerate() {
-            let i = self.neighbour(k, t) * self.samples + n;
-            sea += w * self.sea[i];
-            if !self.rain.is_empty() {
-                rain += w * self.rain[i];
+            let j = self.neighbour(k, t);
+            sea += w * self.sea[j][n];
+            if let Some(r) = self.rain[j].get(n) {
+                rain += w * r;
             }
         }
         (sea, rain)
@@ -373,11 +373,7 @@ impl ClutterMap {
 
     /// The texture of output cell (spoke `k`, sample `n`); 1 for Rayleigh clutter.
     pub fn texture(&self, k: usize, n: usize) -> f32 {
-        if self.texture.is_empty() {
-            1.0
-        } else {
-            self.texture[k * self.samples + n]
-        }
+        self.texture[k].get(n).copied().unwrap_or(1.0)
     }
 
     /// Clutter power of spoke `k`, sample `n` with its texture (noise units).
@@ -403,22 +399,28 @@ impl ClutterMap {
     ) {
         let mut rng: Pcg64Mcg = stream_rng(seed, frame, CLUTTER_STREAM + k as u64);
         let n_max = self.samples.min(impulse_response.len());
-        let rows: Vec<usize> = (0..self.weights.len())
-            .map(|t| self.neighbour(k, t) * self.samples)
-            .collect();
-        let texture = (!self.texture.is_empty())
-            .then(|| &self.texture[k * self.samples..(k + 1) * self.samples]);
-        let has_rain = !self.rain.is_empty();
-        for n in 0..n_max {
-            let mut sea = 0f32;
-            let mut rain = 0f32;
-            for (w, &row) in self.weights.iter().zip(&rows) {
-                sea += w * self.sea[row + n];
-                if has_rain {
-                    rain += w * self.rain[row + n];
+        // Beam-weighted sea and rain power of this spoke, accumulated row by row (contiguous,
+        // vectorisable) into two per-spoke buffers.
+        let has_rain = !self.rain[k].is_empty();
+        let mut sea = vec![0f32; n_max];
+        let mut rain = vec![0f32; if has_rain { n_max } else { 0 }];
+        for (t, &w) in self.weights.iter().enumerate() {
+            let j = self.neighbour(k, t);
+            for (acc, &v) in sea.iter_mut().zip(&self.sea[j][..n_max]) {
+                *acc += w * v;
+            }
+            if has_rain {
+                for (acc, &v) in rain.iter_mut().zip(&self.rain[j][..n_max]) {
+                    *acc += w * v;
                 }
             }
-            let p = texture.map_or(sea, |t| t[n] * sea) + rain;
+        }
+        let texture = (!self.texture[k].is_empty()).then(|| &self.texture[k][..n_max]);
+        for n in 0..n_max {
+            let mut p = texture.map_or(sea[n], |t| t[n] * sea[n]);
+            if has_rain {
+                p += rain[n];
+            }
             if p <= 0.0 {
                 continue;
             }
