@@ -187,3 +187,24 @@ fn bad_environment_values_are_named() {
     .to_string();
     assert!(err.contains("environment.rain_cell[0].centre_m"), "{err}");
 }
+
+/// The sea's rms height follows the sea state unless given (as documented), and the
+/// roughness model is Miller–Brown–Vegh unless Ament is asked for.
+#[test]
+fn sea_roughness_defaults_follow_the_docs() {
+    use xbandsim::environment::clutter::sea_state_rms_height_m;
+    use xbandsim::environment::SeaRoughness;
+    let sea = |lines: &str| {
+        scene(&format!("[environment]\n{lines}\n"))
+            .environment
+            .sea
+            .expect("multipath is on by default")
+    };
+    let s = sea("sea_state = 4.0");
+    assert_eq!(s.rms_height_m, sea_state_rms_height_m(4.0));
+    assert!(s.rms_height_m > 0.5);
+    assert_eq!(s.roughness, SeaRoughness::MillerBrownVegh);
+    let s = sea("sea_state = 4.0\nsea_rms_height_m = 0.2\nsea_roughness = \"ament\"");
+    assert_eq!(s.rms_height_m, 0.2);
+    assert_eq!(s.roughness, SeaRoughness::Ament);
+}
