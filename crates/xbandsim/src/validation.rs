@@ -263,6 +263,14 @@ pub fn off_axis_peak_db(az_deg: f64) -> f64 {
     argmax(spoke(&frame, 0)).1 as f64
 }
 
+/// A scene holding one object with the shape `fields` (TOML lines), and its RCS target.
+fn shape_target(fields: &str) -> (Scene, RcsTarget) {
+    let text = format!("[[object]]\nname = \"t\"\n{fields}\nposition_m = [0.0, 100.0, 0.0]\n");
+    let scene = Scene::from_toml_str(&text, "validation").expect("validation shape is valid");
+    let target = RcsTarget::new(&scene.objects[0]);
+    (scene, target)
+}
+
 /// RCS of a shape (TOML fields) at an aspect, m².
 pub fn shape_rcs_m2(
     fields: &str,
@@ -271,9 +279,7 @@ pub fn shape_rcs_m2(
     freq_hz: f64,
     pol: Polarisation,
 ) -> f64 {
-    let text = format!("[[object]]\nname = \"t\"\n{fields}\nposition_m = [0.0, 100.0, 0.0]\n");
-    let scene = Scene::from_toml_str(&text, "validation").expect("validation shape is valid");
-    let t = RcsTarget::new(&scene.objects[0]);
+    let (_, t) = shape_target(fields);
     t.rcs_m2(
         az_rad,
         el_rad,
@@ -291,9 +297,7 @@ pub fn shape_rcs_m2(
 /// λ/2, `max_rays_per_object` 32768, 3 bounces): for ship-sized objects the ray budget binds
 /// and widens the tubes, m².
 pub fn shape_rcs_default_budget_m2(fields: &str, az_rad: f64, el_rad: f64) -> f64 {
-    let text = format!("[[object]]\nname = \"t\"\n{fields}\nposition_m = [0.0, 100.0, 0.0]\n");
-    let scene = Scene::from_toml_str(&text, "validation").expect("validation shape is valid");
-    let t = RcsTarget::new(&scene.objects[0]);
+    let (scene, t) = shape_target(fields);
     t.rcs_m2(
         az_rad,
         el_rad,
