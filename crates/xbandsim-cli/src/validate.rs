@@ -1,7 +1,7 @@
-//! `xbandsim validate`: the physics checks of `xbandsim::validation`, printed as a table.
+//! `xbandsim validate`: the physics checks of `xbandsim_validate`, printed as a table.
 
 use anyhow::{bail, Result};
-use xbandsim::validation::{run_all_with, CheckResult};
+use xbandsim_validate::{run_all_with, CheckResult};
 
 /// Runs every check; prints a table (or JSON) and fails if any check fails.
 pub fn run(json: bool) -> Result<()> {

@@ -29,7 +29,6 @@ pub mod receiver;
 pub mod scattering;
 pub mod scene;
 pub mod sim;
-pub mod validation;
 pub mod waveform;
 
 pub use error::{Error, Result};

@@ -1,10 +1,10 @@
 //! Helpers shared by the integration tests; the measuring helpers are the library's own
-//! (`xbandsim::validation`), so `xbandsim validate` and the tests measure the same way.
+//! (`xbandsim_validate`), so `xbandsim validate` and the tests measure the same way.
 #![allow(dead_code, unused_imports)]
 
 use xbandsim::scene::Scene;
 use xbandsim::sim::{Frame, Simulation};
-pub use xbandsim::validation::{
+pub use xbandsim_validate::{
     argmax, bin_range_m, fine_profile, first_null_bins, point_north, pslr_db, radar_block,
     radar_block_no_noise, spoke, width_at_db,
 };

@@ -1,10 +1,10 @@
-//! Sea clutter, rain and the horizon against closed forms (through `xbandsim::validation`,
+//! Sea clutter, rain and the horizon against closed forms (through `xbandsim_validate`,
 //! the code `xbandsim validate` prints) and their qualitative behaviour.
 
 use super::common::*;
 use xbandsim::environment::clutter::{git_sigma0_db, nrl_sigma0_db, wind_direction_factor};
 use xbandsim::labels::Visibility;
-use xbandsim::validation::{
+use xbandsim_validate::{
     clutter_cell_statistics, clutter_mean_power_db, horizon_echo, rain_attenuation_db,
     rain_clutter_power_db, CLUTTER_FRAMES, CLUTTER_MOMENT_TOLERANCE,
 };

@@ -4,7 +4,7 @@
 
 use super::common::*;
 use xbandsim::labels::Visibility;
-use xbandsim::validation::{bin_range_m, radar_block_no_noise};
+use xbandsim_validate::{bin_range_m, radar_block_no_noise};
 
 /// A point target behind a rain cell: the label's rain loss equals 2·γ·(chord through the
 /// cell) with ITU-R P.838-3's γ, and its expected SNR equals the measured matched-filter

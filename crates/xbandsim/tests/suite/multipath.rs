@@ -4,7 +4,7 @@
 
 use super::common::*;
 use xbandsim::constants::wavelength_m;
-use xbandsim::validation::{
+use xbandsim_validate::{
     find_lobe_range_m, find_null_range_m, multipath_point_power_db, two_ray_extremum_range_m,
     two_ray_null_range_m,
 };

@@ -196,7 +196,7 @@ fn cylinder_broadside() {
 /// double-bounce region adds the same at its fold.
 #[test]
 fn ship_sized_objects_keep_their_rcs_when_the_ray_budget_binds() {
-    use xbandsim::validation::shape_rcs_default_budget_m2;
+    use xbandsim_validate::shape_rcs_default_budget_m2;
     let lambda = wavelength_m(9.41e9);
     let plate = shape_rcs_default_budget_m2(
         "shape = \"plate\"\nwidth_m = 12.0\nheight_m = 4.0",
@@ -236,7 +236,7 @@ fn ship_sized_objects_keep_their_rcs_when_the_ray_budget_binds() {
 #[test]
 fn ship_sized_plate_renders_at_its_radar_equation_snr() {
     let (expected, measured, truth_dbsm, rcs_dbsm) =
-        xbandsim::validation::ship_plate_render_db(12.0, 4.0, 1500);
+        xbandsim_validate::ship_plate_render_db(12.0, 4.0, 1500);
     assert!(
         (truth_dbsm - rcs_dbsm).abs() < 0.15,
         "truth {truth_dbsm:.2} dBsm vs {rcs_dbsm:.2}"
@@ -252,7 +252,7 @@ fn ship_sized_plate_renders_at_its_radar_equation_snr() {
 /// more coarsely than `validate` uses, budgets 16384 → 32768 → 65536).
 #[test]
 fn vessel_mean_rcs_converges_with_the_ray_budget() {
-    use xbandsim::validation::vessel_mean_rcs_m2;
+    use xbandsim_validate::vessel_mean_rcs_m2;
     let a = linear_to_db(vessel_mean_rcs_m2(16_384, 64));
     let b = linear_to_db(vessel_mean_rcs_m2(32_768, 64));
     let c = linear_to_db(vessel_mean_rcs_m2(65_536, 64));

@@ -138,7 +138,7 @@ fn eclipsing_inside_c_t_over_2() {
     use xbandsim::labels::Visibility;
     // 2 µs pulse at 100 MHz: 200 samples; `eclipse_peak_db` is the measurement `validate` uses.
     let pulse_samples = 200.0f64;
-    let run = xbandsim::validation::eclipse_peak_db;
+    let run = xbandsim_validate::eclipse_peak_db;
     for window in ["none", "hamming", "taylor"] {
         for fraction in [0.15, 0.45, 0.85] {
             let bin = (fraction * pulse_samples).round();
@@ -332,20 +332,4 @@ fn raw_spoke_matches_fast_path() {
             assert!((a - b).norm() < 1e-3 * peak, "bin {j}: {a} vs {b}");
         }
     }
-}
-
-/// `xbandsim validate`'s checks all pass (the same library code the CLI prints).
-#[test]
-fn validation_checks_all_pass() {
-    let failed: Vec<String> = xbandsim::validation::run_all()
-        .into_iter()
-        .filter(|r| !r.pass)
-        .map(|r| {
-            format!(
-                "{}: expected {} measured {}",
-                r.name, r.expected, r.measured
-            )
-        })
-        .collect();
-    assert!(failed.is_empty(), "{failed:#?}");
 }
