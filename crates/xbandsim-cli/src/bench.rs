@@ -1,15 +1,15 @@
 //! `xbandsim bench`: ray-casting throughput, frame times and peak memory, printed so anyone
 //! can reproduce the figures in docs/performance.md.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 use glam::DVec3;
 use rayon::prelude::*;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 use xbandsim::geometry::{Bvh, Primitive, PrimitiveKind, Ray};
 use xbandsim::scattering::{build_scene_bvh, direction_from_az_el, paper};
-use xbandsim::scene::{Scene, SceneSpec};
+use xbandsim::scene::{LoadedSpec, Scene};
 use xbandsim::sim::Simulation;
 
 /// The paper's scene, built into the binary so that `xbandsim bench` runs from any folder.
@@ -83,21 +83,12 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     if a.repeats == 0 {
         anyhow::bail!("invalid --repeats 0: at least one timed run is needed");
     }
-    let (spec, scene_label, base_dir): (SceneSpec, String, PathBuf) = match &a.scene {
-        Some(path) => (
-            crate::render::read_spec(path)?,
-            path.display().to_string(),
-            crate::render::scene_dir(path).to_path_buf(),
-        ),
-        None => (
-            toml::from_str(PAPER_SCENE).context("the built-in paper scene")?,
-            "paper (built in)".to_string(),
-            PathBuf::from("."),
-        ),
+    let loaded = match &a.scene {
+        Some(path) => LoadedSpec::read(path)?,
+        None => LoadedSpec::from_toml(PAPER_SCENE, "paper (built in)", Path::new("."))?,
     };
-    let base = base_dir.as_path();
-    let scene =
-        Scene::from_spec_in(&spec, base).with_context(|| format!("in scene {scene_label}"))?;
+    let scene = loaded.build()?;
+    let (spec, base) = (loaded.spec(), loaded.base_dir());
     let progress = crate::progress::spinner("bench: measurements");
     let mut rows: Vec<Row> = Vec::new();
     let mut put = |name: &str, value: f64, unit: &str| {
@@ -115,7 +106,8 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     let threads = rayon::current_num_threads();
     if !a.json {
         crate::say!(
-            "xbandsim bench: scene {scene_label}, {threads} threads, median of {} runs",
+            "xbandsim bench: scene {}, {threads} threads, median of {} runs",
+            loaded.origin(),
             a.repeats
         );
     }
@@ -230,7 +222,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     //    filter and a 512 x 512 PPI, for 1, 20 and 50 us (compare with the NumPy version).
     for pw in [1.0, 20.0, 50.0] {
         let mut p = spec.clone();
-        p.scattering.model = Some("paper".into());
+        p.scattering.model = Some(xbandsim::scene::ScatteringModel::Paper);
         p.radar.pulse_width_us = Some(pw);
         p.display.image_size_px = Some(512);
         let ps = Scene::from_spec_in(&p, base)?;

@@ -10,7 +10,7 @@ use xbandsim::constants::linear_to_db;
 use xbandsim::echo::EchoGroups;
 use xbandsim::output::write_png;
 use xbandsim::ppi::{colour_image, ScanConverter};
-use xbandsim::scene::{Scene, SceneSpec};
+use xbandsim::scene::{LoadedSpec, Scene, SceneSpec};
 use xbandsim::sim::Simulation;
 
 const FONT: &str = "sans-serif";
@@ -49,17 +49,16 @@ fn save_rgb(
 pub fn run(out: &Path, scene_path: &Path, seed: u64) -> Result<()> {
     register_fonts()?;
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-    let spec = crate::render::read_spec(scene_path)?;
-    let scene = Scene::from_spec_in(&spec, crate::render::scene_dir(scene_path))
-        .with_context(|| format!("in scene {}", scene_path.display()))?;
+    let loaded = LoadedSpec::read(scene_path)?;
+    let scene = loaded.build()?;
     let t0 = std::time::Instant::now();
     fig2(out, &scene)?;
     crate::say!("wrote {}", out.join("fig2_antenna_pattern.png").display());
     fig3(out, &scene, seed)?;
     crate::say!("wrote {}", out.join("fig3_signal_chain.png").display());
-    fig4(out, &spec, crate::render::scene_dir(scene_path), seed)?;
+    fig4(out, loaded.spec(), loaded.base_dir(), seed)?;
     crate::say!("wrote {}", out.join("fig4_ppi_pulse_widths.png").display());
-    let dir = crate::render::scene_dir(scene_path);
+    let dir = loaded.base_dir();
     fig5(
         out,
         &dir.join("sea-state-4-rain.toml"),
@@ -428,8 +427,8 @@ fn panel_grid(
 /// calm harbour.
 fn fig5(out: &Path, sea_scene: &Path, harbour_scene: &Path, seed: u64) -> Result<()> {
     let panel = 400u32;
-    let spec = crate::render::read_spec(sea_scene)?;
-    let dir = crate::render::scene_dir(sea_scene);
+    let sea = LoadedSpec::read(sea_scene)?;
+    let (spec, dir) = (sea.spec(), sea.base_dir());
     let mut images = Vec::new();
     for (title, clutter, rain) in [
         ("no clutter, no rain", false, false),
@@ -443,11 +442,7 @@ fn fig5(out: &Path, sea_scene: &Path, harbour_scene: &Path, seed: u64) -> Result
             .with_context(|| format!("in scene {}", sea_scene.display()))?;
         images.push((title.to_string(), ppi_panel(scene, panel, seed, 0.0)));
     }
-    let harbour = Scene::from_spec_in(
-        &crate::render::read_spec(harbour_scene)?,
-        crate::render::scene_dir(harbour_scene),
-    )
-    .with_context(|| format!("in scene {}", harbour_scene.display()))?;
+    let harbour = LoadedSpec::read(harbour_scene)?.build()?;
     images.push((
         "calm harbour (SS 1)".to_string(),
         ppi_panel(harbour, panel, seed, 0.0),

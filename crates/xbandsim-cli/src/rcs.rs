@@ -103,7 +103,9 @@ pub fn run(a: &RcsArgs) -> Result<()> {
         None => scene.radar.carrier_freq_hz,
     };
     let polarisation = match &a.pol {
-        Some(p) => Polarisation::parse("--pol", p)?,
+        Some(p) => p
+            .parse::<Polarisation>()
+            .map_err(|e| anyhow!("invalid --pol {e}"))?,
         None => scene.radar.polarisation,
     };
     if a.max_rays == 0 {

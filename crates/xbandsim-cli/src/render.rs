@@ -1,6 +1,6 @@
 //! `xbandsim render`.
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use clap::Args;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -8,7 +8,7 @@ use std::time::Instant;
 use xbandsim::labels::ObjectTruth;
 use xbandsim::output::{json_bytes, npy_f32_bytes, png_bytes, write_set};
 use xbandsim::ppi::{colour_image, gray_image};
-use xbandsim::scene::{Scene, SceneSpec};
+use xbandsim::scene::LoadedSpec;
 use xbandsim::sim::{Frame, FrameStats, Simulation};
 
 /// Arguments of `xbandsim render`.
@@ -43,59 +43,55 @@ pub struct RenderArgs {
     /// Turn receiver noise off.
     #[arg(long)]
     pub no_noise: bool,
+    /// Override any scene field: FIELD=VALUE with FIELD a dotted path and VALUE a TOML value,
+    /// e.g. --set radar.pulse_width_us=2 --set object[0].yaw_deg=45 (repeatable).
+    #[arg(long, value_name = "FIELD=VALUE")]
+    pub set: Vec<String>,
 }
 
-/// Directory that a scene file's relative paths (mesh files) are resolved against.
-pub fn scene_dir(scene_path: &Path) -> &Path {
-    scene_path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."))
+/// Reads a scene file and applies `--set FIELD=VALUE` overrides (the library's one loader).
+pub fn load_spec(path: &Path, sets: &[String]) -> Result<LoadedSpec> {
+    Ok(LoadedSpec::read(path)?.with_overrides(sets)?)
 }
 
-/// Reads a scene file into its description, with the parse error naming the file.
-pub fn read_spec(path: &Path) -> Result<SceneSpec> {
-    let text = std::fs::read_to_string(path).map_err(|e| xbandsim::Error::io(path, e))?;
-    toml::from_str(&text).map_err(|e| {
-        xbandsim::Error::SceneSyntax {
-            path: path.display().to_string(),
-            message: e.to_string().trim_end().to_string(),
+/// The overrides of `xbandsim render`: its named flags are shorthands for `--set`, applied
+/// first, then every `--set` in order.
+pub fn overrides(a: &RenderArgs) -> Result<Vec<String>> {
+    let count = |flag: &str, field: &str, v: i64| -> Result<String> {
+        if v < 0 {
+            bail!("invalid {flag} {v} (overrides {field}): must be a whole number of 0 or more");
         }
-        .into()
-    })
-}
-
-/// A whole-number option that must not be negative, as the scene field's type.
-fn count<T: TryFrom<i64>>(flag: &str, field: &str, v: i64) -> Result<T> {
-    T::try_from(v).map_err(|_| {
-        anyhow::anyhow!("invalid {flag} {v} (overrides {field}): must be a whole number of 0 or more and not too large")
-    })
-}
-
-/// Applies the command-line overrides to a scene description.
-pub fn apply_overrides(spec: &mut SceneSpec, a: &RenderArgs) -> Result<()> {
+        Ok(format!("{field}={v}"))
+    };
+    let mut sets = Vec::new();
     if let Some(v) = a.pulse_width_us {
-        spec.radar.pulse_width_us = Some(v);
+        sets.push(format!("radar.pulse_width_us={v:?}"));
     }
     if let Some(v) = a.spokes {
-        spec.radar.spokes = Some(count("--spokes", "radar.spokes", v)?);
+        sets.push(count("--spokes", "radar.spokes", v)?);
     }
     if let Some(v) = a.max_range_m {
-        spec.radar.max_range_m = Some(v);
+        sets.push(format!("radar.max_range_m={v:?}"));
     }
     if let Some(v) = &a.model {
-        spec.scattering.model = Some(v.clone());
+        sets.push(format!("scattering.model={}", toml_string(v)));
     }
     if let Some(v) = &a.window {
-        spec.radar.window = Some(v.clone());
+        sets.push(format!("radar.window={}", toml_string(v)));
     }
     if let Some(v) = a.image_size_px {
-        spec.display.image_size_px = Some(count("--image-size-px", "display.image_size_px", v)?);
+        sets.push(count("--image-size-px", "display.image_size_px", v)?);
     }
     if a.no_noise {
-        spec.environment.noise = Some(false);
+        sets.push("environment.noise=false".into());
     }
-    Ok(())
+    sets.extend(a.set.iter().cloned());
+    Ok(sets)
+}
+
+/// A TOML basic string holding `text`.
+fn toml_string(text: &str) -> String {
+    toml::Value::String(text.to_string()).to_string()
 }
 
 #[derive(Serialize)]
@@ -210,10 +206,7 @@ pub fn warn_ray_caps(truth: &[ObjectTruth]) {
 /// Runs `xbandsim render`.
 pub fn run(a: &RenderArgs) -> Result<()> {
     let t0 = Instant::now();
-    let mut spec = read_spec(&a.scene)?;
-    apply_overrides(&mut spec, a)?;
-    let scene = Scene::from_spec_in(&spec, crate::render::scene_dir(&a.scene))
-        .with_context(|| format!("in scene {}", a.scene.display()))?;
+    let scene = load_spec(&a.scene, &overrides(a)?)?.build()?;
     let sim = Simulation::new(scene);
     let radar = &sim.scene().radar;
     // A bar for renders of more than a few million cells (a second or more).

@@ -118,6 +118,119 @@ fn schema_is_json_and_covers_the_format() {
     ] {
         assert!(text.contains(field), "schema lacks {field}");
     }
+    // Every choice is listed as an enumeration, not typed as a free string.
+    let defs = &v["$defs"];
+    let choices = |name: &str| -> Vec<String> {
+        let def = &defs[name];
+        let list: Vec<serde_json::Value> = match def.get("enum") {
+            Some(e) => e.as_array().unwrap().clone(),
+            None => def["oneOf"]
+                .as_array()
+                .unwrap_or_else(|| panic!("{name} is not an enumeration: {def}"))
+                .iter()
+                .map(|v| {
+                    v.get("const")
+                        .or(v.get("enum").and_then(|e| e.get(0)))
+                        .cloned()
+                        .unwrap()
+                })
+                .collect(),
+        };
+        list.iter()
+            .map(|v| v.as_str().unwrap().to_string())
+            .collect()
+    };
+    assert_eq!(
+        choices("ShapeName"),
+        [
+            "point",
+            "sphere",
+            "plate",
+            "trihedral",
+            "dihedral",
+            "cylinder",
+            "box",
+            "mesh"
+        ]
+    );
+    assert_eq!(choices("WindowName"), ["none", "hamming", "taylor"]);
+    assert_eq!(choices("Polarisation"), ["HH", "VV"]);
+    assert_eq!(choices("SeaRoughness"), ["miller-brown-vegh", "ament"]);
+    assert_eq!(choices("Sigma0Model"), ["nrl", "git"]);
+    assert_eq!(
+        choices("ClutterDistributionName"),
+        ["k", "weibull", "lognormal", "rayleigh"]
+    );
+    assert_eq!(choices("Colormap"), ["viridis", "green", "gray"]);
+    assert_eq!(choices("ScatteringModel"), ["po", "paper"]);
+    assert_eq!(choices("MeshUnit"), ["m", "cm", "mm", "ft", "in"]);
+    assert_eq!(choices("RadarPreset"), ["drs4d-nxt"]);
+}
+
+#[test]
+fn set_overrides_any_field_and_errors_name_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = xbandsim()
+        .args([
+            "render",
+            "scenes/paper.toml",
+            "--set",
+            "radar.spokes=90",
+            "--set",
+        ])
+        .arg("object[4].yaw_deg=10")
+        .args(["--set", "display.colormap=green", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let truth: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("truth.json")).unwrap()).unwrap();
+    assert_eq!(truth["spokes"], 90);
+    // A value in the file that the model refuses is named with its file, line and column.
+    let scene = dir.path().join("bad.toml");
+    std::fs::write(
+        &scene,
+        "[radar]\nmax_range_m = 1000.0\n\n[display]\nmin_db = 10.0\nmax_db = 5.0\n",
+    )
+    .unwrap();
+    let out = xbandsim()
+        .arg("render")
+        .arg(&scene)
+        .arg("--out")
+        .arg(dir.path().join("o"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains(&format!(
+            "{}:6:10: invalid `display.max_db` = 5",
+            scene.display()
+        )),
+        "{err}"
+    );
+    let out = xbandsim()
+        .args([
+            "render",
+            "scenes/paper.toml",
+            "--set",
+            "radar.pulse_widht_us=2",
+            "--out",
+        ])
+        .arg(dir.path().join("o"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("unknown field `pulse_widht_us`"),
+        "{err}"
+    );
+    assert!(!dir.path().join("o").exists());
 }
 
 #[test]

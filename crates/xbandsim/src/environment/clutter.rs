@@ -37,8 +37,11 @@ use rayon::prelude::*;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-/// Which σ0 model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Which σ0 model (`environment.clutter_model`).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "lowercase")]
 pub enum Sigma0Model {
     /// Gregers-Hansen & Mital (NRL) 2012.
     Nrl,

@@ -55,8 +55,11 @@ pub fn fresnel_reflection(eps: Complex64, grazing_rad: f64) -> (Complex64, Compl
     (gh, gv)
 }
 
-/// Which rough-surface specular reduction is used.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Which rough-surface specular reduction is used (`environment.sea_roughness`).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
 pub enum SeaRoughness {
     /// Miller, Brown & Vegh 1984: `exp(−2g²)·I0(2g²)`.
     MillerBrownVegh,

@@ -20,18 +20,25 @@ pub struct TriangleMesh {
     pub triangles: Vec<[u32; 3]>,
 }
 
-/// Length unit of a mesh file's coordinates.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Length unit of a mesh file's coordinates (`mesh_units`).
+#[derive(
+    Debug, Clone, Copy, PartialEq, serde::Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
 pub enum MeshUnit {
     /// Metres.
+    #[serde(rename = "m")]
     Metre,
     /// Centimetres.
+    #[serde(rename = "cm")]
     Centimetre,
     /// Millimetres.
+    #[serde(rename = "mm")]
     Millimetre,
     /// International feet (0.3048 m).
+    #[serde(rename = "ft")]
     Foot,
     /// Inches (0.0254 m).
+    #[serde(rename = "in")]
     Inch,
 }
 

@@ -7,8 +7,11 @@
 
 mod spec;
 
+mod load;
+pub use load::{locate, LoadedSpec};
 pub use spec::{
-    DisplaySpec, EnvironmentSpec, ObjectSpec, RadarSpec, RainCellSpec, ScatteringSpec, SceneSpec,
+    ClutterDistributionName, DisplaySpec, EnvironmentSpec, ObjectSpec, RadarPreset, RadarSpec,
+    RainCellSpec, ScatteringSpec, SceneSpec, ShapeName, WindowName,
 };
 
 use crate::antenna::{uniform_aperture_gain, Antenna};
@@ -22,7 +25,7 @@ use crate::environment::rain::{Rain, RainCell};
 use crate::environment::{
     sea_water_permittivity, two_way_attenuation_power, SeaRoughness, SeaSurface,
 };
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 use crate::geometry::{object_frame, MeshUnit, ShapeGeometry, TriangleMesh};
 use crate::waveform::{LfmChirp, Window};
 use glam::{DMat3, DVec3};
@@ -83,12 +86,17 @@ pub struct Radar {
     pub polarisation: Polarisation,
 }
 
-/// Linear polarisation used for both transmit and receive.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Linear polarisation used for both transmit and receive: "HH" or "VV" in a scene file
+/// (any case; "H" and "V" also read).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
 pub enum Polarisation {
     /// Horizontal transmit, horizontal receive.
+    #[serde(rename = "HH", alias = "hh", alias = "Hh", alias = "H", alias = "h")]
     Hh,
     /// Vertical transmit, vertical receive.
+    #[serde(rename = "VV", alias = "vv", alias = "Vv", alias = "V", alias = "v")]
     Vv,
 }
 
@@ -102,18 +110,14 @@ impl std::fmt::Display for Polarisation {
     }
 }
 
-impl Polarisation {
-    /// Parses "HH" or "VV" (any case); `field` names the source in the error.
-    pub fn parse(field: &str, text: &str) -> Result<Polarisation> {
-        match text.to_ascii_uppercase().as_str() {
-            "HH" | "H" => Ok(Polarisation::Hh),
-            "VV" | "V" => Ok(Polarisation::Vv),
-            _ => Err(Error::invalid(
-                field,
-                format!("\"{text}\""),
-                "expected \"HH\" or \"VV\"",
-            )),
-        }
+impl std::str::FromStr for Polarisation {
+    type Err = String;
+
+    /// Parses a polarisation as a scene file writes it ("HH", "vv", "H"...).
+    fn from_str(text: &str) -> std::result::Result<Polarisation, String> {
+        use serde::de::{value::StrDeserializer, Deserialize};
+        Polarisation::deserialize(StrDeserializer::<serde::de::value::Error>::new(text))
+            .map_err(|_| format!("\"{text}\": expected \"HH\" or \"VV\""))
     }
 }
 
@@ -222,13 +226,17 @@ impl Environment {
 }
 
 /// Colour map for `ppi.png`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "lowercase")]
 pub enum Colormap {
     /// Perceptually uniform blue–green–yellow.
     Viridis,
     /// Black to green, like a phosphor display.
     Green,
-    /// Black to white.
+    /// Black to white ("grey" also reads).
+    #[serde(alias = "grey")]
     Gray,
 }
 
@@ -248,9 +256,13 @@ pub struct Display {
 }
 
 /// Which scattering amplitude model turns ray hits into echoes.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, serde::Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "lowercase")]
 pub enum ScatteringModel {
     /// Physical-optics ray tubes calibrated to the radar equation.
+    #[serde(rename = "po")]
     PhysicalOptics,
     /// The seed paper's law `A = 1/(1 + ℓ²/1000)` on a uniform scan grid (uncalibrated).
     Paper,
@@ -327,23 +339,15 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Reads and validates a scene file.
+    /// Reads and validates a scene file (errors name the file, line and field).
     pub fn load(path: &Path) -> Result<Scene> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        let spec: SceneSpec = toml::from_str(&text).map_err(|e| Error::SceneSyntax {
-            path: path.display().to_string(),
-            message: e.to_string().trim_end().to_string(),
-        })?;
-        Scene::from_spec_in(&spec, path.parent().unwrap_or(Path::new(".")))
+        LoadedSpec::read(path)?.build()
     }
 
-    /// Parses and validates scene TOML; `origin` names the source in errors.
+    /// Parses and validates scene TOML; `origin` names the source in errors and mesh files are
+    /// found relative to the current directory.
     pub fn from_toml_str(text: &str, origin: &str) -> Result<Scene> {
-        let spec: SceneSpec = toml::from_str(text).map_err(|e| Error::SceneSyntax {
-            path: origin.to_string(),
-            message: e.to_string().trim_end().to_string(),
-        })?;
-        Scene::from_spec(&spec)
+        LoadedSpec::from_toml(text, origin, Path::new("."))?.build()
     }
 
     /// Validates a parsed scene description; mesh files are found relative to the current
@@ -355,12 +359,12 @@ impl Scene {
     /// Validates a parsed scene description whose mesh files are relative to `base_dir`.
     pub fn from_spec_in(spec: &SceneSpec, base_dir: &Path) -> Result<Scene> {
         let mut radar = build_radar(&spec.radar)?;
-        if let Some(text) = spec.environment.polarisation.as_deref() {
-            let pol = Polarisation::parse("environment.polarisation", text)?;
+        if let Some(pol) = spec.environment.polarisation {
             if spec.radar.polarisation.is_some() && pol != radar.polarisation {
                 return Err(Error::invalid(
+                    Problem::Conflict,
                     "environment.polarisation",
-                    format!("\"{text}\""),
+                    format!("\"{pol}\""),
                     "differs from radar.polarisation; give the polarisation once",
                 ));
             }
@@ -374,6 +378,7 @@ impl Scene {
             let obj = build_object(i, o, base_dir)?;
             if objects.iter().any(|p: &SceneObject| p.name == obj.name) {
                 return Err(Error::invalid(
+                    Problem::Conflict,
                     format!("object[{i}].name"),
                     format!("\"{}\"", obj.name),
                     "another object already has this name",
@@ -382,6 +387,7 @@ impl Scene {
             let top_m = obj.top_m();
             if top_m < 0.0 {
                 return Err(Error::invalid(
+                Problem::OutOfRange,
                     format!("object \"{}\".position_m", obj.name),
                     fmt_vec(obj.position_m),
                     format!("the object lies entirely below the sea surface (its highest point is at z = {top_m:.2} m; the sea is the plane z = 0): a radar cannot see it; raise it"),
@@ -391,6 +397,7 @@ impl Scene {
             let dist = (obj.bounding_centre_m() - radar.position_m).length();
             if dist < clearance {
                 return Err(Error::invalid(
+                Problem::Conflict,
                     format!("object \"{}\".position_m", obj.name),
                     fmt_vec(obj.position_m),
                     format!("the object is at the radar's position (radar.position_m = {}); it must be at least {clearance:.2} m away", fmt_vec(radar.position_m)),
@@ -412,29 +419,17 @@ fn fmt_vec(v: DVec3) -> String {
     format!("[{}, {}, {}]", v.x, v.y, v.z)
 }
 
-/// The value named by `text` among `options`, else an error naming the field and listing
-/// the accepted names.
-fn choice<T: Copy>(field: &str, text: &str, options: &[(&str, T)]) -> Result<T> {
-    options
-        .iter()
-        .find(|(name, _)| *name == text)
-        .map(|(_, v)| *v)
-        .ok_or_else(|| {
-            let names: Vec<String> = options.iter().map(|(n, _)| format!("\"{n}\"")).collect();
-            Error::invalid(
-                field,
-                format!("\"{text}\""),
-                format!("expected one of {}", names.join(", ")),
-            )
-        })
-}
-
 /// A finite number, else an error naming the field.
 fn finite(field: &str, v: f64) -> Result<f64> {
     if v.is_finite() {
         Ok(v)
     } else {
-        Err(Error::invalid(field, v, "must be a finite number"))
+        Err(Error::invalid(
+            Problem::NotFinite,
+            field,
+            v,
+            "must be a finite number",
+        ))
     }
 }
 
@@ -444,7 +439,12 @@ fn positive(field: &str, v: f64) -> Result<f64> {
     if v > 0.0 {
         Ok(v)
     } else {
-        Err(Error::invalid(field, v, "must be greater than zero"))
+        Err(Error::invalid(
+            Problem::OutOfRange,
+            field,
+            v,
+            "must be greater than zero",
+        ))
     }
 }
 
@@ -452,6 +452,7 @@ fn finite_vec(field: &str, v: [f64; 3]) -> Result<DVec3> {
     for (k, x) in v.iter().enumerate() {
         if !x.is_finite() {
             return Err(Error::invalid(
+                Problem::NotFinite,
                 field,
                 format!("{v:?}"),
                 format!("component {k} must be a finite number"),
@@ -462,22 +463,13 @@ fn finite_vec(field: &str, v: [f64; 3]) -> Result<DVec3> {
 }
 
 fn build_radar(s: &RadarSpec) -> Result<Radar> {
-    let preset = s.preset.as_deref().unwrap_or("drs4d-nxt");
-    if !RADAR_PRESETS.contains(&preset) {
-        return Err(Error::invalid(
-            "radar.preset",
-            format!("\"{preset}\""),
-            format!(
-                "unknown preset; known presets: {}",
-                RADAR_PRESETS.join(", ")
-            ),
-        ));
-    }
+    let RadarPreset::Drs4dNxt = s.preset.unwrap_or_default();
     // drs4d-nxt: Furuno DRS4D-NXT-like figures from the seed paper (f0, B, beamwidths, Pt,
     // fs); PRF, noise figure, mast height, range and rotation are typical values, assumed.
     let position_m = finite_vec("radar.position_m", s.position_m.unwrap_or([0.0, 0.0, 4.0]))?;
     if position_m.z <= 0.0 {
         return Err(Error::invalid(
+            Problem::OutOfRange,
             "radar.position_m",
             fmt_vec(position_m),
             "the antenna must be above the sea surface (z > 0; the sea is the plane z = 0)",
@@ -491,6 +483,7 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
     let noise_figure_db = finite("radar.noise_figure_db", s.noise_figure_db.unwrap_or(5.0))?;
     if noise_figure_db < 0.0 {
         return Err(Error::invalid(
+            Problem::OutOfRange,
             "radar.noise_figure_db",
             noise_figure_db,
             "a noise figure cannot be below 0 dB",
@@ -499,6 +492,7 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
     let system_loss_db = finite("radar.system_loss_db", s.system_loss_db.unwrap_or(0.0))?;
     if system_loss_db < 0.0 {
         return Err(Error::invalid(
+            Problem::OutOfRange,
             "radar.system_loss_db",
             system_loss_db,
             "a loss must be 0 dB or more",
@@ -514,6 +508,7 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
     )?;
     if az_bw_deg >= 180.0 {
         return Err(Error::invalid(
+            Problem::OutOfRange,
             "radar.azimuth_beamwidth_deg",
             az_bw_deg,
             "must be less than 180",
@@ -521,6 +516,7 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
     }
     if el_bw_deg >= 180.0 {
         return Err(Error::invalid(
+            Problem::OutOfRange,
             "radar.elevation_beamwidth_deg",
             el_bw_deg,
             "must be less than 180",
@@ -529,6 +525,7 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
     let tilt_deg = finite("radar.tilt_deg", s.tilt_deg.unwrap_or(0.0))?;
     if tilt_deg.abs() > 90.0 {
         return Err(Error::invalid(
+            Problem::OutOfRange,
             "radar.tilt_deg",
             tilt_deg,
             "must be within -90..90",
@@ -544,6 +541,7 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
             let g = finite("radar.gain_dbi", g)?;
             if !(0.0..=max_gain_dbi + 1.0).contains(&g) {
                 return Err(Error::invalid(
+                Problem::Conflict,
                     "radar.gain_dbi",
                     g,
                     format!(
@@ -561,18 +559,20 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
     let spokes = s.spokes.unwrap_or(360);
     if spokes == 0 || spokes > MAX_SPOKES {
         return Err(Error::invalid(
+            Problem::OutOfRange,
             "radar.spokes",
             spokes,
             format!("must be between 1 and {MAX_SPOKES}"),
         ));
     }
-    let window = match s.window.as_deref().unwrap_or("none") {
-        "none" | "rectangular" => Window::None,
-        "hamming" => Window::Hamming,
-        "taylor" => {
+    let window = match s.window.unwrap_or_default() {
+        WindowName::None => Window::None,
+        WindowName::Hamming => Window::Hamming,
+        WindowName::Taylor => {
             let nbar = s.taylor_nbar.unwrap_or(4);
             if !(2..=32).contains(&nbar) {
                 return Err(Error::invalid(
+                    Problem::OutOfRange,
                     "radar.taylor_nbar",
                     nbar,
                     "must be between 2 and 32",
@@ -584,6 +584,7 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
             )?;
             if !(-120.0..=-13.5).contains(&sll) {
                 return Err(Error::invalid(
+                    Problem::OutOfRange,
                     "radar.taylor_sidelobe_db",
                     sll,
                     "must be between -120 and -13.5 dB",
@@ -594,19 +595,13 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
                 sidelobe_db: sll,
             }
         }
-        other => {
-            return Err(Error::invalid(
-                "radar.window",
-                format!("\"{other}\""),
-                "expected \"none\", \"hamming\" or \"taylor\"",
-            ))
-        }
     };
     let pulse_width_s = pulse_width_us * 1e-6;
     let pri_s = 1.0 / prf_hz;
     // Compared in microseconds, as written, so that 50 us at 20 kHz is caught exactly.
     if pulse_width_us >= 1e6 / prf_hz {
         return Err(Error::invalid(
+                Problem::Conflict,
             "radar.pulse_width_us",
             pulse_width_us,
             format!("the pulse must be shorter than the pulse repetition interval 1/prf_hz = {:.3} us (prf_hz = {prf_hz})", pri_s * 1e6),
@@ -616,6 +611,7 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
     let bandwidth_hz = bandwidth_mhz * 1e6;
     if bandwidth_hz > sample_rate_hz {
         return Err(Error::invalid(
+                Problem::Conflict,
             "radar.bandwidth_mhz",
             bandwidth_mhz,
             format!("complex sampling needs sample_rate_mhz ({sample_rate_mhz}) at least equal to the bandwidth"),
@@ -624,6 +620,7 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
     let samples = (pulse_width_s * sample_rate_hz).round();
     if samples < 2.0 {
         return Err(Error::invalid(
+            Problem::OutOfRange,
             "radar.pulse_width_us",
             pulse_width_us,
             format!("the pulse is under two samples at sample_rate_mhz = {sample_rate_mhz}"),
@@ -631,6 +628,7 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
     }
     if samples > 4.0e6 {
         return Err(Error::invalid(
+            Problem::OutOfRange,
             "radar.pulse_width_us",
             pulse_width_us,
             "the pulse is over 4 million samples; lower the pulse width or sample rate",
@@ -643,6 +641,7 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
     let unambiguous_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * prf_hz);
     if max_range_m + SPEED_OF_LIGHT_M_PER_S * pulse_width_s / 2.0 > unambiguous_m {
         return Err(Error::invalid(
+                Problem::Conflict,
             "radar.max_range_m",
             max_range_m,
             format!(
@@ -654,6 +653,7 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
     let bins = max_range_m / range_bin_m;
     if bins > 4.0e6 {
         return Err(Error::invalid(
+            Problem::OutOfRange,
             "radar.max_range_m",
             max_range_m,
             "over 4 million range bins; lower max_range_m or sample_rate_mhz",
@@ -662,6 +662,7 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
     let cells = bins * spokes as f64;
     if cells > MAX_POLAR_CELLS as f64 {
         return Err(Error::invalid(
+                Problem::OutOfRange,
             "radar.max_range_m",
             max_range_m,
             format!(
@@ -675,6 +676,7 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
     }
     if frequency_ghz * 1e9 <= bandwidth_hz {
         return Err(Error::invalid(
+            Problem::Conflict,
             "radar.frequency_ghz",
             frequency_ghz,
             "the carrier must be above the bandwidth",
@@ -703,10 +705,7 @@ fn build_radar(s: &RadarSpec) -> Result<Radar> {
         max_range_m,
         spokes,
         receiver_blanking: s.receiver_blanking.unwrap_or(true),
-        polarisation: Polarisation::parse(
-            "radar.polarisation",
-            s.polarisation.as_deref().unwrap_or("HH"),
-        )?,
+        polarisation: s.polarisation.unwrap_or(Polarisation::Hh),
     })
 }
 
@@ -717,6 +716,7 @@ fn build_environment(s: &EnvironmentSpec, carrier_freq_hz: f64) -> Result<Enviro
             Ok(v)
         } else {
             Err(Error::invalid(
+                Problem::OutOfRange,
                 field,
                 v,
                 format!("must be within {lo}..{hi} {what}"),
@@ -769,32 +769,21 @@ fn build_environment(s: &EnvironmentSpec, carrier_freq_hz: f64) -> Result<Enviro
         s.swell_direction_deg.unwrap_or(wind_from_deg),
     )?
     .to_radians();
-    let roughness = choice(
-        "environment.sea_roughness",
-        s.sea_roughness.as_deref().unwrap_or("miller-brown-vegh"),
-        &[
-            ("miller-brown-vegh", SeaRoughness::MillerBrownVegh),
-            ("ament", SeaRoughness::Ament),
-        ],
-    )?;
+    let roughness = s.sea_roughness.unwrap_or(SeaRoughness::MillerBrownVegh);
     let sea = s.multipath.unwrap_or(true).then(|| SeaSurface {
         permittivity: sea_water_permittivity(carrier_freq_hz, temperature_c, salinity_psu),
         rms_height_m,
         roughness,
     });
-    let model = choice(
-        "environment.clutter_model",
-        s.clutter_model.as_deref().unwrap_or("nrl"),
-        &[("nrl", Sigma0Model::Nrl), ("git", Sigma0Model::Git)],
-    )?;
-    let distribution = match s.clutter_distribution.as_deref().unwrap_or("k") {
-        "k" => ClutterDistribution::K {
+    let model = s.clutter_model.unwrap_or(Sigma0Model::Nrl);
+    let distribution = match s.clutter_distribution.unwrap_or_default() {
+        ClutterDistributionName::K => ClutterDistribution::K {
             shape_nu: s
                 .clutter_shape_nu
                 .map(|v| in_range("environment.clutter_shape_nu", v, 0.05, 100.0, ""))
                 .transpose()?,
         },
-        "weibull" => ClutterDistribution::Weibull {
+        ClutterDistributionName::Weibull => ClutterDistribution::Weibull {
             shape: in_range(
                 "environment.clutter_weibull_shape",
                 s.clutter_weibull_shape.unwrap_or(1.5),
@@ -803,7 +792,7 @@ fn build_environment(s: &EnvironmentSpec, carrier_freq_hz: f64) -> Result<Enviro
                 "(the amplitude's Weibull shape c; 2 is Rayleigh, and sea clutter is never less spiky than Rayleigh)",
             )?,
         },
-        "lognormal" => ClutterDistribution::LogNormal {
+        ClutterDistributionName::Lognormal => ClutterDistribution::LogNormal {
             sigma_db: in_range(
                 "environment.clutter_lognormal_sigma_db",
                 s.clutter_lognormal_sigma_db.unwrap_or(3.0),
@@ -812,14 +801,7 @@ fn build_environment(s: &EnvironmentSpec, carrier_freq_hz: f64) -> Result<Enviro
                 "dB (standard deviation of the texture's 10·log10)",
             )?,
         },
-        "rayleigh" => ClutterDistribution::Rayleigh,
-        other => {
-            return Err(Error::invalid(
-                "environment.clutter_distribution",
-                format!("\"{other}\""),
-                "expected \"k\", \"weibull\", \"lognormal\" or \"rayleigh\"",
-            ))
-        }
+        ClutterDistributionName::Rayleigh => ClutterDistribution::Rayleigh,
     };
     let correlation_m = in_range(
         "environment.clutter_correlation_m",
@@ -867,6 +849,7 @@ fn build_environment(s: &EnvironmentSpec, carrier_freq_hz: f64) -> Result<Enviro
         })?;
         if centre.iter().any(|v| !v.is_finite()) {
             return Err(Error::invalid(
+                Problem::NotFinite,
                 f("centre_m"),
                 format!("{centre:?}"),
                 "must be finite numbers",
@@ -911,6 +894,7 @@ fn build_display(s: &DisplaySpec) -> Result<Display> {
     let image_size_px = s.image_size_px.unwrap_or(1024);
     if !(16..=16384).contains(&image_size_px) {
         return Err(Error::invalid(
+            Problem::OutOfRange,
             "display.image_size_px",
             image_size_px,
             "must be between 16 and 16384",
@@ -922,25 +906,18 @@ fn build_display(s: &DisplaySpec) -> Result<Display> {
     )?;
     if range_ring_spacing_m < 0.0 {
         return Err(Error::invalid(
+            Problem::OutOfRange,
             "display.range_ring_spacing_m",
             range_ring_spacing_m,
             "must be 0 (no rings) or more",
         ));
     }
-    let colormap = choice(
-        "display.colormap",
-        s.colormap.as_deref().unwrap_or("viridis"),
-        &[
-            ("viridis", Colormap::Viridis),
-            ("green", Colormap::Green),
-            ("gray", Colormap::Gray),
-            ("grey", Colormap::Gray),
-        ],
-    )?;
+    let colormap = s.colormap.unwrap_or(Colormap::Viridis);
     let min_db = finite("display.min_db", s.min_db.unwrap_or(0.0))?;
     let max_db = finite("display.max_db", s.max_db.unwrap_or(60.0))?;
     if max_db <= min_db {
         return Err(Error::invalid(
+            Problem::Conflict,
             "display.max_db",
             max_db,
             format!("must be above display.min_db ({min_db})"),
@@ -956,15 +933,7 @@ fn build_display(s: &DisplaySpec) -> Result<Display> {
 }
 
 fn build_scattering(s: &ScatteringSpec) -> Result<ScatteringConfig> {
-    let model = choice(
-        "scattering.model",
-        s.model.as_deref().unwrap_or("po"),
-        &[
-            ("po", ScatteringModel::PhysicalOptics),
-            ("physical-optics", ScatteringModel::PhysicalOptics),
-            ("paper", ScatteringModel::Paper),
-        ],
-    )?;
+    let model = s.model.unwrap_or(ScatteringModel::PhysicalOptics);
     let ray_spacing_wavelengths = positive(
         "scattering.ray_spacing_wavelengths",
         s.ray_spacing_wavelengths.unwrap_or(0.5),
@@ -972,6 +941,7 @@ fn build_scattering(s: &ScatteringSpec) -> Result<ScatteringConfig> {
     let max_rays_per_object = s.max_rays_per_object.unwrap_or(32_768);
     if max_rays_per_object == 0 {
         return Err(Error::invalid(
+            Problem::OutOfRange,
             "scattering.max_rays_per_object",
             0,
             "must be at least 1",
@@ -980,6 +950,7 @@ fn build_scattering(s: &ScatteringSpec) -> Result<ScatteringConfig> {
     let max_bounces = s.max_bounces.unwrap_or(3);
     if !(1..=16).contains(&max_bounces) {
         return Err(Error::invalid(
+            Problem::OutOfRange,
             "scattering.max_bounces",
             max_bounces,
             "must be between 1 and 16",
@@ -988,6 +959,7 @@ fn build_scattering(s: &ScatteringSpec) -> Result<ScatteringConfig> {
     let paper_rays_per_degree_az = s.paper_rays_per_degree_az.unwrap_or(100);
     if !(1..=1000).contains(&paper_rays_per_degree_az) {
         return Err(Error::invalid(
+            Problem::OutOfRange,
             "scattering.paper_rays_per_degree_az",
             paper_rays_per_degree_az,
             "must be between 1 and 1000",
@@ -996,6 +968,7 @@ fn build_scattering(s: &ScatteringSpec) -> Result<ScatteringConfig> {
     let paper_rays_elevation = s.paper_rays_elevation.unwrap_or(100);
     if !(1..=10_000).contains(&paper_rays_elevation) {
         return Err(Error::invalid(
+            Problem::OutOfRange,
             "scattering.paper_rays_elevation",
             paper_rays_elevation,
             "must be between 1 and 10000",
@@ -1020,6 +993,7 @@ fn build_object(i: usize, o: &ObjectSpec, base_dir: &Path) -> Result<SceneObject
     let name = o.name.clone().unwrap_or_else(|| format!("object-{i}"));
     if name.trim().is_empty() {
         return Err(Error::invalid(
+            Problem::OutOfRange,
             format!("object[{i}].name"),
             "\"\"",
             "must not be empty",
@@ -1027,47 +1001,49 @@ fn build_object(i: usize, o: &ObjectSpec, base_dir: &Path) -> Result<SceneObject
     }
     let prefix = format!("object \"{name}\"");
     let f = |field: &str| format!("{prefix}.{field}");
-    let shape_name = o.shape.clone().ok_or_else(|| {
+    let shape_kind = o.shape.ok_or_else(|| {
         Error::missing(
             f("shape"),
             format!("every object needs a shape, one of: {}", SHAPES.join(", ")),
         )
     })?;
+    let shape_name = shape_kind.as_str().to_string();
     let need = |field: &str, v: Option<f64>| -> Result<f64> {
         let v = v.ok_or_else(|| {
             Error::missing(f(field), format!("shape \"{shape_name}\" needs `{field}`"))
         })?;
         positive(&f(field), v)
     };
-    let shape = match shape_name.as_str() {
-        "point" => ShapeGeometry::Point {
+    let shape = match shape_kind {
+        ShapeName::Point => ShapeGeometry::Point {
             rcs_m2: need("rcs_m2", o.rcs_m2)?,
         },
-        "sphere" => ShapeGeometry::Sphere {
+        ShapeName::Sphere => ShapeGeometry::Sphere {
             radius_m: need("radius_m", o.radius_m)?,
         },
-        "plate" => ShapeGeometry::Plate {
+        ShapeName::Plate => ShapeGeometry::Plate {
             width_m: need("width_m", o.width_m)?,
             height_m: need("height_m", o.height_m)?,
         },
-        "trihedral" => ShapeGeometry::Trihedral {
+        ShapeName::Trihedral => ShapeGeometry::Trihedral {
             edge_m: need("edge_m", o.edge_m)?,
         },
-        "dihedral" => ShapeGeometry::Dihedral {
+        ShapeName::Dihedral => ShapeGeometry::Dihedral {
             width_m: need("width_m", o.width_m)?,
             height_m: need("height_m", o.height_m)?,
         },
-        "cylinder" => ShapeGeometry::Cylinder {
+        ShapeName::Cylinder => ShapeGeometry::Cylinder {
             radius_m: need("radius_m", o.radius_m)?,
             height_m: need("height_m", o.height_m)?,
         },
-        "box" => {
+        ShapeName::Box => {
             let s = o.size_m.ok_or_else(|| {
                 Error::missing(f("size_m"), "shape \"box\" needs `size_m = [x, y, z]`")
             })?;
             for (k, v) in s.iter().enumerate() {
                 if !v.is_finite() || *v <= 0.0 {
                     return Err(Error::invalid(
+                        Problem::NotFinite,
                         f("size_m"),
                         format!("{s:?}"),
                         format!("component {k} must be a finite number greater than zero"),
@@ -1078,36 +1054,22 @@ fn build_object(i: usize, o: &ObjectSpec, base_dir: &Path) -> Result<SceneObject
                 size_m: DVec3::from_array(s),
             }
         }
-        "mesh" => {
+        ShapeName::Mesh => {
             let file = o.mesh_file.as_deref().ok_or_else(|| {
                 Error::missing(
                     f("mesh_file"),
                     "shape \"mesh\" needs `mesh_file` (an .obj, .stl, .gltf or .glb file)",
                 )
             })?;
-            let units_text = o.mesh_units.as_deref().unwrap_or("m");
-            let unit = MeshUnit::parse(units_text).ok_or_else(|| {
-                Error::invalid(
-                    f("mesh_units"),
-                    format!("\"{units_text}\""),
-                    "expected \"m\", \"cm\", \"mm\", \"ft\" or \"in\"",
-                )
-            })?;
+            let unit = o.mesh_units.unwrap_or(MeshUnit::Metre);
             let scale = positive(&f("mesh_scale"), o.mesh_scale.unwrap_or(1.0))?;
             let path = base_dir.join(file);
             let mesh = TriangleMesh::load(&path, unit.metres() * scale).map_err(|e| {
-                Error::invalid(f("mesh_file"), format!("\"{file}\""), e.to_string())
+                Error::unusable(f("mesh_file"), format!("\"{file}\""), "cannot be used", e)
             })?;
             ShapeGeometry::Mesh {
                 mesh: std::sync::Arc::new(mesh),
             }
-        }
-        other => {
-            return Err(Error::invalid(
-                f("shape"),
-                format!("\"{other}\""),
-                format!("unknown shape; expected one of: {}", SHAPES.join(", ")),
-            ))
         }
     };
     // Fields that this shape does not use are reported rather than silently ignored.
@@ -1134,6 +1096,7 @@ fn build_object(i: usize, o: &ObjectSpec, base_dir: &Path) -> Result<SceneObject
     for (field, is_set) in present {
         if is_set && !used.contains(&field) {
             return Err(Error::invalid(
+                Problem::Conflict,
                 f(field),
                 "(set)",
                 format!(

@@ -2,8 +2,89 @@
 //! field's name. `docs/formats.md` documents every field; `xbandsim schema` prints the JSON
 //! Schema generated from these types.
 
+use super::{Colormap, Polarisation, ScatteringModel};
+use crate::environment::clutter::Sigma0Model;
+use crate::environment::SeaRoughness;
+use crate::geometry::MeshUnit;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
+
+/// `radar.preset`: the radar a scene starts from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum RadarPreset {
+    /// A Furuno DRS4D-NXT-like solid-state X-band radar (docs/formats.md lists its values).
+    #[default]
+    #[serde(rename = "drs4d-nxt")]
+    Drs4dNxt,
+}
+
+/// `radar.window`: the matched filter's reference window.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum WindowName {
+    /// Rectangular (no weighting); "rectangular" also reads.
+    #[default]
+    #[serde(alias = "rectangular")]
+    None,
+    /// Hamming.
+    Hamming,
+    /// Taylor with `taylor_nbar` and `taylor_sidelobe_db`.
+    Taylor,
+}
+
+/// `environment.clutter_distribution`: the amplitude statistics of sea clutter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum ClutterDistributionName {
+    /// K (Gamma texture × exponential speckle).
+    #[default]
+    K,
+    /// Weibull amplitude.
+    Weibull,
+    /// Log-normal texture.
+    Lognormal,
+    /// Complex Gaussian (Rayleigh amplitude).
+    Rayleigh,
+}
+
+/// `object.shape`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum ShapeName {
+    /// A point of given RCS (`rcs_m2`); no geometry.
+    Point,
+    /// A sphere (`radius_m`).
+    Sphere,
+    /// A flat rectangular plate (`width_m`, `height_m`).
+    Plate,
+    /// A triangular trihedral corner reflector (`edge_m`).
+    Trihedral,
+    /// A dihedral corner (`width_m`, `height_m`).
+    Dihedral,
+    /// A vertical cylinder (`radius_m`, `height_m`).
+    Cylinder,
+    /// A box (`size_m`).
+    Box,
+    /// A triangle mesh from a file (`mesh_file`, `mesh_units`, `mesh_scale`).
+    Mesh,
+}
+
+impl ShapeName {
+    /// The name as written in a scene file.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            ShapeName::Point => "point",
+            ShapeName::Sphere => "sphere",
+            ShapeName::Plate => "plate",
+            ShapeName::Trihedral => "trihedral",
+            ShapeName::Dihedral => "dihedral",
+            ShapeName::Cylinder => "cylinder",
+            ShapeName::Box => "box",
+            ShapeName::Mesh => "mesh",
+        }
+    }
+}
 
 /// A whole scene file: radar, environment, display, scattering settings and objects.
 #[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
@@ -31,7 +112,7 @@ pub struct SceneSpec {
 #[serde(deny_unknown_fields)]
 pub struct RadarSpec {
     /// Preset to start from: "drs4d-nxt" (default).
-    pub preset: Option<String>,
+    pub preset: Option<RadarPreset>,
     /// Antenna phase centre, ENU metres; z is the height above the sea.
     pub position_m: Option<[f64; 3]>,
     /// Carrier frequency, GHz.
@@ -41,7 +122,7 @@ pub struct RadarSpec {
     /// Pulse width, microseconds.
     pub pulse_width_us: Option<f64>,
     /// Matched-filter reference window: "none", "hamming" or "taylor".
-    pub window: Option<String>,
+    pub window: Option<WindowName>,
     /// Taylor window: number of nearly constant sidelobes n̄ (default 4).
     pub taylor_nbar: Option<usize>,
     /// Taylor window: peak sidelobe level, dB (default -35).
@@ -73,7 +154,7 @@ pub struct RadarSpec {
     /// Blank the receiver while transmitting (targets nearer than c·T/2 are eclipsed).
     pub receiver_blanking: Option<bool>,
     /// Transmit/receive polarisation: "HH" (default) or "VV".
-    pub polarisation: Option<String>,
+    pub polarisation: Option<Polarisation>,
 }
 
 /// `[environment]`.
@@ -102,15 +183,15 @@ pub struct EnvironmentSpec {
     pub swell_direction_deg: Option<f64>,
     /// Rough-sea reduction of the specular reflection: "miller-brown-vegh" (default) or
     /// "ament".
-    pub sea_roughness: Option<String>,
+    pub sea_roughness: Option<SeaRoughness>,
     /// Polarisation "HH" or "VV" (same as `radar.polarisation`; give one of the two).
-    pub polarisation: Option<String>,
+    pub polarisation: Option<Polarisation>,
     /// Sea clutter on or off (default true).
     pub clutter: Option<bool>,
     /// σ0 model: "nrl" (default) or "git".
-    pub clutter_model: Option<String>,
+    pub clutter_model: Option<Sigma0Model>,
     /// Amplitude statistics: "k" (default), "weibull", "lognormal" or "rayleigh".
-    pub clutter_distribution: Option<String>,
+    pub clutter_distribution: Option<ClutterDistributionName>,
     /// K shape ν of a resolution cell's Gamma texture (default: Ward's empirical formula
     /// for the cell's area, grazing angle and swell direction).
     pub clutter_shape_nu: Option<f64>,
@@ -157,7 +238,7 @@ pub struct DisplaySpec {
     /// Spacing of the range rings drawn on ppi.png, m (default 100; 0 for none).
     pub range_ring_spacing_m: Option<f64>,
     /// Colour map of ppi.png: "viridis" (default), "green" or "gray".
-    pub colormap: Option<String>,
+    pub colormap: Option<Colormap>,
     /// Power mapped to the bottom of the colour scale, dB over noise (default 0).
     pub min_db: Option<f64>,
     /// Power mapped to the top of the colour scale, dB over noise (default 60).
@@ -170,7 +251,7 @@ pub struct DisplaySpec {
 pub struct ScatteringSpec {
     /// "po" (physical-optics ray tubes, calibrated; default) or "paper" (the seed paper's
     /// amplitude law A = 1/(1 + l²/1000) on a uniform scan grid of rays).
-    pub model: Option<String>,
+    pub model: Option<ScatteringModel>,
     /// Ray-tube spacing in wavelengths for the "po" model (default 0.5).
     pub ray_spacing_wavelengths: Option<f64>,
     /// Cap on rays per object and grid for the "po" model (default 32768); the spacing grows
@@ -195,7 +276,7 @@ pub struct ObjectSpec {
     /// Class label for ML ground truth (default "object").
     pub class: Option<String>,
     /// "point", "sphere", "plate", "trihedral", "dihedral", "cylinder", "box" or "mesh".
-    pub shape: Option<String>,
+    pub shape: Option<ShapeName>,
     /// Position in ENU metres (reference point of the shape, see docs/formats.md).
     pub position_m: Option<[f64; 3]>,
     /// Heading: turns the object's +y toward +x (clockwise from above), degrees.
@@ -219,7 +300,7 @@ pub struct ObjectSpec {
     /// mesh: OBJ, STL or glTF file, relative to the scene file.
     pub mesh_file: Option<String>,
     /// mesh: unit of the file's coordinates: "m" (default), "cm", "mm", "ft" or "in".
-    pub mesh_units: Option<String>,
+    pub mesh_units: Option<MeshUnit>,
     /// mesh: extra scale factor applied after the unit (default 1).
     pub mesh_scale: Option<f64>,
 }

@@ -188,10 +188,17 @@ fn mesh_plate_and_trihedral_match_the_primitives() {
 fn bad_mesh_input_is_reported() {
     let dir = tempfile::tempdir().unwrap();
     let err = |text: &str| {
-        let spec: xbandsim::scene::SceneSpec = toml::from_str(text).unwrap();
-        Scene::from_spec_in(&spec, dir.path())
-            .unwrap_err()
-            .to_string()
+        // The message with its causes, as the CLI prints it.
+        let e = xbandsim::scene::LoadedSpec::from_toml(text, "scene.toml", dir.path())
+            .and_then(|l| l.build())
+            .unwrap_err();
+        let mut text = e.to_string();
+        let mut cause = std::error::Error::source(&e);
+        while let Some(c) = cause {
+            text.push_str(&format!(": {c}"));
+            cause = c.source();
+        }
+        text
     };
     let e = err(&mesh_object("missing.obj", ""));
     assert!(

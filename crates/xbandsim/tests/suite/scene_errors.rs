@@ -44,7 +44,7 @@ fn wrong_type_is_reported() {
 fn unknown_shape() {
     assert_mentions(
         "[[object]]\nname = \"x\"\nshape = \"torus\"\nposition_m = [0.0, 100.0, 0.0]\n",
-        &["object \"x\".shape", "\"torus\"", "sphere"],
+        &["scene.toml", "line 3", "torus", "sphere", "mesh"],
     );
 }
 
@@ -107,13 +107,13 @@ fn object_at_radar_position() {
 fn other_bad_values() {
     assert_mentions(
         "[radar]\nwindow = \"blackman\"\n",
-        &["radar.window", "blackman"],
+        &["scene.toml", "line 2", "blackman", "hamming", "taylor"],
     );
     assert_mentions("[radar]\nspokes = 0\n", &["radar.spokes", "0"]);
     assert_mentions("[radar]\nspokes = 9000\n", &["radar.spokes", "9000"]);
     assert_mentions(
         "[radar]\npreset = \"x-band-9000\"\n",
-        &["radar.preset", "x-band-9000"],
+        &["line 2", "x-band-9000", "drs4d-nxt"],
     );
     assert_mentions(
         "[radar]\nbandwidth_mhz = 200.0\n",
@@ -121,12 +121,9 @@ fn other_bad_values() {
     );
     assert_mentions(
         "[scattering]\nmodel = \"mom\"\n",
-        &["scattering.model", "mom"],
+        &["line 2", "mom", "paper"],
     );
-    assert_mentions(
-        "[radar]\npolarisation = \"HV\"\n",
-        &["radar.polarisation", "HV"],
-    );
+    assert_mentions("[radar]\npolarisation = \"HV\"\n", &["line 2", "HV", "VV"]);
     assert_mentions(&format!("{OK_OBJECT}{OK_OBJECT}"), &["name", "\"a\""]);
     assert_mentions("[[object]]\nname = \"x\"\nshape = \"sphere\"\nradius_m = 1.0\nwidth_m = 2.0\nposition_m = [0.0, 100.0, 0.0]\n", &["object \"x\".width_m"]);
 }
@@ -180,4 +177,117 @@ fn physically_impossible_setups_are_refused() {
     // A plausible gain is kept.
     let s = Scene::from_toml_str(&format!("[radar]\ngain_dbi = 27.0\n{OK_OBJECT}"), "t").unwrap();
     assert!((10.0 * s.radar.antenna.peak_gain_linear.log10() - 27.0).abs() < 1e-9);
+}
+
+/// Errors found while building the model name the file, line and column of the value, and
+/// say what kind of problem it is.
+#[test]
+fn semantic_errors_carry_file_line_and_kind() {
+    use xbandsim::error::Problem;
+    let text = format!("[radar]\nspokes = 99999\n{OK_OBJECT}");
+    let e = Scene::from_toml_str(&text, "scene.toml").unwrap_err();
+    assert_eq!(e.problem(), Some(Problem::OutOfRange));
+    assert_eq!(e.field(), Some("radar.spokes"));
+    assert_eq!(e.location().unwrap().line_column, Some((2, 10)));
+    assert!(e
+        .to_string()
+        .starts_with("scene.toml:2:10: invalid `radar.spokes` = 99999"));
+
+    let text = "[[object]]\nname = \"a\"\nshape = \"sphere\"\nposition_m = [0.0, 300.0, 2.0]\nradius_m = -3.0\n";
+    let e = Scene::from_toml_str(text, "s.toml").unwrap_err();
+    assert_eq!(e.location().unwrap().to_string(), "s.toml:5:12");
+    assert_eq!(e.problem(), Some(Problem::OutOfRange));
+
+    let e = Scene::from_toml_str("[environment]\nsea_state = nan\n", "s.toml").unwrap_err();
+    assert_eq!(e.problem(), Some(Problem::NotFinite));
+    assert_eq!(e.location().unwrap().line_column, Some((2, 13)));
+
+    let text = format!(
+        "[radar]\npolarisation = \"VV\"\n[environment]\npolarisation = \"HH\"\n{OK_OBJECT}"
+    );
+    let e = Scene::from_toml_str(&text, "s.toml").unwrap_err();
+    assert_eq!(e.problem(), Some(Problem::Conflict));
+    assert_eq!(e.location().unwrap().line_column, Some((4, 16)));
+
+    let e = Scene::from_toml_str(
+        "[[object]]\nname = \"a\"\nshape = \"sphere\"\nradius_m = 1.0\n",
+        "s.toml",
+    )
+    .unwrap_err();
+    assert_eq!(e.problem(), Some(Problem::Missing));
+    assert_eq!(e.field(), Some("object \"a\".position_m"));
+    // A default value that is wrong has no line: the file alone is named.
+    let e = Scene::from_toml_str("[radar]\nprf_hz = 100000.0\n", "s.toml").unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("s.toml: invalid `radar.max_range_m`"),
+        "{e}"
+    );
+}
+
+/// `locate` finds values by dotted path, objects by index or by name, rain cells by index.
+#[test]
+fn locate_finds_values_by_field_path() {
+    use xbandsim::scene::locate;
+    let text = "[radar]\nspokes = 4\n\n[[environment.rain_cell]]\nradius_m = 5.0\n[[object]]\nname = \"b\"\nyaw_deg = 3.0\n";
+    assert_eq!(locate(text, "radar.spokes"), Some((2, 10)));
+    assert_eq!(
+        locate(text, "environment.rain_cell[0].radius_m"),
+        Some((5, 12))
+    );
+    assert_eq!(locate(text, "object[0].name"), Some((7, 8)));
+    assert_eq!(locate(text, "object \"b\".yaw_deg"), Some((8, 11)));
+    assert_eq!(locate(text, "object \"c\".yaw_deg"), None);
+    assert_eq!(locate(text, "radar.max_range_m"), None);
+    assert_eq!(locate("not toml [", "radar.spokes"), None);
+}
+
+/// `--set FIELD=VALUE` overrides go through the same loader and the same checks.
+#[test]
+fn overrides_set_fields_by_path() {
+    use xbandsim::scene::LoadedSpec;
+    let dir = std::path::Path::new(".");
+    let text = format!("[radar]\nspokes = 4\n{OK_OBJECT}");
+    let spec = LoadedSpec::from_toml(&text, "s.toml", dir).unwrap();
+    let scene = spec
+        .clone()
+        .with_overrides(&[
+            "radar.spokes=16",
+            "object[0].radius_m=2.5",
+            "display.colormap=green",
+            "environment.noise = false",
+        ])
+        .unwrap()
+        .build()
+        .unwrap();
+    assert_eq!(scene.radar.spokes, 16);
+    assert_eq!(scene.display.colormap, xbandsim::scene::Colormap::Green);
+    assert!(!scene.environment.noise);
+    match scene.objects[0].shape {
+        xbandsim::geometry::ShapeGeometry::Sphere { radius_m } => assert_eq!(radius_m, 2.5),
+        _ => panic!("not a sphere"),
+    }
+    // A bad value set on the command line is located there, not in the file.
+    let e = spec
+        .clone()
+        .with_overrides(&["radar.spokes=0"])
+        .unwrap()
+        .build()
+        .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "--set: invalid `radar.spokes` = 0: must be between 1 and 8192"
+    );
+    for (set, needle) in [
+        ("radar.spokes", "no `=`"),
+        ("=3", "no field"),
+        ("radar.spokez=3", "unknown field `spokez`"),
+        ("radar.window=blackman", "unknown variant `blackman`"),
+        ("radar.spokes=\"many\"", "invalid type"),
+        ("object[3].yaw_deg=1", "numbered from 0"),
+        ("radar.spokes.x=1", "not a table"),
+    ] {
+        let e = spec.clone().with_overrides(&[set]).unwrap_err().to_string();
+        assert!(e.contains(needle), "{set}: {e}");
+    }
 }
