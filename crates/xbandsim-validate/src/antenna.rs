@@ -4,7 +4,7 @@ use crate::harness::*;
 use crate::{check, Checks, Tolerance};
 use std::f64::consts::PI;
 use xbandsim::antenna::{sinc2_pattern, uniform_aperture_gain, SINC_BEAMWIDTH_FACTOR};
-use xbandsim::constants::{linear_to_db, wavelength_m, SPEED_OF_LIGHT_M_PER_S};
+use xbandsim::constants::linear_to_db;
 
 /// Peak (dB) of a noise-free point target at 900 m, `az_deg` off spoke 0.
 pub fn off_axis_peak_db(az_deg: f64) -> f64 {
@@ -20,10 +20,6 @@ pub fn off_axis_peak_db(az_deg: f64) -> f64 {
 
 /// The checks of this area, in the order `xbandsim validate` prints them.
 pub(crate) fn checks(out: &mut Checks) {
-    let _c = SPEED_OF_LIGHT_M_PER_S;
-    let _b = 50e6;
-    let f0 = 9.41e9;
-    let _lambda = wavelength_m(f0);
     const BALANIS: &str = "Balanis, Antenna Theory, 4th ed., §12.5";
 
     // Antenna.

@@ -4,7 +4,7 @@
 use crate::harness::*;
 use crate::{check, Checks, Tolerance};
 use serde::Serialize;
-use xbandsim::constants::{linear_to_db, wavelength_m, SPEED_OF_LIGHT_M_PER_S};
+use xbandsim::constants::{linear_to_db, SPEED_OF_LIGHT_M_PER_S};
 use xbandsim::scene::{Polarisation, Scene};
 use xbandsim::sim::Simulation;
 
@@ -238,10 +238,6 @@ pub fn horizon_echo(ground_range_m: f64) -> (bool, xbandsim::labels::Visibility)
 
 /// The checks of this area, in the order `xbandsim validate` prints them.
 pub(crate) fn checks(out: &mut Checks) {
-    let _c = SPEED_OF_LIGHT_M_PER_S;
-    let _b = 50e6;
-    let f0 = 9.41e9;
-    let _lambda = wavelength_m(f0);
 
     // Sea clutter and rain.
     out.push(check(

@@ -122,12 +122,8 @@ fn golden_section_min(mut a: f64, mut b: f64, tol: f64, f: impl Fn(f64) -> f64) 
     0.5 * (a + b)
 }
 
-/// The checks as they are made, told to an observer (for progress).
-
 /// The checks of this area, in the order `xbandsim validate` prints them.
 pub(crate) fn checks(out: &mut Checks) {
-    let _c = SPEED_OF_LIGHT_M_PER_S;
-    let _b = 50e6;
     let f0 = 9.41e9;
     let lambda = wavelength_m(f0);
 

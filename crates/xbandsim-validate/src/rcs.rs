@@ -7,7 +7,7 @@ use crate::{check, Checks, Tolerance};
 use glam::{DMat3, DVec3};
 use std::f64::consts::PI;
 use std::sync::Arc;
-use xbandsim::constants::{linear_to_db, wavelength_m, SPEED_OF_LIGHT_M_PER_S};
+use xbandsim::constants::{linear_to_db, wavelength_m};
 use xbandsim::geometry::{PrimitiveKind, ShapeGeometry, TriangleMesh};
 use xbandsim::scattering::rcs::{RcsSettings, RcsTarget};
 use xbandsim::scene::{Polarisation, Scene, SceneObject};
@@ -187,8 +187,6 @@ pub fn shape_triangles(shape: &ShapeGeometry) -> Vec<[DVec3; 3]> {
 
 /// The checks of this area, in the order `xbandsim validate` prints them.
 pub(crate) fn checks(out: &mut Checks) {
-    let _c = SPEED_OF_LIGHT_M_PER_S;
-    let _b = 50e6;
     let f0 = 9.41e9;
     let lambda = wavelength_m(f0);
     const SKOLNIK: &str = "Skolnik, Introduction to Radar Systems, 3rd ed., eq. 2.51";

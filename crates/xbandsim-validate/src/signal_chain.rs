@@ -4,7 +4,7 @@
 
 use crate::harness::*;
 use crate::{check, Checks, Tolerance};
-use xbandsim::constants::{linear_to_db, wavelength_m, SPEED_OF_LIGHT_M_PER_S};
+use xbandsim::constants::{linear_to_db, SPEED_OF_LIGHT_M_PER_S};
 use xbandsim::scattering::rcs::{RcsSettings, RcsTarget};
 
 /// A noise-free compressed profile of a 1 m² point target beyond c·T/2, finely sampled
@@ -123,8 +123,6 @@ pub fn object_snr_db(two_way_attenuation_db_per_km: f64) -> (f64, f64) {
 pub(crate) fn checks(out: &mut Checks) {
     let c = SPEED_OF_LIGHT_M_PER_S;
     let b = 50e6;
-    let f0 = 9.41e9;
-    let _lambda = wavelength_m(f0);
     const RICHARDS: &str = "Richards, Fundamentals of Radar Signal Processing, 2nd ed., §4.6";
     const SKOLNIK: &str = "Skolnik, Introduction to Radar Systems, 3rd ed., eq. 2.51";
 
