@@ -238,7 +238,6 @@ pub fn horizon_echo(ground_range_m: f64) -> (bool, xbandsim::labels::Visibility)
 
 /// The checks of this area, in the order `xbandsim validate` prints them.
 pub(crate) fn checks(out: &mut Checks) {
-
     // Sea clutter and rain.
     out.push(check(
         "NRL σ0 check value: SS 2, 10°, 30 GHz, HH",

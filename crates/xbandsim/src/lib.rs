@@ -4,15 +4,22 @@
 //! pulse-compression radar shows — polar (B-scope) power in dB over noise, PPI images and
 //! per-object ground truth.
 //!
-//! Modules follow the pipeline: [`scene`] → [`geometry`] → [`scattering`] → [`antenna`] /
-//! [`echo`] → [`waveform`] / [`receiver`] / [`processing`] → [`ppi`] / [`labels`], orchestrated
-//! by [`sim`]. Every equation is listed with its source in `docs/physics.md`.
+//! The few types a user needs are re-exported at the top (the facade the CLI, the Python
+//! binding and the dataset generator use): [`LoadedSpec`] reads a scene file and its
+//! overrides, [`Scene`] is the validated model, [`Simulation`] renders [`Frame`]s with their
+//! per-object [`ObjectTruth`], and [`Error`] says what went wrong ([`Problem`], [`Location`]).
+//! The modules below follow the pipeline: [`scene`] → [`geometry`] → [`scattering`] →
+//! [`antenna`] / [`echo`] → [`waveform`] / [`receiver`] / [`processing`] → [`ppi`] / [`labels`],
+//! orchestrated by [`sim`]; docs/architecture.md maps them. Every equation is listed with its
+//! source in `docs/physics.md`.
 //!
 //! ```no_run
-//! use xbandsim::{scene::Scene, sim::Simulation};
-//! let scene = Scene::load(std::path::Path::new("scenes/paper.toml")).unwrap();
-//! let frame = Simulation::new(scene).render(42);
+//! use xbandsim::{LoadedSpec, Simulation};
+//! let spec = LoadedSpec::read("scenes/paper.toml".as_ref())?
+//!     .with_overrides(&["radar.pulse_width_us=2"])?;
+//! let frame = Simulation::new(spec.build()?).render(42);
 //! println!("{} spokes x {} bins", frame.spokes, frame.range_bins);
+//! # Ok::<(), xbandsim::Error>(())
 //! ```
 
 pub mod antenna;
@@ -31,4 +38,7 @@ pub mod scene;
 pub mod sim;
 pub mod waveform;
 
-pub use error::{Error, Result};
+pub use error::{Error, Location, Problem, Result};
+pub use labels::{ObjectTruth, Visibility};
+pub use scene::{LoadedSpec, Scene, SceneSpec};
+pub use sim::{Frame, Simulation};

@@ -71,6 +71,16 @@ pub struct SpokeScratch {
     fft_scratch: Vec<Complex32>,
 }
 
+impl SpokeScratch {
+    /// Fills every buffer, the FFT's private scratch included, with `value`: results must not
+    /// depend on what a scratch held before (tested with NaN).
+    pub fn fill(&mut self, value: Complex32) {
+        self.buffer.fill(value);
+        self.noise.fill(value);
+        self.fft_scratch.fill(value);
+    }
+}
+
 impl PulseCompressor {
     /// Plans for `chirp` with `window`, producing `num_bins` output range bins.
     pub fn new(chirp: &LfmChirp, window: Window, num_bins: usize) -> PulseCompressor {
