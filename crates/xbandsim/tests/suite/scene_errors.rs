@@ -291,3 +291,152 @@ fn overrides_set_fields_by_path() {
         assert!(e.contains(needle), "{set}: {e}");
     }
 }
+
+/// Property: random specs never panic. Each case sets a random handful of fields (through the
+/// `--set` path, so the loader is exercised too) to values drawn from the awkward corners —
+/// NaN, ±infinity, negative, zero, tiny, huge, wrong types — on top of a valid scene, and
+/// building the model must return `Ok` or an error naming a field, never panic.
+#[test]
+fn random_specs_never_panic() {
+    use rand::{Rng, SeedableRng};
+    use xbandsim::scene::LoadedSpec;
+    const FLOATS: &[&str] = &[
+        "radar.frequency_ghz",
+        "radar.bandwidth_mhz",
+        "radar.pulse_width_us",
+        "radar.taylor_sidelobe_db",
+        "radar.peak_power_w",
+        "radar.noise_figure_db",
+        "radar.system_loss_db",
+        "radar.gain_dbi",
+        "radar.azimuth_beamwidth_deg",
+        "radar.elevation_beamwidth_deg",
+        "radar.tilt_deg",
+        "radar.sample_rate_mhz",
+        "radar.prf_hz",
+        "radar.rotation_rpm",
+        "radar.max_range_m",
+        "environment.sea_temperature_c",
+        "environment.sea_salinity_psu",
+        "environment.sea_rms_height_m",
+        "environment.two_way_attenuation_db_per_km",
+        "environment.sea_state",
+        "environment.wind_direction_deg",
+        "environment.swell_direction_deg",
+        "environment.clutter_shape_nu",
+        "environment.clutter_weibull_shape",
+        "environment.clutter_lognormal_sigma_db",
+        "environment.clutter_correlation_m",
+        "environment.clutter_drift_m_per_s",
+        "environment.rain_rate_mm_per_h",
+        "environment.rain_top_m",
+        "display.range_ring_spacing_m",
+        "display.min_db",
+        "display.max_db",
+        "scattering.ray_spacing_wavelengths",
+        "scattering.paper_reference_voltage_uv",
+        "object[0].yaw_deg",
+        "object[0].pitch_deg",
+        "object[0].roll_deg",
+        "object[0].rcs_m2",
+        "object[0].radius_m",
+        "object[0].width_m",
+        "object[0].height_m",
+        "object[0].edge_m",
+    ];
+    const COUNTS: &[&str] = &[
+        "radar.spokes",
+        "radar.taylor_nbar",
+        "display.image_size_px",
+        "scattering.max_rays_per_object",
+        "scattering.max_bounces",
+        "scattering.paper_rays_per_degree_az",
+        "scattering.paper_rays_elevation",
+    ];
+    const CHOICES: &[(&str, &[&str])] = &[
+        ("radar.window", &["none", "hamming", "taylor", "x"]),
+        ("radar.polarisation", &["HH", "VV", "hv"]),
+        ("environment.polarisation", &["HH", "VV"]),
+        (
+            "environment.clutter_distribution",
+            &["k", "weibull", "lognormal", "rayleigh"],
+        ),
+        ("environment.clutter_model", &["nrl", "git"]),
+        ("environment.sea_roughness", &["ament", "miller-brown-vegh"]),
+        ("scattering.model", &["po", "paper"]),
+        (
+            "object[0].shape",
+            &[
+                "point",
+                "sphere",
+                "plate",
+                "trihedral",
+                "dihedral",
+                "cylinder",
+                "box",
+            ],
+        ),
+    ];
+    const NUMBERS: &[&str] = &[
+        "nan",
+        "inf",
+        "-inf",
+        "-1.0",
+        "0.0",
+        "1e-12",
+        "0.5",
+        "1.0",
+        "3.0",
+        "45.0",
+        "1000.0",
+        "1e9",
+        "1e300",
+        "-1e300",
+        "\"text\"",
+        "true",
+        "[1.0, 2.0]",
+    ];
+    const INTEGERS: &[&str] = &["0", "1", "2", "7", "360", "9000", "100000", "-5", "1.5"];
+    let base = "[radar]\nspokes = 8\nmax_range_m = 600.0\n[environment]\nrain_rate_mm_per_h = 1.0\n[[environment.rain_cell]]\ncentre_m = [100.0, 100.0]\nradius_m = 50.0\nrate_mm_per_h = 4.0\n[[object]]\nname = \"a\"\nshape = \"sphere\"\nradius_m = 1.0\nposition_m = [0.0, 300.0, 2.0]\n";
+    let spec = LoadedSpec::from_toml(base, "base.toml", std::path::Path::new(".")).unwrap();
+    assert!(spec.build().is_ok());
+    let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(2026);
+    let (mut ok, mut refused) = (0, 0);
+    for case in 0..400 {
+        let mut sets = Vec::new();
+        for _ in 0..rng.random_range(1..6) {
+            let set = match rng.random_range(0..4) {
+                0 | 1 => {
+                    let f = FLOATS[rng.random_range(0..FLOATS.len())];
+                    format!("{f}={}", NUMBERS[rng.random_range(0..NUMBERS.len())])
+                }
+                2 => {
+                    let f = COUNTS[rng.random_range(0..COUNTS.len())];
+                    format!("{f}={}", INTEGERS[rng.random_range(0..INTEGERS.len())])
+                }
+                _ => {
+                    let (f, names) = CHOICES[rng.random_range(0..CHOICES.len())];
+                    format!("{f}={}", names[rng.random_range(0..names.len())])
+                }
+            };
+            sets.push(set);
+        }
+        let result =
+            std::panic::catch_unwind(|| spec.clone().with_overrides(&sets).and_then(|s| s.build()));
+        match result {
+            Ok(Ok(_)) => ok += 1,
+            Ok(Err(e)) => {
+                refused += 1;
+                let msg = e.to_string();
+                assert!(!msg.is_empty(), "case {case} {sets:?}: empty message");
+                if let Some(field) = e.field() {
+                    assert!(msg.contains(field), "case {case} {sets:?}: {msg}");
+                }
+            }
+            Err(_) => panic!("case {case}: building panicked with --set {sets:?}"),
+        }
+    }
+    // Both outcomes occur: the generator reaches valid and invalid scenes.
+    eprintln!("{ok} accepted, {refused} refused");
+    assert!(ok > 20 && refused > 20, "{ok} accepted, {refused} refused");
+}
