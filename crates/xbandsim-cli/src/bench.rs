@@ -8,9 +8,11 @@ use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use xbandsim::geometry::{Bvh, Primitive, PrimitiveKind, Ray};
+use xbandsim::ppi::PpiSettings;
 use xbandsim::scattering::{build_scene_bvh, direction_from_az_el, paper};
-use xbandsim::scene::{LoadedSpec, Scene};
+use xbandsim::scene::LoadedSpec;
 use xbandsim::sim::Simulation;
+use xbandsim::Scene;
 
 /// The paper's scene, built into the binary so that `xbandsim bench` runs from any folder.
 const PAPER_SCENE: &str = include_str!("../../../scenes/paper.toml");
@@ -53,7 +55,7 @@ pub fn peak_rss_mb() -> Option<f64> {
 /// Casts the paper's uniform scan grid (closest hit) and returns the number of hits.
 fn cast_scan_grid(scene: &Scene, bvh: &Bvh) -> usize {
     let n = paper::grid_size(scene);
-    let origin = scene.radar.position_m;
+    let origin = scene.radar().position_m();
     (0..n)
         .into_par_iter()
         .with_min_len(4096)
@@ -160,8 +162,8 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     put(
         &format!(
             "PO frame, paper scene, {} spokes x {} bins",
-            scene.radar.spokes,
-            scene.radar.num_range_bins()
+            scene.radar().spokes(),
+            scene.radar().num_range_bins()
         ),
         t * 1e3,
         "ms",
@@ -169,7 +171,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     let mut big = spec.clone();
     big.radar.max_range_m = Some(3100.0);
     let big_scene = Scene::from_spec_in(&big, base)?;
-    let bins = big_scene.radar.num_range_bins();
+    let bins = big_scene.radar().num_range_bins();
     let sim_big = Simulation::new(big_scene);
     let t = median_s(a.repeats, || {
         std::hint::black_box(sim_big.render(1));
@@ -222,12 +224,12 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     //    filter and a 512 x 512 PPI, for 1, 20 and 50 us (compare with the NumPy version).
     for pw in [1.0, 20.0, 50.0] {
         let mut p = spec.clone();
-        p.scattering.model = Some(xbandsim::scene::ScatteringModel::Paper);
+        p.scattering.model = Some(xbandsim::model::ScatteringModel::Paper);
         p.radar.pulse_width_us = Some(pw);
         p.display.image_size_px = Some(512);
         let ps = Scene::from_spec_in(&p, base)?;
+        let conv = PpiSettings::from_spec(&p.display)?.scan_converter(ps.radar());
         let psim = Simulation::new(ps);
-        let conv = psim.scan_converter();
         let mut ppi = vec![0f32; 512 * 512];
         let t = median_s(a.repeats, || {
             let frame = psim.render(1);
@@ -243,20 +245,20 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     // 4. RCS of the ~10 k-triangle vessel mesh over 360 aspects (issue: under 10 s).
     let vessel = xbandsim::geometry::mesh::vessel(30.0, 128);
     let triangles = vessel.triangles.len();
-    let object = xbandsim::scene::SceneObject {
-        name: "vessel".into(),
-        class: "ship".into(),
-        shape_name: "mesh".into(),
-        shape: xbandsim::geometry::ShapeGeometry::Mesh {
+    let object = xbandsim::model::SceneObject::new(
+        "vessel",
+        "ship",
+        xbandsim::geometry::ShapeGeometry::Mesh {
             mesh: std::sync::Arc::new(vessel),
         },
-        position_m: DVec3::ZERO,
-        rotation: glam::DMat3::IDENTITY,
-    };
+        DVec3::ZERO,
+        glam::DMat3::IDENTITY,
+    )
+    .expect("a valid object");
     let target = xbandsim::scattering::rcs::RcsTarget::new(&object);
     let settings = xbandsim::scattering::rcs::RcsSettings {
         freq_hz: 9.41e9,
-        polarisation: xbandsim::scene::Polarisation::Hh,
+        polarisation: xbandsim::model::Polarisation::Hh,
         ray_spacing_wavelengths: 0.25,
         max_rays: 262_144,
         max_bounces: 3,

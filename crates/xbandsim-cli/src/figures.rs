@@ -9,9 +9,11 @@ use xbandsim::antenna::sinc2_pattern;
 use xbandsim::constants::linear_to_db;
 use xbandsim::echo::EchoGroups;
 use xbandsim::output::write_png;
+use xbandsim::ppi::PpiSettings;
 use xbandsim::ppi::{colour_image, ScanConverter};
-use xbandsim::scene::{LoadedSpec, Scene, SceneSpec};
+use xbandsim::scene::{LoadedSpec, ObjectSpec, SceneSpec, ShapeName};
 use xbandsim::sim::Simulation;
+use xbandsim::Scene;
 
 const FONT: &str = "sans-serif";
 
@@ -54,7 +56,7 @@ pub fn run(out: &Path, scene_path: &Path, seed: u64) -> Result<()> {
     let t0 = std::time::Instant::now();
     fig2(out, &scene)?;
     crate::say!("wrote {}", out.join("fig2_antenna_pattern.png").display());
-    fig3(out, &scene, seed)?;
+    fig3(out, loaded.spec(), loaded.base_dir(), seed)?;
     crate::say!("wrote {}", out.join("fig3_signal_chain.png").display());
     fig4(out, loaded.spec(), loaded.base_dir(), seed)?;
     crate::say!("wrote {}", out.join("fig4_ppi_pulse_widths.png").display());
@@ -74,7 +76,7 @@ pub fn run(out: &Path, scene_path: &Path, seed: u64) -> Result<()> {
 
 /// Fig. 2: one-way and two-way normalised power patterns in azimuth and elevation.
 fn fig2(out: &Path, scene: &Scene) -> Result<()> {
-    let ant = scene.radar.antenna;
+    let ant = scene.radar().antenna();
     save_rgb(&out.join("fig2_antenna_pattern.png"), 1200, 500, |root| {
         root.fill(&WHITE).map_err(plot_err)?;
         let (left, right) = root.split_horizontally(600);
@@ -144,29 +146,36 @@ fn fig2(out: &Path, scene: &Scene) -> Result<()> {
 
 /// Fig. 3: (a) the chirp, (b) echoes from three ranges, (c) the received record with noise,
 /// (d) the matched-filter output — all from the library's signal chain.
-fn fig3(out: &Path, base: &Scene, seed: u64) -> Result<()> {
-    // Three point targets on the north axis in free space (as in the paper), 1 µs pulse,
-    // blanking on.
-    let mut text =
-        String::from("[environment]\nclutter = false\nmultipath = false\n[radar]\npulse_width_us = 1.0\nmax_range_m = 900.0\nspokes = 360\n");
-    for (i, (r, rcs)) in [(250.0, 1.0), (450.0, 10.0), (700.0, 30.0)]
+fn fig3(out: &Path, base: &SceneSpec, base_dir: &Path, seed: u64) -> Result<()> {
+    // The scene file's radar, with three point targets on the north axis in free space (as
+    // in the paper), 1 µs pulse, blanking on.
+    let mut spec = base.clone();
+    spec.environment.clutter = Some(false);
+    spec.environment.multipath = Some(false);
+    spec.environment.rain = Some(false);
+    spec.radar.pulse_width_us = Some(1.0);
+    spec.radar.max_range_m = Some(900.0);
+    spec.radar.spokes = Some(360);
+    spec.radar.receiver_blanking = Some(true);
+    spec.radar.position_m = Some([0.0, 0.0, 4.0]);
+    spec.objects = [(250.0, 1.0), (450.0, 10.0), (700.0, 30.0)]
         .iter()
         .enumerate()
-    {
-        text.push_str(&format!("[[object]]\nname = \"t{i}\"\nshape = \"point\"\nrcs_m2 = {rcs}\nposition_m = [0.0, {r}, 4.0]\n"));
-    }
-    let mut three = Scene::from_toml_str(&text, "fig3")?;
-    three.radar.carrier_freq_hz = base.radar.carrier_freq_hz;
-    three.radar.chirp.bandwidth_hz = base.radar.chirp.bandwidth_hz;
-    three.radar.chirp.sample_rate_hz = base.radar.chirp.sample_rate_hz;
-    three.radar.peak_power_w = base.radar.peak_power_w;
-    three.radar.noise_figure_linear = base.radar.noise_figure_linear;
+        .map(|(i, &(r, rcs))| ObjectSpec {
+            name: Some(format!("t{i}")),
+            shape: Some(ShapeName::Point),
+            rcs_m2: Some(rcs),
+            position_m: Some([0.0, r, 4.0]),
+            ..ObjectSpec::default()
+        })
+        .collect();
+    let three = Scene::from_spec_in(&spec, base_dir)?;
     let sim = Simulation::new(three);
     let set = sim.trace();
     let raw = sim.raw_spoke(None, &sim.echo_groups(&set), 0.0, seed, 0, 0);
-    let radar = &sim.scene().radar;
+    let radar = sim.scene().radar();
     let fs = radar.sample_rate_hz();
-    let chirp = radar.chirp;
+    let chirp = radar.chirp();
     let range_bin_m = radar.range_bin_m();
     // Per-target echoes, each alone.
     let per_target: Vec<Vec<Complex32>> = (0..3u32)
@@ -344,6 +353,7 @@ fn fig4(out: &Path, spec: &SceneSpec, base_dir: &Path, seed: u64) -> Result<()> 
             s.radar.receiver_blanking = Some(blanking);
             let scene = Scene::from_spec_in(&s, base_dir)
                 .with_context(|| format!("fig. 4 scene with pulse_width_us = {pw}"))?;
+            let display = PpiSettings::from_spec(&s.display)?;
             let extra_db = 20.0 * f64::log10(pw);
             let title = format!(
                 "{pw} us, {}",
@@ -353,22 +363,21 @@ fn fig4(out: &Path, spec: &SceneSpec, base_dir: &Path, seed: u64) -> Result<()> 
                     "not blanked (as in paper)"
                 }
             );
-            images.push((title, ppi_panel(scene, panel, seed, extra_db)));
+            images.push((title, ppi_panel(scene, &display, panel, seed, extra_db)));
         }
     }
     panel_grid(&out.join("fig4_ppi_pulse_widths.png"), "PPI vs pulse width (colour scale 0 .. 70 + 20 log10(T/1us) dB over noise; rings every 100 m)", &images, panel, 3)
 }
 
 /// One PPI image (RGB) of a scene, `size` pixels, colour scale raised by `extra_db`.
-fn ppi_panel(scene: Scene, size: u32, seed: u64, extra_db: f64) -> Vec<u8> {
+fn ppi_panel(scene: Scene, d: &PpiSettings, size: u32, seed: u64, extra_db: f64) -> Vec<u8> {
     let sim = Simulation::new(scene);
     let frame = sim.render(seed);
-    let r = &sim.scene().radar;
-    let d = &sim.scene().display;
+    let r = sim.scene().radar();
     let conv = ScanConverter::new(
         size,
-        r.max_range_m,
-        r.spokes,
+        r.max_range_m(),
+        r.spokes(),
         r.num_range_bins(),
         r.range_bin_m(),
     );
@@ -440,12 +449,18 @@ fn fig5(out: &Path, sea_scene: &Path, harbour_scene: &Path, seed: u64) -> Result
         s.environment.rain = Some(rain);
         let scene = Scene::from_spec_in(&s, dir)
             .with_context(|| format!("in scene {}", sea_scene.display()))?;
-        images.push((title.to_string(), ppi_panel(scene, panel, seed, 0.0)));
+        let display = PpiSettings::from_spec(&s.display)?;
+        images.push((
+            title.to_string(),
+            ppi_panel(scene, &display, panel, seed, 0.0),
+        ));
     }
-    let harbour = LoadedSpec::read(harbour_scene)?.build()?;
+    let harbour_spec = LoadedSpec::read(harbour_scene)?;
+    let harbour = harbour_spec.build()?;
+    let harbour_display = harbour_spec.ppi_settings()?;
     images.push((
         "calm harbour (SS 1)".to_string(),
-        ppi_panel(harbour, panel, seed, 0.0),
+        ppi_panel(harbour, &harbour_display, panel, seed, 0.0),
     ));
     panel_grid(&out.join("fig5_sea_clutter_rain.png"), "Sea and weather: wind from the north (upwind brighter), rain cell to the east (0 .. 60 dB over noise)", &images, panel, 4)
 }

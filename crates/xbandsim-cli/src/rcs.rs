@@ -6,8 +6,8 @@ use plotters::prelude::*;
 use serde::Serialize;
 use std::path::PathBuf;
 use xbandsim::constants::linear_to_db;
+use xbandsim::model::{Polarisation, Scene};
 use xbandsim::scattering::rcs::{RcsSettings, RcsTarget};
-use xbandsim::scene::{Polarisation, Scene};
 
 /// Arguments of `xbandsim rcs`.
 #[derive(Args, Debug)]
@@ -81,11 +81,11 @@ pub fn parse_range(text: &str) -> Result<Vec<f64>> {
 pub fn run(a: &RcsArgs) -> Result<()> {
     let scene = Scene::load(&a.scene)?;
     let object = scene
-        .objects
+        .objects()
         .iter()
-        .find(|o| o.name == a.object)
+        .find(|o| o.name() == a.object)
         .ok_or_else(|| {
-            let names: Vec<&str> = scene.objects.iter().map(|o| o.name.as_str()).collect();
+            let names: Vec<&str> = scene.objects().iter().map(|o| o.name()).collect();
             anyhow!(
                 "no object named {:?} in {} (objects: {})",
                 a.object,
@@ -100,13 +100,13 @@ pub fn run(a: &RcsArgs) -> Result<()> {
     let freq_hz = match a.freq_ghz {
         Some(f) if f.is_finite() && f > 0.0 => f * 1e9,
         Some(f) => bail!("invalid --freq-ghz {f}: must be a positive number"),
-        None => scene.radar.carrier_freq_hz,
+        None => scene.radar().carrier_freq_hz(),
     };
     let polarisation = match &a.pol {
         Some(p) => p
             .parse::<Polarisation>()
             .map_err(|e| anyhow!("invalid --pol {e}"))?,
-        None => scene.radar.polarisation,
+        None => scene.radar().polarisation(),
     };
     if a.max_rays == 0 {
         bail!("invalid --max-rays 0: at least one ray tube is needed per aspect");
@@ -122,7 +122,7 @@ pub fn run(a: &RcsArgs) -> Result<()> {
         polarisation,
         ray_spacing_wavelengths: a.spacing_wavelengths,
         max_rays: a.max_rays,
-        max_bounces: scene.scattering.max_bounces,
+        max_bounces: scene.scattering().max_bounces(),
     };
     let target = RcsTarget::new(object);
     let el = a.el_deg.to_radians();
@@ -152,8 +152,8 @@ pub fn run(a: &RcsArgs) -> Result<()> {
             &rows,
             &format!(
                 "{} ({}), {:.2} GHz {}, el {} deg",
-                object.name,
-                object.shape_name,
+                object.name(),
+                object.shape_name(),
                 freq_hz / 1e9,
                 polarisation,
                 a.el_deg
@@ -166,8 +166,8 @@ pub fn run(a: &RcsArgs) -> Result<()> {
     } else {
         crate::say!(
             "# RCS of {:?} ({}) at {:.3} GHz {}, el {} deg, {} aspects in {:.2} s",
-            object.name,
-            object.shape_name,
+            object.name(),
+            object.shape_name(),
             freq_hz / 1e9,
             polarisation,
             a.el_deg,

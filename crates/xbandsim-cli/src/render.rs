@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use xbandsim::labels::ObjectTruth;
 use xbandsim::output::{json_bytes, npy_f32_bytes, png_bytes, write_set};
-use xbandsim::ppi::{colour_image, gray_image};
+use xbandsim::ppi::{colour_image, gray_image, PpiSettings};
 use xbandsim::scene::LoadedSpec;
 use xbandsim::sim::{Frame, FrameStats, Simulation};
 
@@ -131,17 +131,20 @@ impl TraceCounts {
 /// together: a failure leaves the previous set in place and no temporary files).
 pub fn write_frame(
     sim: &Simulation,
+    display: &PpiSettings,
     frame: &Frame,
     out: &Path,
     scene_name: &str,
     seed: u64,
 ) -> Result<()> {
     let scene = sim.scene();
-    let conv = sim.scan_converter();
+    let conv = display.scan_converter(scene.radar());
     let size = conv.size_px();
+    let mut objects = frame.truth.clone();
+    conv.geometry().label(&mut objects);
     let mut ppi = vec![0f32; (size * size) as usize];
     conv.convert(&frame.polar_db, f32::NAN, &mut ppi);
-    let d = &scene.display;
+    let d = display;
     let polar = npy_f32_bytes(&[frame.spokes, frame.range_bins], &frame.polar_db);
     let colour = png_bytes(
         &out.join("ppi.png"),
@@ -172,8 +175,8 @@ pub fn write_frame(
         range_bin_m: frame.range_bin_m,
         image_size_px: size,
         display_range_m: conv.display_range_m(),
-        radar_position_m: scene.radar.position_m.to_array(),
-        objects: &frame.truth,
+        radar_position_m: scene.radar().position_m().to_array(),
+        objects: &objects,
         trace: TraceCounts::of(&frame.stats),
     };
     let truth = json_bytes(&out.join("truth.json"), &truth)?;
@@ -206,25 +209,34 @@ pub fn warn_ray_caps(truth: &[ObjectTruth]) {
 /// Runs `xbandsim render`.
 pub fn run(a: &RenderArgs) -> Result<()> {
     let t0 = Instant::now();
-    let scene = load_spec(&a.scene, &overrides(a)?)?.build()?;
+    let spec = load_spec(&a.scene, &overrides(a)?)?;
+    let scene = spec.build()?;
+    let display = spec.ppi_settings()?;
     let sim = Simulation::new(scene);
-    let radar = &sim.scene().radar;
+    let radar = sim.scene().radar();
     // A bar for renders of more than a few million cells (a second or more).
-    let big = radar.spokes * radar.num_range_bins() > 2_000_000;
+    let big = radar.spokes() * radar.num_range_bins() > 2_000_000;
     let progress = if big {
-        crate::progress::bar(radar.spokes as u64, "render: spokes")
+        crate::progress::bar(radar.spokes() as u64, "render: spokes")
     } else {
         indicatif::ProgressBar::hidden()
     };
     let frame = sim.render_frame_progress(a.seed, 0, &|| progress.inc(1));
     progress.finish_and_clear();
     warn_ray_caps(&frame.truth);
-    write_frame(&sim, &frame, &a.out, &a.scene.display().to_string(), a.seed)?;
+    write_frame(
+        &sim,
+        &display,
+        &frame,
+        &a.out,
+        &a.scene.display().to_string(),
+        a.seed,
+    )?;
     let s = &frame.stats;
     crate::say!(
         "rendered {}: {} objects, {} rays, {} contributions, {} spokes x {} bins, trace {:.1} ms, echoes+filter {:.1} ms, total {:.2} s -> {}",
         a.scene.display(),
-        sim.scene().objects.len(),
+        sim.scene().objects().len(),
         s.rays_cast,
         s.contributions,
         frame.spokes,

@@ -5,7 +5,7 @@ use crate::harness::*;
 use crate::{check, Checks, Tolerance};
 use serde::Serialize;
 use xbandsim::constants::{linear_to_db, SPEED_OF_LIGHT_M_PER_S};
-use xbandsim::scene::{Polarisation, Scene};
+use xbandsim::model::{Polarisation, Scene};
 use xbandsim::sim::Simulation;
 
 /// Mean sea-clutter power (dB over noise) in the matched-filter output around `range_m`
@@ -18,17 +18,17 @@ pub fn clutter_mean_power_db(sea_state: f64, range_m: f64) -> (f64, f64) {
     let text = format!("[environment]\nnoise = false\nmultipath = false\nsea_state = {sea_state}\nwind_direction_deg = 33.0\nclutter_distribution = \"rayleigh\"\n[radar]\nposition_m = [0.0, 0.0, 10.0]\nspokes = 2048\nmax_range_m = {}\n", range_m + 200.0);
     let scene = Scene::from_toml_str(&text, "validation").expect("validation scene is valid");
     let sim = Simulation::new(scene);
-    let radar = &sim.scene().radar;
+    let radar = sim.scene().radar();
     let groups = sim.echo_groups(&sim.trace());
     let centre = (range_m / radar.range_bin_m()).round() as usize;
     let bins: Vec<usize> = (centre - 40..=centre + 40).collect();
-    let h = radar.position_m.z;
+    let h = radar.position_m().z;
     let expected_at = |bin: usize| {
         let r = bin as f64 * radar.range_bin_m();
         let psi = (h / r - r / (2.0 * xbandsim::environment::EFFECTIVE_EARTH_RADIUS_M)).asin();
         let sigma0 = 10f64.powf(
             xbandsim::environment::clutter::nrl_sigma0_db(
-                radar.carrier_freq_hz / 1e9,
+                radar.carrier_freq_hz() / 1e9,
                 sea_state,
                 true,
                 psi.to_degrees(),
@@ -37,12 +37,12 @@ pub fn clutter_mean_power_db(sea_state: f64, range_m: f64) -> (f64, f64) {
         let ground = (r * r - h * h).sqrt();
         let area = ground
             * xbandsim::environment::clutter_map::two_way_beam_integral_rad(
-                radar.antenna.az_beamwidth_rad,
+                radar.antenna().az_beamwidth_rad,
             )
             * SPEED_OF_LIGHT_M_PER_S
-            / (2.0 * radar.chirp.bandwidth_hz)
+            / (2.0 * radar.chirp().bandwidth_hz)
             / psi.cos();
-        let el_gain = radar.antenna.elevation_pattern(-(h / r).asin()).powi(2);
+        let el_gain = radar.antenna().elevation_pattern(-(h / r).asin()).powi(2);
         radar.point_target_snr(sigma0 * area, r) * el_gain
     };
     let frames = 4u64;
@@ -52,10 +52,10 @@ pub fn clutter_mean_power_db(sea_state: f64, range_m: f64) -> (f64, f64) {
         let row = radar.num_range_bins();
         for &bin in &bins {
             let e = expected_at(bin);
-            let m: f64 = (0..radar.spokes)
+            let m: f64 = (0..radar.spokes())
                 .map(|k| 10f64.powf(polar[k * row + bin] as f64 / 10.0))
                 .sum::<f64>()
-                / radar.spokes as f64;
+                / radar.spokes() as f64;
             ratio += m / e;
         }
     }
@@ -96,28 +96,28 @@ pub fn clutter_cell_statistics(environment_lines: &str, frames: u64) -> ClutterC
     let scene = Scene::from_toml_str(&text, "validation").expect("validation scene is valid");
     let sim = Simulation::new(scene);
     let scene = sim.scene();
-    let radar = &scene.radar;
-    let clutter = scene.environment.clutter.as_ref().expect("clutter is on");
+    let radar = scene.radar();
+    let clutter = scene.environment().clutter().expect("clutter is on");
     let groups = sim.echo_groups(&sim.trace());
     let bin_m = radar.range_bin_m();
     let (first, last) = ((200.0 / bin_m) as usize, (1400.0 / bin_m) as usize);
     let row = radar.num_range_bins();
-    let h = radar.position_m.z;
-    let resolution_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * radar.chirp.bandwidth_hz);
+    let h = radar.position_m().z;
+    let resolution_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * radar.chirp().bandwidth_hz);
     // Each cell's expected moment (closed form; ν from Ward's formula where it is the default).
     let expected_moment_at = |k: usize, n: usize| {
         let r = n as f64 * bin_m;
         let psi = (h / r - r / (2.0 * xbandsim::environment::EFFECTIVE_EARTH_RADIUS_M)).asin();
         let ground = (r * r - h * h).sqrt();
-        let area = ground * radar.antenna.az_beamwidth_rad * resolution_m / psi.cos();
-        let swell_rel = radar.spoke_azimuth_rad(k) - clutter.swell_from_rad;
+        let area = ground * radar.antenna().az_beamwidth_rad * resolution_m / psi.cos();
+        let swell_rel = radar.spoke_azimuth_rad(k) - clutter.swell_from_rad();
         let nu = k_shape_default(
             psi.to_degrees(),
             area,
-            radar.polarisation == Polarisation::Hh,
+            radar.polarisation() == Polarisation::Hh,
             swell_rel,
         );
-        clutter.distribution.intensity_second_moment(nu)
+        clutter.distribution().intensity_second_moment(nu)
     };
     let lag_near = (15.0 / bin_m).round() as usize;
     let lag_far = (300.0 / bin_m).round() as usize;
@@ -144,7 +144,7 @@ pub fn clutter_cell_statistics(environment_lines: &str, frames: u64) -> ClutterC
         let seed = 100 + frame;
         let map = sim.clutter_map(seed, 0).expect("clutter is on");
         let polar = sim.synthesize_with(&groups, Some(&map), seed, 0);
-        for k in 0..radar.spokes {
+        for k in 0..radar.spokes() {
             let x: Vec<f64> = (first..=last)
                 .map(|n| 10f64.powf(polar[k * row + n] as f64 / 10.0) / map.mean_power(k, n) as f64)
                 .collect();
@@ -201,19 +201,19 @@ pub fn rain_attenuation_db(rate_mm_per_h: f64) -> (f64, f64) {
 pub fn rain_clutter_power_db(rate_mm_per_h: f64, bin: usize) -> (f64, f64) {
     let text = format!("[environment]\nnoise = false\nclutter = false\nmultipath = false\nearth_curvature = false\nrain_rate_mm_per_h = {rate_mm_per_h}\nrain_top_m = 20000.0\n[radar]\nposition_m = [0.0, 0.0, 1000.0]\nspokes = 1024\nmax_range_m = 1500.0\n");
     let (sim, frame) = render_text(&text, 3);
-    let radar = &sim.scene().radar;
+    let radar = sim.scene().radar();
     let r = bin as f64 * radar.range_bin_m();
-    let ant = &radar.antenna;
+    let ant = &radar.antenna();
     let beam = |bw: f64| xbandsim::environment::clutter_map::two_way_beam_integral_rad(bw);
     let volume =
         r * r * beam(ant.az_beamwidth_rad) * beam(ant.el_beamwidth_rad) * SPEED_OF_LIGHT_M_PER_S
-            / (2.0 * radar.chirp.bandwidth_hz);
+            / (2.0 * radar.chirp().bandwidth_hz);
     let eta = xbandsim::environment::rain::volume_reflectivity_m2_per_m3(
         rate_mm_per_h,
         radar.wavelength_m(),
     );
     let gamma = xbandsim::environment::rain::specific_attenuation_db_per_km(
-        radar.carrier_freq_hz / 1e9,
+        radar.carrier_freq_hz() / 1e9,
         rate_mm_per_h,
         true,
     );

@@ -2,7 +2,7 @@
 //! real pipeline, and measuring compressed profiles.
 
 use xbandsim::constants::SPEED_OF_LIGHT_M_PER_S;
-use xbandsim::scene::Scene;
+use xbandsim::model::Scene;
 use xbandsim::sim::{Frame, Simulation};
 
 /// A free-space scene head (no sea reflections) and a `[radar]` block on the drs4d-nxt

@@ -20,7 +20,7 @@ pub fn multipath_point_power_db(
         ground_range_m * 1.05 + 50.0
     );
     let (sim, frame) = render_text(&text, 1);
-    let j = (ground_range_m / sim.scene().radar.range_bin_m()).round() as usize;
+    let j = (ground_range_m / sim.scene().radar().range_bin_m()).round() as usize;
     let row = spoke(&frame, 0);
     row[j.saturating_sub(4)..(j + 5).min(row.len())]
         .iter()

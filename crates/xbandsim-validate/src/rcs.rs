@@ -9,14 +9,14 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 use xbandsim::constants::{linear_to_db, wavelength_m};
 use xbandsim::geometry::{PrimitiveKind, ShapeGeometry, TriangleMesh};
+use xbandsim::model::{Polarisation, Scene, SceneObject};
 use xbandsim::scattering::rcs::{RcsSettings, RcsTarget};
-use xbandsim::scene::{Polarisation, Scene, SceneObject};
 
 /// A scene holding one object with the shape `fields` (TOML lines), and its RCS target.
 fn shape_target(fields: &str) -> (Scene, RcsTarget) {
     let text = format!("[[object]]\nname = \"t\"\n{fields}\nposition_m = [0.0, 100.0, 0.0]\n");
     let scene = Scene::from_toml_str(&text, "validation").expect("validation shape is valid");
-    let target = RcsTarget::new(&scene.objects[0]);
+    let target = RcsTarget::new(&scene.objects()[0]);
     (scene, target)
 }
 
@@ -51,11 +51,11 @@ pub fn shape_rcs_default_budget_m2(fields: &str, az_rad: f64, el_rad: f64) -> f6
         az_rad,
         el_rad,
         &RcsSettings {
-            freq_hz: scene.radar.carrier_freq_hz,
-            polarisation: scene.radar.polarisation,
-            ray_spacing_wavelengths: scene.scattering.ray_spacing_wavelengths,
-            max_rays: scene.scattering.max_rays_per_object,
-            max_bounces: scene.scattering.max_bounces,
+            freq_hz: scene.radar().carrier_freq_hz(),
+            polarisation: scene.radar().polarisation(),
+            ray_spacing_wavelengths: scene.scattering().ray_spacing_wavelengths(),
+            max_rays: scene.scattering().max_rays_per_object(),
+            max_bounces: scene.scattering().max_bounces(),
         },
     )
 }
@@ -64,16 +64,16 @@ pub fn shape_rcs_default_budget_m2(fields: &str, az_rad: f64, el_rad: f64) -> f6
 /// at elevation 0, with tube side λ/2 and `max_rays` tubes per aspect.
 pub fn vessel_mean_rcs_m2(max_rays: usize, segments: usize) -> f64 {
     let mesh = xbandsim::geometry::mesh::vessel(30.0, segments);
-    let object = SceneObject {
-        name: "vessel".into(),
-        class: "ship".into(),
-        shape_name: "mesh".into(),
-        shape: ShapeGeometry::Mesh {
+    let object = SceneObject::new(
+        "vessel",
+        "ship",
+        ShapeGeometry::Mesh {
             mesh: Arc::new(mesh),
         },
-        position_m: DVec3::ZERO,
-        rotation: DMat3::IDENTITY,
-    };
+        DVec3::ZERO,
+        DMat3::IDENTITY,
+    )
+    .expect("a valid object");
     let aspects: Vec<(f64, f64)> = (0..180)
         .map(|i| ((2.0 * i as f64).to_radians(), 0.0))
         .collect();
@@ -122,8 +122,8 @@ pub fn ship_plate_render_db(width_m: f64, height_m: f64, bin: usize) -> (f64, f6
         radar_block_no_noise(&format!("max_range_m = {}", range_m + 300.0))
     );
     let (sim, frame) = render_text(&text, 1);
-    let radar = &sim.scene().radar;
-    let rcs = plate_near_field_rcs_m2(width_m, height_m, range_m, radar.carrier_freq_hz);
+    let radar = sim.scene().radar();
+    let rcs = plate_near_field_rcs_m2(width_m, height_m, range_m, radar.carrier_freq_hz());
     let expected = linear_to_db(radar.point_target_snr(rcs, range_m));
     let j = (range_m / radar.range_bin_m()).round() as usize;
     let measured = spoke(&frame, 0)[j - 3..j + 4]
@@ -142,16 +142,16 @@ pub fn mesh_rcs_m2(triangles: &[[DVec3; 3]], az_rad: f64, freq_hz: f64) -> f64 {
             .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
             .collect(),
     };
-    let object = SceneObject {
-        name: "mesh".into(),
-        class: "mesh".into(),
-        shape_name: "mesh".into(),
-        shape: ShapeGeometry::Mesh {
+    let object = SceneObject::new(
+        "mesh",
+        "mesh",
+        ShapeGeometry::Mesh {
             mesh: Arc::new(mesh),
         },
-        position_m: DVec3::new(0.0, 100.0, 0.0),
-        rotation: DMat3::IDENTITY,
-    };
+        DVec3::new(0.0, 100.0, 0.0),
+        DMat3::IDENTITY,
+    )
+    .expect("a valid object");
     RcsTarget::new(&object).rcs_m2(
         az_rad,
         0.0,

@@ -33,10 +33,10 @@ pub fn snr_error_db(window: &str, pulse_us: f64, seed: u64) -> (f64, f64) {
         point_north("p", range_m, 1e4)
     );
     let (sim, frame) = render_text(&text, seed);
-    let radar = &sim.scene().radar;
+    let radar = sim.scene().radar();
     let expected = linear_to_db(
         radar.point_target_snr(1e4, range_m)
-            * radar.window.snr_loss_linear(radar.chirp.num_samples()),
+            * radar.window().snr_loss_linear(radar.chirp().num_samples()),
     );
     let (_, measured) = argmax(&spoke(&frame, 0)[5300..5500]);
     (expected, measured as f64)
@@ -92,8 +92,8 @@ pub fn object_snr_db(two_way_attenuation_db_per_km: f64) -> (f64, f64) {
     );
     let (sim, frame) = render_text(&text, 11);
     let scene = sim.scene();
-    let radar = &scene.radar;
-    let obj = &scene.objects[0];
+    let radar = scene.radar();
+    let obj = &scene.objects()[0];
     // Range and aspect of the reflector's phase reference: its RCS is computed with the
     // object alone under a plane wave from the radar's direction.
     let target = RcsTarget::new(obj);
@@ -101,17 +101,17 @@ pub fn object_snr_db(two_way_attenuation_db_per_km: f64) -> (f64, f64) {
         0.0,
         0.0,
         &RcsSettings {
-            freq_hz: radar.carrier_freq_hz,
-            polarisation: radar.polarisation,
-            ray_spacing_wavelengths: scene.scattering.ray_spacing_wavelengths,
-            max_rays: scene.scattering.max_rays_per_object,
-            max_bounces: scene.scattering.max_bounces,
+            freq_hz: radar.carrier_freq_hz(),
+            polarisation: radar.polarisation(),
+            ray_spacing_wavelengths: scene.scattering().ray_spacing_wavelengths(),
+            max_rays: scene.scattering().max_rays_per_object(),
+            max_bounces: scene.scattering().max_bounces(),
         },
     );
-    let centre_range = (obj.bounding_centre_m() - radar.position_m).length();
+    let centre_range = (obj.bounding_centre_m() - radar.position_m()).length();
     let expected = linear_to_db(
         radar.point_target_snr(rcs, centre_range)
-            * scene.environment.attenuation_power(centre_range),
+            * scene.environment().attenuation_power(centre_range),
     );
     let row = spoke(&frame, 0);
     let j = (centre_range / radar.range_bin_m()).round() as usize;
@@ -134,7 +134,7 @@ pub(crate) fn checks(out: &mut Checks) {
         point_north("p", range_m, 10.0)
     );
     let (sim, frame) = render_text(&text, 1);
-    let expected_bin = 2.0 * range_m / c * sim.scene().radar.sample_rate_hz();
+    let expected_bin = 2.0 * range_m / c * sim.scene().radar().sample_rate_hz();
     out.push(check(
         "point target range bin (777.7 m)",
         expected_bin,

@@ -5,7 +5,6 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use num_complex::Complex32;
 use xbandsim::processing::PulseCompressor;
 use xbandsim::receiver::{fill_unit_noise, stream_rng};
-use xbandsim::scene::Scene;
 use xbandsim::sim::Simulation;
 use xbandsim::waveform::{LfmChirp, Window};
 
@@ -38,8 +37,10 @@ fn spoke_chain(c: &mut Criterion) {
 }
 
 fn frame_synthesis(c: &mut Criterion) {
-    let mut scene = Scene::from_toml_str(PAPER, "paper").unwrap();
-    scene.radar.max_range_m = 3100.0;
+    let scene = xbandsim::LoadedSpec::from_toml(PAPER, "paper", std::path::Path::new("."))
+        .and_then(|s| s.with_overrides(&["radar.max_range_m=3100"]))
+        .and_then(|s| s.build())
+        .unwrap();
     let sim = Simulation::new(scene);
     let groups = sim.echo_groups(&sim.trace());
     let mut g = c.benchmark_group("frame");

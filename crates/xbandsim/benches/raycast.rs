@@ -6,8 +6,8 @@ use glam::DVec3;
 use xbandsim::geometry::{
     closest_hit_brute_force, object_frame, Bvh, Primitive, Ray, ShapeGeometry,
 };
+use xbandsim::model::Scene;
 use xbandsim::scattering::{build_scene_bvh, direction_from_az_el, paper};
-use xbandsim::scene::Scene;
 use xbandsim::sim::Simulation;
 
 const PAPER: &str = include_str!("../../../scenes/paper.toml");
@@ -16,10 +16,10 @@ fn scan_rays(c: &mut Criterion) {
     let scene = Scene::from_toml_str(PAPER, "paper").unwrap();
     let bvh = build_scene_bvh(&scene);
     // One degree of the paper's scan grid: 100 az x 100 el rays, single thread.
-    let n = 100 * scene.scattering.paper_rays_elevation;
+    let n = 100 * scene.scattering().paper_rays_elevation();
     let mut g = c.benchmark_group("raycast");
     g.throughput(Throughput::Elements(n as u64));
-    let origin = scene.radar.position_m;
+    let origin = scene.radar().position_m();
     g.bench_function("paper_scene_scan_grid_1deg", |b| {
         b.iter(|| {
             let mut hits = 0;

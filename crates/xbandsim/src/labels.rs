@@ -8,10 +8,9 @@
 
 use crate::constants::{linear_to_db, SPEED_OF_LIGHT_M_PER_S};
 use crate::geometry::{Bvh, Ray};
-use crate::ppi::PpiGeometry;
+use crate::model::{Polarisation, ScatteringModel, Scene};
 use crate::scattering::po::TubeBudget;
 use crate::scattering::{azimuth_elevation_rad, ScatterSet};
-use crate::scene::{Polarisation, ScatteringModel, Scene};
 use glam::DVec3;
 use num_complex::Complex64;
 use serde::Serialize;
@@ -139,6 +138,9 @@ pub struct ObjectTruth {
     /// Box in PPI pixels `[x_min, y_min, x_max, y_max]`, clipped to the image; null when the
     /// object leaves no echo in the image.
     pub ppi_box_px: Option<[f64; 4]>,
+    /// Where its echo can lie (None when it leaves no echo); products draw boxes from it.
+    #[serde(skip)]
+    pub echo_region: Option<EchoRegion>,
 }
 
 /// Fraction of the matched-filter peak amplitude received from an echo at `delay_samples`
@@ -206,21 +208,21 @@ fn loss_db(power_factor: f64) -> f64 {
 
 /// Two-way rain attenuation along the straight path from the radar to `target_m`, dB.
 pub fn rain_two_way_loss_db(scene: &Scene, target_m: DVec3) -> f64 {
-    let Some(rain) = &scene.environment.rain else {
+    let Some(rain) = scene.environment().rain() else {
         return 0.0;
     };
-    let radar = &scene.radar;
-    let rel = (target_m - radar.position_m).truncate();
+    let radar = scene.radar();
+    let rel = (target_m - radar.position_m()).truncate();
     let ground = rel.length();
     if ground <= 0.0 {
         return 0.0;
     }
     2.0 * rain.one_way_attenuation_db(
-        radar.position_m.truncate(),
+        radar.position_m().truncate(),
         rel / ground,
         ground,
-        radar.carrier_freq_hz / 1e9,
-        radar.polarisation == Polarisation::Hh,
+        radar.carrier_freq_hz() / 1e9,
+        radar.polarisation() == Polarisation::Hh,
     )
 }
 
@@ -243,16 +245,11 @@ fn line_of_sight_blocked(bvh: &Bvh, radar_m: DVec3, p: DVec3, object: u32) -> bo
 }
 
 /// Builds the truth of every object from a traced scene state.
-pub fn object_truth(
-    scene: &Scene,
-    set: &ScatterSet,
-    bvh: &Bvh,
-    ppi: &PpiGeometry,
-) -> Vec<ObjectTruth> {
-    let radar = &scene.radar;
-    let ant = &radar.antenna;
-    let n_objects = scene.objects.len();
-    let calibrated = scene.scattering.model == ScatteringModel::PhysicalOptics;
+pub fn object_truth(scene: &Scene, set: &ScatterSet, bvh: &Bvh) -> Vec<ObjectTruth> {
+    let radar = scene.radar();
+    let ant = &radar.antenna();
+    let n_objects = scene.objects().len();
+    let calibrated = scene.scattering().model() == ScatteringModel::PhysicalOptics;
     let rcs_all = set.rcs_per_object_m2(n_objects);
     let gain_all = set.multipath_gain_per_object(n_objects);
     let mut has_returns = vec![false; n_objects];
@@ -261,19 +258,18 @@ pub fn object_truth(
             *h = true;
         }
     }
-    let weights = radar.window.coefficients(radar.chirp.num_samples());
-    let chirp = radar.chirp.samples();
-    let window_loss = radar.window.snr_loss_linear(radar.chirp.num_samples());
+    let weights = radar.window().coefficients(radar.chirp().num_samples());
+    let chirp = radar.chirp().samples();
+    let window_loss = radar.window().snr_loss_linear(radar.chirp().num_samples());
     let bin_m = radar.range_bin_m();
-    let spokes = radar.spokes;
-    let spoke_rad = std::f64::consts::TAU / spokes as f64;
-    let resolution_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * radar.chirp.bandwidth_hz);
+    let spokes = radar.spokes();
+    let resolution_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * radar.chirp().bandwidth_hz);
     scene
-        .objects
+        .objects()
         .iter()
         .enumerate()
         .map(|(i, o)| {
-            let rel = o.position_m - radar.position_m;
+            let rel = o.position_m() - radar.position_m();
             let range_m = rel.length();
             let ground_range_m = rel.x.hypot(rel.y);
             let (az, el) = azimuth_elevation_rad(rel);
@@ -281,7 +277,7 @@ pub fn object_truth(
             // returned something.
             let rcs = (calibrated && has_returns[i] && rcs_all[i] > 0.0).then_some(rcs_all[i]);
             let gain = rcs.map(|_| gain_all[i]);
-            let eclipse_fraction = if radar.receiver_blanking {
+            let eclipse_fraction = if radar.receiver_blanking() {
                 eclipse_received_fraction(
                     2.0 * range_m / SPEED_OF_LIGHT_M_PER_S * radar.sample_rate_hz(),
                     &chirp,
@@ -293,8 +289,8 @@ pub fn object_truth(
             let losses = EchoLosses {
                 window: loss_db(window_loss),
                 elevation_pattern: loss_db(ant.elevation_pattern(el).powi(2).max(1e-300)),
-                atmosphere: loss_db(scene.environment.attenuation_power(range_m)),
-                rain: rain_two_way_loss_db(scene, o.position_m),
+                atmosphere: loss_db(scene.environment().attenuation_power(range_m)),
+                rain: rain_two_way_loss_db(scene, o.position_m()),
                 eclipse: (eclipse_fraction > 0.0).then(|| loss_db(eclipse_fraction.powi(2))),
             };
             let snr_unclipped_db = rcs.map(|s| {
@@ -306,14 +302,14 @@ pub fn object_truth(
             });
             let snr_db =
                 snr_unclipped_db.and_then(|s| losses.eclipse.map(|eclipse_db| s - eclipse_db));
-            let r_b = o.shape.bounding_radius_m();
-            let centre_range = (o.bounding_centre_m() - radar.position_m).length();
+            let r_b = o.shape().bounding_radius_m();
+            let centre_range = (o.bounding_centre_m() - radar.position_m()).length();
             let top_m = o.bounding_centre_m().z + r_b;
-            let beyond_horizon = scene.environment.earth_curvature
-                && !crate::environment::above_horizon(radar.position_m.z, ground_range_m, top_m);
+            let beyond_horizon = scene.environment().earth_curvature()
+                && !crate::environment::above_horizon(radar.position_m().z, ground_range_m, top_m);
             let visibility = if beyond_horizon {
                 Visibility::BeyondHorizon
-            } else if centre_range - r_b > radar.max_range_m {
+            } else if centre_range - r_b > radar.max_range_m() {
                 Visibility::BeyondMaxRange
             } else if !has_returns[i] {
                 let idx = i as u32;
@@ -322,7 +318,7 @@ pub fn object_truth(
                     o.bounding_centre_m() + DVec3::Z * r_b,
                 ]
                 .iter()
-                .all(|&p| line_of_sight_blocked(bvh, radar.position_m, p, idx));
+                .all(|&p| line_of_sight_blocked(bvh, radar.position_m(), p, idx));
                 if blocked {
                     Visibility::Shadowed
                 } else if calibrated {
@@ -341,30 +337,25 @@ pub fn object_truth(
             } else {
                 Visibility::Visible
             };
-            let (polar_box, ppi_box_px) = if visibility.has_echo() {
-                boxes(
+            let echo_region = visibility.has_echo().then(|| {
+                EchoRegion::new(
                     rel,
                     az,
                     centre_range,
                     r_b,
                     ground_range_m,
                     resolution_m,
-                    bin_m,
-                    radar.num_range_bins(),
-                    spokes,
-                    spoke_rad,
                     ant.az_beamwidth_rad,
-                    ppi,
                 )
-            } else {
-                (None, None)
-            };
+            });
+            let polar_box =
+                echo_region.and_then(|e| e.polar_box(bin_m, radar.num_range_bins(), spokes));
             ObjectTruth {
                 id: i as u32,
-                name: o.name.clone(),
-                class: o.class.clone(),
-                shape: o.shape_name.clone(),
-                position_m: o.position_m.to_array(),
+                name: o.name().to_string(),
+                class: o.class().to_string(),
+                shape: o.shape_name().to_string(),
+                position_m: o.position_m().to_array(),
                 range_m,
                 ground_range_m,
                 azimuth_deg: az.to_degrees(),
@@ -378,84 +369,77 @@ pub fn object_truth(
                 visibility,
                 po_tubes: set.tube_budgets.get(i).copied().flatten(),
                 polar_box,
-                ppi_box_px,
+                ppi_box_px: None,
+                echo_region,
             }
         })
         .collect()
 }
 
-/// The polar and PPI boxes of an object's echo region: its bounding sphere's range extent
-/// plus one range resolution, its azimuth extent plus half the beamwidth each side. None
-/// where the region falls outside the record or the image.
-#[allow(clippy::too_many_arguments)]
-fn boxes(
-    rel: DVec3,
-    az: f64,
-    centre_range_m: f64,
-    radius_m: f64,
-    ground_range_m: f64,
-    resolution_m: f64,
-    bin_m: f64,
-    num_bins: usize,
-    spokes: usize,
-    spoke_rad: f64,
-    az_beamwidth_rad: f64,
-    ppi: &PpiGeometry,
-) -> (Option<PolarBox>, Option<[f64; 4]>) {
-    let r_lo = (centre_range_m - radius_m).max(0.0);
-    let r_hi = centre_range_m + radius_m + resolution_m;
-    let half_az = (radius_m / ground_range_m.max(1e-9)).atan() + az_beamwidth_rad / 2.0;
-    let half_az = half_az.min(std::f64::consts::PI);
-    let max_bin = num_bins - 1;
-    let first_bin = (r_lo / bin_m).floor();
-    let polar_box = (first_bin <= max_bin as f64).then(|| {
-        let bin_min = first_bin as usize;
-        let bin_max = ((r_hi / bin_m).ceil() as usize).min(max_bin);
-        let s_lo = ((az - half_az) / spoke_rad).round() as i64;
-        let s_hi = ((az + half_az) / spoke_rad).round() as i64;
-        let (spoke_min, spoke_max) = if s_hi - s_lo + 1 >= spokes as i64 {
-            (0, spokes - 1)
-        } else {
-            (
-                s_lo.rem_euclid(spokes as i64) as usize,
-                s_hi.rem_euclid(spokes as i64) as usize,
-            )
-        };
-        PolarBox {
-            spoke_min,
-            spoke_max,
-            bin_min,
-            bin_max,
-        }
-    });
-    // PPI box: bound the polar sector by sampling its outline (ground ranges), clipped to
-    // the displayed range and the image.
-    let g_of = |r: f64| (r * r - rel.z * rel.z).max(0.0).sqrt();
-    let g_lo = g_of(r_lo);
-    let g_hi = g_of(r_hi).min(ppi.display_range_m * std::f64::consts::SQRT_2);
-    if g_lo > ppi.display_range_m * std::f64::consts::SQRT_2 || g_hi < g_lo {
-        return (polar_box, None);
-    }
-    let mut bx = [
-        f64::INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::NEG_INFINITY,
-    ];
-    for k in 0..=32 {
-        let a = az - half_az + 2.0 * half_az * k as f64 / 32.0;
-        for g in [g_lo, g_hi] {
-            let (px, py) = ppi.pixel_of(g * a.sin(), g * a.cos());
-            bx = [bx[0].min(px), bx[1].min(py), bx[2].max(px), bx[3].max(py)];
+/// Where an object's echo can lie: its bounding sphere's slant-range extent plus one range
+/// resolution, and its azimuth extent plus half the beamwidth each side. The polar box is
+/// drawn from it here; products draw their own boxes from it (the PPI's pixel box, in
+/// [`crate::ppi::PpiGeometry::pixel_box`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EchoRegion {
+    /// Nearest slant range, m.
+    pub range_min_m: f64,
+    /// Farthest slant range, m.
+    pub range_max_m: f64,
+    /// Height of the object's reference point above the antenna, m.
+    pub height_above_radar_m: f64,
+    /// Nautical azimuth of the centre, rad.
+    pub azimuth_rad: f64,
+    /// Half the azimuth extent, rad (≤ π).
+    pub half_width_rad: f64,
+}
+
+impl EchoRegion {
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        rel: DVec3,
+        az: f64,
+        centre_range_m: f64,
+        radius_m: f64,
+        ground_range_m: f64,
+        resolution_m: f64,
+        az_beamwidth_rad: f64,
+    ) -> EchoRegion {
+        let half_az = (radius_m / ground_range_m.max(1e-9)).atan() + az_beamwidth_rad / 2.0;
+        EchoRegion {
+            range_min_m: (centre_range_m - radius_m).max(0.0),
+            range_max_m: centre_range_m + radius_m + resolution_m,
+            height_above_radar_m: rel.z,
+            azimuth_rad: az,
+            half_width_rad: half_az.min(std::f64::consts::PI),
         }
     }
-    let size = ppi.size_px as f64;
-    let clipped = [
-        bx[0].clamp(0.0, size),
-        bx[1].clamp(0.0, size),
-        bx[2].clamp(0.0, size),
-        bx[3].clamp(0.0, size),
-    ];
-    let ppi_box = (clipped[2] > clipped[0] && clipped[3] > clipped[1]).then_some(clipped);
-    (polar_box, ppi_box)
+
+    /// The box in (spoke, bin) of the record; None when the region starts beyond its last bin.
+    pub fn polar_box(&self, bin_m: f64, num_bins: usize, spokes: usize) -> Option<PolarBox> {
+        let spoke_rad = std::f64::consts::TAU / spokes as f64;
+        let (az, half_az) = (self.azimuth_rad, self.half_width_rad);
+        let max_bin = num_bins - 1;
+        let first_bin = (self.range_min_m / bin_m).floor();
+        (first_bin <= max_bin as f64).then(|| {
+            let bin_min = first_bin as usize;
+            let bin_max = ((self.range_max_m / bin_m).ceil() as usize).min(max_bin);
+            let s_lo = ((az - half_az) / spoke_rad).round() as i64;
+            let s_hi = ((az + half_az) / spoke_rad).round() as i64;
+            let (spoke_min, spoke_max) = if s_hi - s_lo + 1 >= spokes as i64 {
+                (0, spokes - 1)
+            } else {
+                (
+                    s_lo.rem_euclid(spokes as i64) as usize,
+                    s_hi.rem_euclid(spokes as i64) as usize,
+                )
+            };
+            PolarBox {
+                spoke_min,
+                spoke_max,
+                bin_min,
+                bin_max,
+            }
+        })
+    }
 }

@@ -29,6 +29,7 @@ pub mod environment;
 pub mod error;
 pub mod geometry;
 pub mod labels;
+pub mod model;
 pub mod output;
 pub mod ppi;
 pub mod processing;
@@ -40,5 +41,7 @@ pub mod waveform;
 
 pub use error::{Error, Location, Problem, Result};
 pub use labels::{ObjectTruth, Visibility};
-pub use scene::{LoadedSpec, Scene, SceneSpec};
+pub use model::Scene;
+pub use ppi::PpiSettings;
+pub use scene::{LoadedSpec, SceneSpec};
 pub use sim::{Frame, Simulation};

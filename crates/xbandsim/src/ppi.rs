@@ -6,7 +6,11 @@
 //! its azimuth `atan2(x, y)` picks the nearest spoke and its range `√(x²+y²)` is
 //! interpolated linearly between range bins.
 
-use crate::scene::Colormap;
+use crate::error::{Error, Problem, Result};
+use crate::labels::{EchoRegion, ObjectTruth};
+use crate::model::checks::finite;
+use crate::model::Radar;
+use crate::scene::DisplaySpec;
 
 /// Geometry of a square north-up PPI image: side in pixels and the range at its edge.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,6 +27,48 @@ impl PpiGeometry {
         let s = self.size_px as f64;
         let px_m = 2.0 * self.display_range_m / s;
         (east_m / px_m + s / 2.0, s / 2.0 - north_m / px_m)
+    }
+
+    /// The pixel box `[x_min, y_min, x_max, y_max]` of an echo region: the polar sector's
+    /// outline (ground ranges) sampled and bounded, clipped to the displayed range and the
+    /// image; None when nothing of it is in the image.
+    pub fn pixel_box(&self, region: &EchoRegion) -> Option<[f64; 4]> {
+        let (az, half_az) = (region.azimuth_rad, region.half_width_rad);
+        let z = region.height_above_radar_m;
+        let g_of = |r: f64| (r * r - z * z).max(0.0).sqrt();
+        let g_lo = g_of(region.range_min_m);
+        let g_hi = g_of(region.range_max_m).min(self.display_range_m * std::f64::consts::SQRT_2);
+        if g_lo > self.display_range_m * std::f64::consts::SQRT_2 || g_hi < g_lo {
+            return None;
+        }
+        let mut bx = [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for k in 0..=32 {
+            let a = az - half_az + 2.0 * half_az * k as f64 / 32.0;
+            for g in [g_lo, g_hi] {
+                let (px, py) = self.pixel_of(g * a.sin(), g * a.cos());
+                bx = [bx[0].min(px), bx[1].min(py), bx[2].max(px), bx[3].max(py)];
+            }
+        }
+        let size = self.size_px as f64;
+        let clipped = [
+            bx[0].clamp(0.0, size),
+            bx[1].clamp(0.0, size),
+            bx[2].clamp(0.0, size),
+            bx[3].clamp(0.0, size),
+        ];
+        (clipped[2] > clipped[0] && clipped[3] > clipped[1]).then_some(clipped)
+    }
+
+    /// Sets every object's `ppi_box_px` for this image from its echo region.
+    pub fn label(&self, truth: &mut [ObjectTruth]) {
+        for t in truth {
+            t.ppi_box_px = t.echo_region.and_then(|r| self.pixel_box(&r));
+        }
     }
 }
 
@@ -202,4 +248,98 @@ pub fn colour_image(
         }
     }
     rgb
+}
+
+/// Colour map for `ppi.png`.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum Colormap {
+    /// Perceptually uniform blue–green–yellow.
+    Viridis,
+    /// Black to green, like a phosphor display.
+    Green,
+    /// Black to white ("grey" also reads).
+    #[serde(alias = "grey")]
+    Gray,
+}
+
+/// PPI drawing settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PpiSettings {
+    /// Square image side, px.
+    pub image_size_px: u32,
+    /// Range-ring spacing, m (0 = none).
+    pub range_ring_spacing_m: f64,
+    /// Colour map.
+    pub colormap: Colormap,
+    /// Bottom of the colour scale, dB over noise.
+    pub min_db: f64,
+    /// Top of the colour scale, dB over noise.
+    pub max_db: f64,
+}
+
+impl PpiSettings {
+    /// Validates the scene file's `[display]` table.
+    pub fn from_spec(s: &DisplaySpec) -> Result<PpiSettings> {
+        let image_size_px = s.image_size_px.unwrap_or(1024);
+        if !(16..=16384).contains(&image_size_px) {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                "display.image_size_px",
+                image_size_px,
+                "must be between 16 and 16384",
+            ));
+        }
+        let range_ring_spacing_m = finite(
+            "display.range_ring_spacing_m",
+            s.range_ring_spacing_m.unwrap_or(100.0),
+        )?;
+        if range_ring_spacing_m < 0.0 {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                "display.range_ring_spacing_m",
+                range_ring_spacing_m,
+                "must be 0 (no rings) or more",
+            ));
+        }
+        let colormap = s.colormap.unwrap_or(Colormap::Viridis);
+        let min_db = finite("display.min_db", s.min_db.unwrap_or(0.0))?;
+        let max_db = finite("display.max_db", s.max_db.unwrap_or(60.0))?;
+        if max_db <= min_db {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                "display.max_db",
+                max_db,
+                format!("must be above display.min_db ({min_db})"),
+            ));
+        }
+        Ok(PpiSettings {
+            image_size_px,
+            range_ring_spacing_m,
+            colormap,
+            min_db,
+            max_db,
+        })
+    }
+
+    /// Scan converter from `radar`'s polar record to this image, covering its max range.
+    pub fn scan_converter(&self, radar: &Radar) -> ScanConverter {
+        ScanConverter::new(
+            self.image_size_px,
+            radar.max_range_m(),
+            radar.spokes(),
+            radar.num_range_bins(),
+            radar.range_bin_m(),
+        )
+    }
+
+    /// The image geometry for `radar`: this side, covering its max range.
+    pub fn geometry(&self, radar: &Radar) -> PpiGeometry {
+        PpiGeometry {
+            size_px: self.image_size_px,
+            display_range_m: radar.max_range_m(),
+        }
+    }
 }

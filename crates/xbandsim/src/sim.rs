@@ -6,11 +6,10 @@ use crate::echo::{EchoGroups, FractionalDelayKernel};
 use crate::environment::clutter_map::ClutterMap;
 use crate::geometry::Bvh;
 use crate::labels::{object_truth, ObjectTruth};
-use crate::ppi::{PpiGeometry, ScanConverter};
+use crate::model::Scene;
 use crate::processing::PulseCompressor;
 use crate::receiver::{fill_unit_noise, stream_rng};
 use crate::scattering::{build_scene_bvh, trace_scene, ScatterSet};
-use crate::scene::Scene;
 use num_complex::Complex32;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -77,9 +76,9 @@ impl Simulation {
     pub fn new(scene: Scene) -> Simulation {
         let bvh = build_scene_bvh(&scene);
         let compressor = PulseCompressor::new(
-            &scene.radar.chirp,
-            scene.radar.window,
-            scene.radar.num_range_bins(),
+            scene.radar().chirp(),
+            scene.radar().window(),
+            scene.radar().num_range_bins(),
         );
         Simulation {
             scene,
@@ -111,10 +110,10 @@ impl Simulation {
 
     /// Bins contributions into per-group impulse responses in noise-rms units.
     pub fn echo_groups(&self, set: &ScatterSet) -> EchoGroups {
-        let radar = &self.scene.radar;
+        let radar = self.scene.radar();
         EchoGroups::build(
             &set.contributions,
-            &radar.antenna,
+            radar.antenna(),
             radar.sample_rate_hz(),
             self.compressor.record_len(),
             radar.noise_power_w().sqrt(),
@@ -136,7 +135,7 @@ impl Simulation {
         impulse_response: &mut [Complex32],
     ) -> Option<usize> {
         let earliest = groups.accumulate(
-            &self.scene.radar.antenna,
+            self.scene.radar().antenna(),
             beam_az_rad,
             MIN_GROUP_AMPLITUDE,
             impulse_response,
@@ -159,7 +158,7 @@ impl Simulation {
         spoke: u64,
         scratch: &mut crate::processing::SpokeScratch,
     ) {
-        let radar = &self.scene.radar;
+        let radar = self.scene.radar();
         let record = self.compressor.record_len();
         scratch.buffer.fill(Complex32::new(0.0, 0.0));
         let earliest = self.impulse_response(
@@ -171,7 +170,7 @@ impl Simulation {
             spoke,
             &mut scratch.buffer[..record],
         );
-        let noise = self.scene.environment.noise;
+        let noise = self.scene.environment().noise();
         if noise {
             let mut rng = stream_rng(seed, frame, spoke);
             fill_unit_noise(&mut rng, &mut scratch.noise[..record]);
@@ -181,7 +180,7 @@ impl Simulation {
         let in_blanking =
             clutter.is_some() || earliest.is_some_and(|e| e < self.compressor.pulse_len());
         self.compressor
-            .process(scratch, noise, radar.receiver_blanking, in_blanking);
+            .process(scratch, noise, radar.receiver_blanking(), in_blanking);
     }
 
     /// Raw I/Q of one pulse at `beam_az_rad`, formed explicitly in time (echo record, noise,
@@ -196,7 +195,7 @@ impl Simulation {
         frame: u64,
         spoke: u64,
     ) -> RawSpoke {
-        let radar = &self.scene.radar;
+        let radar = self.scene.radar();
         let record = self.compressor.record_len();
         let mut scratch = self.compressor.scratch();
         self.impulse_response(
@@ -212,14 +211,14 @@ impl Simulation {
         self.compressor.synthesize_record(&mut echo, &mut scratch);
         echo[record..].fill(Complex32::new(0.0, 0.0));
         let mut received = echo.clone();
-        if self.scene.environment.noise {
+        if self.scene.environment().noise() {
             let mut rng = stream_rng(seed, frame, spoke);
             fill_unit_noise(&mut rng, &mut scratch.noise[..record]);
             for (r, n) in received.iter_mut().zip(&scratch.noise[..record]) {
                 *r += n;
             }
         }
-        if radar.receiver_blanking {
+        if radar.receiver_blanking() {
             received[..self.compressor.pulse_len()].fill(Complex32::new(0.0, 0.0));
         }
         let mut compressed = received.clone();
@@ -263,9 +262,9 @@ impl Simulation {
         frame: u64,
         spoke_done: &(dyn Fn() + Sync),
     ) -> Vec<f32> {
-        let radar = &self.scene.radar;
+        let radar = self.scene.radar();
         let bins = self.compressor.num_bins();
-        let mut polar = vec![0f32; radar.spokes * bins];
+        let mut polar = vec![0f32; radar.spokes() * bins];
         polar.par_chunks_mut(bins).enumerate().for_each_init(
             || self.compressor.scratch(),
             |scratch, (k, row)| {
@@ -292,29 +291,10 @@ impl Simulation {
         ClutterMap::new(&self.scene, seed, frame, self.compressor.record_len())
     }
 
-    /// Scan converter for this scene's display settings, covering the radar's max range.
-    pub fn scan_converter(&self) -> ScanConverter {
-        let r = &self.scene.radar;
-        ScanConverter::new(
-            self.scene.display.image_size_px,
-            r.max_range_m,
-            r.spokes,
-            r.num_range_bins(),
-            r.range_bin_m(),
-        )
-    }
-
-    /// PPI image geometry from the display settings, covering the radar's max range.
-    pub fn ppi_geometry(&self) -> PpiGeometry {
-        PpiGeometry {
-            size_px: self.scene.display.image_size_px,
-            display_range_m: self.scene.radar.max_range_m,
-        }
-    }
-
-    /// Ground truth for a traced scene state.
+    /// Ground truth for a traced scene state (PPI pixel boxes are the PPI product's:
+    /// [`crate::ppi::PpiGeometry::label`]).
     pub fn truth(&self, set: &ScatterSet) -> Vec<ObjectTruth> {
-        object_truth(&self.scene, set, &self.bvh, &self.ppi_geometry())
+        object_truth(&self.scene, set, &self.bvh)
     }
 
     /// Renders one revolution: trace, group, synthesise every spoke, label.
@@ -344,9 +324,9 @@ impl Simulation {
         let polar_db = self.synthesize_progress(&groups, clutter.as_ref(), seed, frame, spoke_done);
         let synthesis_s = t1.elapsed().as_secs_f64();
         let truth = self.truth(&set);
-        let radar = &self.scene.radar;
+        let radar = self.scene.radar();
         Frame {
-            spokes: radar.spokes,
+            spokes: radar.spokes(),
             range_bins: self.compressor.num_bins(),
             range_bin_m: radar.range_bin_m(),
             polar_db,

@@ -36,8 +36,8 @@ use super::rain::volume_reflectivity_m2_per_m3;
 use super::EFFECTIVE_EARTH_RADIUS_M;
 use crate::antenna::SINC_BEAMWIDTH_FACTOR;
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
+use crate::model::{Polarisation, Scene};
 use crate::receiver::stream_rng;
-use crate::scene::{Polarisation, Scene};
 use glam::DVec2;
 use num_complex::Complex32;
 use rand_distr::{Distribution, StandardNormal};
@@ -76,23 +76,23 @@ impl ClutterMap {
     /// The clutter of frame `frame` (the texture drifts with time `frame × rotation period`)
     /// for records of `samples` samples; None when there is neither sea clutter nor rain.
     pub fn new(scene: &Scene, seed: u64, frame: u64, samples: usize) -> Option<ClutterMap> {
-        let env = &scene.environment;
-        if env.clutter.is_none() && env.rain.is_none() {
+        let env = scene.environment();
+        if env.clutter().is_none() && env.rain().is_none() {
             return None;
         }
-        let radar = &scene.radar;
-        let spokes = radar.spokes;
-        let h = radar.position_m.z.max(0.0);
+        let radar = scene.radar();
+        let spokes = radar.spokes();
+        let h = radar.position_m().z.max(0.0);
         let dr = radar.range_bin_m();
         let lambda = radar.wavelength_m();
-        let freq_ghz = radar.carrier_freq_hz / 1e9;
-        let horizontal = radar.polarisation == Polarisation::Hh;
-        let ant = &radar.antenna;
+        let freq_ghz = radar.carrier_freq_hz() / 1e9;
+        let horizontal = radar.polarisation() == Polarisation::Hh;
+        let ant = &radar.antenna();
         let delta = std::f64::consts::TAU / spokes as f64;
         let four_pi_cubed = (4.0 * std::f64::consts::PI).powi(3);
-        let k_noise = radar.peak_power_w * ant.peak_gain_linear.powi(2) * lambda * lambda
-            / (four_pi_cubed * radar.system_loss_linear * radar.noise_power_w());
-        let resolution_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * radar.chirp.bandwidth_hz);
+        let k_noise = radar.peak_power_w() * ant.peak_gain_linear.powi(2) * lambda * lambda
+            / (four_pi_cubed * radar.system_loss_linear() * radar.noise_power_w());
+        let resolution_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * radar.chirp().bandwidth_hz);
         let beam_integral = two_way_beam_integral_rad(ant.az_beamwidth_rad);
         // Azimuth weights over ±2 first nulls.
         let null = std::f64::consts::PI * ant.az_beamwidth_rad / SINC_BEAMWIDTH_FACTOR;
@@ -126,7 +126,7 @@ impl ClutterMap {
                     return None;
                 }
                 let ground_m = (r * r - h * h).sqrt();
-                let sin_psi = if env.earth_curvature {
+                let sin_psi = if env.earth_curvature() {
                     h / r - r / (2.0 * EFFECTIVE_EARTH_RADIUS_M)
                 } else {
                     h / r
@@ -143,13 +143,13 @@ impl ClutterMap {
                 let sigma0_nrl = 10f64.powf(
                     nrl_sigma0_db(
                         freq_ghz,
-                        env.clutter.as_ref().map_or(0.0, |c| c.sea_state),
+                        env.clutter().as_ref().map_or(0.0, |c| c.sea_state()),
                         horizontal,
                         grazing_rad.to_degrees(),
                     ) / 10.0,
                 );
                 // Rain: elevations from the sea up to the rain top, two-way elevation pattern.
-                let rain_volume_factor = env.rain.as_ref().map_or(0.0, |rain| {
+                let rain_volume_factor = env.rain().as_ref().map_or(0.0, |rain| {
                     let lo = depression;
                     let hi = ((rain.top_m - h) / r).clamp(-1.0, 1.0).asin();
                     let steps = 48;
@@ -187,8 +187,8 @@ impl ClutterMap {
                 })
             })
             .collect();
-        let clutter = env.clutter.as_ref();
-        let distribution = clutter.map_or(ClutterDistribution::Rayleigh, |c| c.distribution);
+        let clutter = env.clutter();
+        let distribution = clutter.map_or(ClutterDistribution::Rayleigh, |c| c.distribution());
         let textured = clutter.is_some() && distribution != ClutterDistribution::Rayleigh;
         // Texture field (per scene seed), drifting downwind with time.
         let max_ground = rows
@@ -201,8 +201,8 @@ impl ClutterMap {
                 let mut rng = stream_rng(seed, u64::MAX, CLUTTER_STREAM - 1);
                 Some(GaussianField::new(
                     &mut rng,
-                    2.0 * max_ground + 4.0 * c.correlation_m,
-                    c.correlation_m,
+                    2.0 * max_ground + 4.0 * c.correlation_m(),
+                    c.correlation_m(),
                 ))
             }
             _ => None,
@@ -219,18 +219,18 @@ impl ClutterMap {
             }
             _ => None,
         };
-        let t_s = frame as f64 * 60.0 / radar.rotation_rpm;
+        let t_s = frame as f64 * 60.0 / radar.rotation_rpm();
         let drift = clutter.map_or(DVec2::ZERO, |c| {
             // Downwind is opposite to where the wind comes from.
-            let to = c.wind_from_rad + std::f64::consts::PI;
-            DVec2::new(to.sin(), to.cos()) * c.drift_m_per_s * t_s
+            let to = c.wind_from_rad() + std::f64::consts::PI;
+            DVec2::new(to.sin(), to.cos()) * c.drift_m_per_s() * t_s
         });
-        let radar_xy = radar.position_m.truncate();
+        let radar_xy = radar.position_m().truncate();
         let attenuator = env
-            .rain
+            .rain()
             .as_ref()
             .map(|r| r.attenuator(freq_ghz, horizontal));
-        let has_rain = env.rain.is_some();
+        let has_rain = env.rain().is_some();
         // One spoke's rows of sea mean, rain and texture.
         let spoke_rows = |k: usize| -> (Vec<f32>, Vec<f32>, Vec<f32>) {
             let mut sea_row = vec![0f32; samples];
@@ -259,8 +259,8 @@ impl ClutterMap {
                     0
                 }
             ];
-            let wind_rel = clutter.map_or(0.0, |c| az - c.wind_from_rad);
-            let swell_rel = clutter.map_or(0.0, |c| az - c.swell_from_rad);
+            let wind_rel = clutter.map_or(0.0, |c| az - c.wind_from_rad());
+            let swell_rel = clutter.map_or(0.0, |c| az - c.swell_from_rad());
             let cos_rel = wind_rel.cos();
             let cos_2swell = (2.0 * swell_rel).cos();
             for (n, row) in rows.iter().enumerate() {
@@ -272,7 +272,7 @@ impl ClutterMap {
                     1.0
                 };
                 if let Some(c) = clutter {
-                    let sigma0 = match c.model {
+                    let sigma0 = match c.model() {
                         // exp(b·cos φ)/I0(b): wind_direction_factor with per-row constants.
                         Sigma0Model::Nrl => {
                             row.sigma0_nrl * (row.dir_b * cos_rel).exp() * row.dir_norm
@@ -280,7 +280,7 @@ impl ClutterMap {
                         Sigma0Model::Git => 10f64.powf(
                             git_sigma0_db(
                                 freq_ghz,
-                                c.sea_state,
+                                c.sea_state(),
                                 horizontal,
                                 row.grazing_rad,
                                 wind_rel,
@@ -291,7 +291,7 @@ impl ClutterMap {
                     sea_row[n] = (mean * rain_loss * delta) as f32;
                     if let Some(f) = &field {
                         let g = f.at(p.x - drift.x, p.y - drift.y);
-                        texture_row[n] = match c.distribution {
+                        texture_row[n] = match c.distribution() {
                             ClutterDistribution::K { .. } => match &fixed_gamma {
                                 Some(q) => q.quantile(normal_cdf(g)),
                                 None => {
@@ -313,7 +313,7 @@ impl ClutterMap {
                         } as f32;
                     }
                 }
-                if let Some(rain) = &env.rain {
+                if let Some(rain) = &env.rain() {
                     rain_row[n] = (volume_reflectivity_m2_per_m3(rain.rate_at(p), lambda)
                         * row.rain_volume_factor
                         * rain_loss

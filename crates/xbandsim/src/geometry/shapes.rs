@@ -47,6 +47,20 @@ pub fn object_frame(yaw_rad: f64, pitch_rad: f64, roll_rad: f64) -> DMat3 {
 }
 
 impl ShapeGeometry {
+    /// The shape's name as a scene file writes it (`shape = "..."`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            ShapeGeometry::Point { .. } => "point",
+            ShapeGeometry::Sphere { .. } => "sphere",
+            ShapeGeometry::Plate { .. } => "plate",
+            ShapeGeometry::Trihedral { .. } => "trihedral",
+            ShapeGeometry::Dihedral { .. } => "dihedral",
+            ShapeGeometry::Cylinder { .. } => "cylinder",
+            ShapeGeometry::Box { .. } => "box",
+            ShapeGeometry::Mesh { .. } => "mesh",
+        }
+    }
+
     /// Radius of a sphere about the object's position that holds the whole shape, m.
     pub fn bounding_radius_m(&self) -> f64 {
         match self {

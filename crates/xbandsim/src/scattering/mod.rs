@@ -16,7 +16,7 @@ pub mod rcs;
 
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
 use crate::geometry::{Bvh, Primitive};
-use crate::scene::{Radar, ScatteringModel, Scene};
+use crate::model::{Radar, ScatteringModel, Scene};
 use glam::DVec3;
 use num_complex::Complex64;
 
@@ -132,10 +132,11 @@ pub fn direction_from_az_el(az_rad: f64, el_rad: f64) -> DVec3 {
 #[inline]
 pub fn radar_equation_volts_per_root_m2(radar: &Radar, range_tx_m: f64, range_rx_m: f64) -> f64 {
     let lambda = radar.wavelength_m();
-    let g0 = radar.antenna.peak_gain_linear;
+    let g0 = radar.antenna().peak_gain_linear;
     let four_pi_cubed = (4.0 * std::f64::consts::PI).powi(3);
-    (radar.peak_power_w * g0 * g0 * lambda * lambda / (four_pi_cubed * radar.system_loss_linear))
-        .sqrt()
+    (radar.peak_power_w() * g0 * g0 * lambda * lambda
+        / (four_pi_cubed * radar.system_loss_linear()))
+    .sqrt()
         / (range_tx_m * range_rx_m)
 }
 
@@ -143,9 +144,9 @@ pub fn radar_equation_volts_per_root_m2(radar: &Radar, range_tx_m: f64, range_rx
 /// the outgoing and returning ranges.
 #[inline]
 pub fn path_volts_per_root_m2(scene: &Scene, range_tx_m: f64, range_rx_m: f64) -> f64 {
-    radar_equation_volts_per_root_m2(&scene.radar, range_tx_m, range_rx_m)
+    radar_equation_volts_per_root_m2(scene.radar(), range_tx_m, range_rx_m)
         * scene
-            .environment
+            .environment()
             .attenuation_power(0.5 * (range_tx_m + range_rx_m))
             .sqrt()
 }
@@ -160,10 +161,10 @@ pub fn carrier_phase(path_m: f64, wavelength_m: f64) -> Complex64 {
 /// Builds the ray-tracing acceleration structure of a scene (all objects' primitives).
 pub fn build_scene_bvh(scene: &Scene) -> Bvh {
     let prims: Vec<Primitive> = scene
-        .objects
+        .objects()
         .iter()
         .enumerate()
-        .flat_map(|(i, o)| o.shape.primitives(o.position_m, o.rotation, i as u32))
+        .flat_map(|(i, o)| o.shape().primitives(o.position_m(), o.rotation(), i as u32))
         .collect();
     Bvh::build(prims)
 }
@@ -171,15 +172,15 @@ pub fn build_scene_bvh(scene: &Scene) -> Bvh {
 /// Traces the scene with its configured model, then applies the two-way rain attenuation
 /// along each contribution's outgoing and returning directions (ITU-R P.838-3, docs/physics.md).
 pub fn trace_scene(scene: &Scene, bvh: &Bvh) -> ScatterSet {
-    let mut set = match scene.scattering.model {
+    let mut set = match scene.scattering().model() {
         ScatteringModel::PhysicalOptics => po::trace(scene, bvh),
         ScatteringModel::Paper => paper::trace(scene, bvh),
     };
-    if let Some(rain) = &scene.environment.rain {
-        let radar = &scene.radar;
-        let from = radar.position_m.truncate();
-        let freq_ghz = radar.carrier_freq_hz / 1e9;
-        let horizontal = radar.polarisation == crate::scene::Polarisation::Hh;
+    if let Some(rain) = scene.environment().rain() {
+        let radar = scene.radar();
+        let from = radar.position_m().truncate();
+        let freq_ghz = radar.carrier_freq_hz() / 1e9;
+        let horizontal = radar.polarisation() == crate::model::Polarisation::Hh;
         let leg_db = |az: f64, el: f64, range_m: f64| {
             rain.one_way_attenuation_db(
                 from,

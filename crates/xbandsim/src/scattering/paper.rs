@@ -8,7 +8,7 @@
 
 use super::{azimuth_elevation_rad, carrier_phase, direction_from_az_el, Contribution, ScatterSet};
 use crate::geometry::{Bvh, Ray};
-use crate::scene::Scene;
+use crate::model::Scene;
 use num_complex::Complex64;
 use rayon::prelude::*;
 
@@ -20,10 +20,10 @@ pub fn paper_amplitude(one_way_path_m: f64) -> f64 {
 
 /// Directions of the paper's uniform scan grid, azimuth-major: (az, el) for `index`.
 pub fn grid_direction(scene: &Scene, index: usize) -> (f64, f64) {
-    let n_el = scene.scattering.paper_rays_elevation;
-    let n_az = scene.scattering.paper_rays_per_degree_az * 360;
+    let n_el = scene.scattering().paper_rays_elevation();
+    let n_az = scene.scattering().paper_rays_per_degree_az() * 360;
     let (ia, ie) = (index / n_el, index % n_el);
-    let ant = &scene.radar.antenna;
+    let ant = scene.radar().antenna();
     let az = std::f64::consts::TAU * (ia as f64 + 0.5) / n_az as f64;
     let el = ant.tilt_rad - ant.el_beamwidth_rad / 2.0
         + ant.el_beamwidth_rad * (ie as f64 + 0.5) / n_el as f64;
@@ -32,26 +32,26 @@ pub fn grid_direction(scene: &Scene, index: usize) -> (f64, f64) {
 
 /// Number of rays in the paper's grid.
 pub fn grid_size(scene: &Scene) -> usize {
-    scene.scattering.paper_rays_per_degree_az * 360 * scene.scattering.paper_rays_elevation
+    scene.scattering().paper_rays_per_degree_az() * 360 * scene.scattering().paper_rays_elevation()
 }
 
 /// Traces the uniform grid and applies the paper's amplitude law.
 pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
-    let radar = &scene.radar;
+    let radar = scene.radar();
     let lambda = radar.wavelength_m();
-    let v_ref = scene.scattering.paper_reference_voltage_v;
-    let n_el = scene.scattering.paper_rays_elevation;
-    let n_az = scene.scattering.paper_rays_per_degree_az * 360;
-    let origin = radar.position_m;
+    let v_ref = scene.scattering().paper_reference_voltage_v();
+    let n_el = scene.scattering().paper_rays_elevation();
+    let n_az = scene.scattering().paper_rays_per_degree_az() * 360;
+    let origin = radar.position_m();
     // Azimuth culling: a column of rays can only hit an object whose bounding sphere it
     // passes, so only the columns inside some object's azimuth span are cast (the others
     // would all miss; `xbandsim bench` measures raw casting separately).
     let mut live = vec![false; n_az];
     let column_rad = std::f64::consts::TAU / n_az as f64;
-    for o in &scene.objects {
+    for o in scene.objects() {
         let rel = o.bounding_centre_m() - origin;
         let ground = rel.truncate().length();
-        let r = o.shape.bounding_radius_m();
+        let r = o.shape().bounding_radius_m();
         if ground <= r {
             live.iter_mut().for_each(|l| *l = true);
             break;

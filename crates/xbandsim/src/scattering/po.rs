@@ -31,7 +31,7 @@
 use super::{azimuth_elevation_rad, carrier_phase, Contribution, ScatterSet};
 use crate::environment::SeaSurface;
 use crate::geometry::{Bvh, Ray, ShapeGeometry};
-use crate::scene::{Polarisation, Scene};
+use crate::model::{Polarisation, Scene};
 use glam::DVec3;
 use num_complex::Complex64;
 use rayon::prelude::*;
@@ -652,15 +652,15 @@ pub fn plane_wave_rcs_m2(
 
 /// SBR settings of a scene.
 pub fn settings_for(scene: &Scene) -> SbrSettings {
-    let lambda = scene.radar.wavelength_m();
+    let lambda = scene.radar().wavelength_m();
     SbrSettings {
         wavelength_m: lambda,
-        polarisation: scene.radar.polarisation,
-        max_bounces: scene.scattering.max_bounces,
-        spacing_m: scene.scattering.ray_spacing_wavelengths * lambda,
-        max_rays: scene.scattering.max_rays_per_object,
-        sea: scene.environment.sea,
-        earth_curvature: scene.environment.earth_curvature,
+        polarisation: scene.radar().polarisation(),
+        max_bounces: scene.scattering().max_bounces(),
+        spacing_m: scene.scattering().ray_spacing_wavelengths() * lambda,
+        max_rays: scene.scattering().max_rays_per_object(),
+        sea: scene.environment().sea().copied(),
+        earth_curvature: scene.environment().earth_curvature(),
     }
 }
 
@@ -730,19 +730,23 @@ fn point_leg(
 
 /// Traces every object of the scene with SBR/PO and converts to volts.
 pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
-    let radar = &scene.radar;
+    let radar = scene.radar();
     let s = settings_for(scene);
     let volts = |r_tx: f64, r_rx: f64| super::path_volts_per_root_m2(scene, r_tx, r_rx);
     let mut set = ScatterSet {
-        tube_budgets: vec![None; scene.objects.len()],
+        tube_budgets: vec![None; scene.objects().len()],
         ..ScatterSet::default()
     };
-    for (idx, obj) in scene.objects.iter().enumerate() {
+    for (idx, obj) in scene.objects().iter().enumerate() {
         let index = idx as u32;
-        if let ShapeGeometry::Point { rcs_m2 } = obj.shape {
-            let ground = (obj.position_m - radar.position_m).truncate().length();
+        if let ShapeGeometry::Point { rcs_m2 } = obj.shape() {
+            let ground = (obj.position_m() - radar.position_m()).truncate().length();
             if s.earth_curvature
-                && !crate::environment::above_horizon(radar.position_m.z, ground, obj.position_m.z)
+                && !crate::environment::above_horizon(
+                    radar.position_m().z,
+                    ground,
+                    obj.position_m().z,
+                )
             {
                 continue;
             }
@@ -753,7 +757,7 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
             let legs: Vec<(f64, DVec3, Complex64, u8)> = routes
                 .into_iter()
                 .filter_map(|via| {
-                    point_leg(bvh, radar.position_m, obj.position_m, via, &s)
+                    point_leg(bvh, radar.position_m(), obj.position_m(), via, &s)
                         .map(|(len, dir, g)| (len, dir, g, u8::from(via.is_some())))
                 })
                 .collect();
@@ -783,13 +787,13 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         // Objects that cannot be seen are not traced: wholly beyond the recorded range
         // (max range + c·T/2, where the last echo tail ends) or below the radar horizon.
         let centre = obj.bounding_centre_m();
-        let radius = obj.shape.bounding_radius_m();
-        let nearest_m = (centre - radar.position_m).length() - radius;
-        let ground_m = ((centre - radar.position_m).truncate().length() - radius).max(0.0);
-        if nearest_m > radar.max_range_m + radar.eclipse_range_m()
+        let radius = obj.shape().bounding_radius_m();
+        let nearest_m = (centre - radar.position_m()).length() - radius;
+        let ground_m = ((centre - radar.position_m()).truncate().length() - radius).max(0.0);
+        if nearest_m > radar.max_range_m() + radar.eclipse_range_m()
             || (s.earth_curvature
                 && !crate::environment::above_horizon(
-                    radar.position_m.z,
+                    radar.position_m().z,
                     ground_m,
                     centre.z + radius,
                 ))
@@ -797,13 +801,13 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
             continue;
         }
         let illumination = Illumination::FromPoint {
-            radar_m: radar.position_m,
+            radar_m: radar.position_m(),
         };
         let traced = trace_object(
             bvh,
             illumination,
             obj.bounding_centre_m(),
-            obj.shape.bounding_radius_m(),
+            obj.shape().bounding_radius_m(),
             index,
             &s,
         );

@@ -9,7 +9,7 @@ use super::direction_from_az_el;
 use super::po::{plane_wave_rcs_m2, SbrSettings};
 use crate::constants::wavelength_m;
 use crate::geometry::{Bvh, ShapeGeometry};
-use crate::scene::{Polarisation, SceneObject};
+use crate::model::{Polarisation, SceneObject};
 use glam::DMat3;
 use rayon::prelude::*;
 
@@ -40,15 +40,15 @@ impl RcsTarget {
     /// The object's geometry alone, in its own frame (position at the origin, no rotation).
     pub fn new(object: &SceneObject) -> RcsTarget {
         let prims = object
-            .shape
+            .shape()
             .primitives(glam::DVec3::ZERO, DMat3::IDENTITY, 0);
-        let centre_local_m = object.bounding_centre_m() - object.position_m;
-        let centre_local_m = object.rotation.transpose() * centre_local_m;
+        let centre_local_m = object.bounding_centre_m() - object.position_m();
+        let centre_local_m = object.rotation().transpose() * centre_local_m;
         RcsTarget {
             bvh: Bvh::build(prims),
-            shape: object.shape.clone(),
+            shape: object.shape().clone(),
             centre_local_m,
-            radius_m: object.shape.bounding_radius_m(),
+            radius_m: object.shape().bounding_radius_m(),
         }
     }
 

@@ -8,8 +8,10 @@
 //! dotted path; [`locate`] then finds that field's value in the file through the parser's
 //! spans (`toml::de::DeTable`, whose keys and values are `toml::Spanned`).
 
-use super::{Scene, SceneSpec};
+use super::SceneSpec;
 use crate::error::{Error, Location, Result};
+use crate::model::Scene;
+use crate::ppi::PpiSettings;
 use std::path::{Path, PathBuf};
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
@@ -103,22 +105,32 @@ impl LoadedSpec {
     /// Validates the description into a scene; a field error carries the location of its
     /// value ([`Error::location`]).
     pub fn build(&self) -> Result<Scene> {
-        Scene::from_spec_in(&self.spec, &self.base_dir).map_err(|e| {
-            let Some(field) = e.field() else { return e };
-            let overridden = self.overrides.iter().any(|o| o == field);
-            let location = if overridden {
-                Location {
-                    origin: "--set".into(),
-                    line_column: None,
-                }
-            } else {
-                Location {
-                    origin: self.origin.clone(),
-                    line_column: locate(&self.text, field),
-                }
-            };
-            e.at(location)
-        })
+        Scene::from_spec_in(&self.spec, &self.base_dir).map_err(|e| self.locate_error(e))
+    }
+
+    /// Validates the `[display]` table into the PPI product's settings (errors located like
+    /// [`LoadedSpec::build`]'s).
+    pub fn ppi_settings(&self) -> Result<PpiSettings> {
+        PpiSettings::from_spec(&self.spec.display).map_err(|e| self.locate_error(e))
+    }
+
+    /// Attaches where the field of a field error was given: `--set`, or the file's line and
+    /// column.
+    fn locate_error(&self, e: Error) -> Error {
+        let Some(field) = e.field() else { return e };
+        let overridden = self.overrides.iter().any(|o| o == field);
+        let location = if overridden {
+            Location {
+                origin: "--set".into(),
+                line_column: None,
+            }
+        } else {
+            Location {
+                origin: self.origin.clone(),
+                line_column: locate(&self.text, field),
+            }
+        };
+        e.at(location)
     }
 }
 

@@ -2,10 +2,11 @@
 //! field's name. `docs/formats.md` documents every field; `xbandsim schema` prints the JSON
 //! Schema generated from these types.
 
-use super::{Colormap, Polarisation, ScatteringModel};
 use crate::environment::clutter::Sigma0Model;
 use crate::environment::SeaRoughness;
 use crate::geometry::MeshUnit;
+use crate::model::{Polarisation, ScatteringModel};
+use crate::ppi::Colormap;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 

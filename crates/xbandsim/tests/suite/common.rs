@@ -2,7 +2,7 @@
 //! (`xbandsim_validate`), so `xbandsim validate` and the tests measure the same way.
 #![allow(dead_code, unused_imports)]
 
-use xbandsim::scene::Scene;
+use xbandsim::model::Scene;
 use xbandsim::sim::{Frame, Simulation};
 pub use xbandsim_validate::{
     argmax, bin_range_m, fine_profile, first_null_bins, point_north, pslr_db, radar_block,

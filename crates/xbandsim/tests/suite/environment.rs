@@ -174,7 +174,7 @@ fn bad_environment_values_are_named() {
         ("sea_temperature_c = 80.0", "environment.sea_temperature_c"),
         ("polarisation = \"XY\"", "environment.polarisation"),
     ] {
-        let err = xbandsim::scene::Scene::from_toml_str(&format!("[environment]\n{line}\n"), "t")
+        let err = xbandsim::Scene::from_toml_str(&format!("[environment]\n{line}\n"), "t")
             .unwrap_err()
             .to_string();
         // Range errors name the dotted field; unknown choices are reported by the parser
@@ -185,7 +185,7 @@ fn bad_environment_values_are_named() {
             "{line}: {err}"
         );
     }
-    let err = xbandsim::scene::Scene::from_toml_str(
+    let err = xbandsim::Scene::from_toml_str(
         "[environment]\n[[environment.rain_cell]]\nradius_m = 100.0\nrate_mm_per_h = 5.0\n",
         "t",
     )
@@ -202,8 +202,9 @@ fn sea_roughness_defaults_follow_the_docs() {
     use xbandsim::environment::SeaRoughness;
     let sea = |lines: &str| {
         scene(&format!("[environment]\n{lines}\n"))
-            .environment
-            .sea
+            .environment()
+            .sea()
+            .copied()
             .expect("multipath is on by default")
     };
     let s = sea("sea_state = 4.0");

@@ -75,8 +75,16 @@ radius_m = 1.0
 position_m = [-2500.0, 0.0, 4.0]
 "#
     );
-    let (_, frame) = render(&text, 1);
-    let by = |n: &str| frame.truth.iter().find(|t| t.name == n).unwrap().clone();
+    let (sim, frame) = render(&text, 1);
+    // Pixel boxes are the PPI product's: absent from the frame's truth until an image labels it.
+    assert!(frame.truth.iter().all(|t| t.ppi_box_px.is_none()));
+    let mut truth = frame.truth.clone();
+    xbandsim::ppi::PpiGeometry {
+        size_px: 512,
+        display_range_m: sim.scene().radar().max_range_m(),
+    }
+    .label(&mut truth);
+    let by = |n: &str| truth.iter().find(|t| t.name == n).unwrap().clone();
     let edge = by("edge-on");
     assert_eq!(edge.visibility, Visibility::NoReturn, "{edge:?}");
     assert!(edge.rcs_m2.is_none() && edge.rcs_dbsm.is_none() && edge.expected_snr_db.is_none());

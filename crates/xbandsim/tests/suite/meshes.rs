@@ -5,8 +5,8 @@ use base64::Engine as _;
 use std::path::Path;
 use xbandsim::constants::linear_to_db;
 use xbandsim::geometry::TriangleMesh;
+use xbandsim::model::{Polarisation, Scene};
 use xbandsim::scattering::rcs::{RcsSettings, RcsTarget};
-use xbandsim::scene::{Polarisation, Scene};
 
 /// A plate `w × h` facing +y, and a trihedral with edge `a` opening toward +y, as triangles,
 /// built from the same frames as the primitives (docs/formats.md).
@@ -108,7 +108,7 @@ fn write_gltf(path: &Path, tris: &[[[f64; 3]; 3]]) {
 fn rcs_db(scene_text: &str, base: &Path, az_rad: f64) -> f64 {
     let spec: xbandsim::scene::SceneSpec = toml::from_str(scene_text).unwrap();
     let scene = Scene::from_spec_in(&spec, base).unwrap();
-    let t = RcsTarget::new(&scene.objects[0]);
+    let t = RcsTarget::new(&scene.objects()[0]);
     let s = RcsSettings {
         freq_hz: 9.41e9,
         polarisation: Polarisation::Hh,

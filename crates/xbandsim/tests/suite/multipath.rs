@@ -56,7 +56,7 @@ fn sphere_power_db(ground_range_m: f64, multipath: bool) -> f64 {
         ground_range_m + 100.0
     );
     let (sim, frame) = render(&text, 1);
-    let j = (ground_range_m / sim.scene().radar.range_bin_m()).round() as usize;
+    let j = (ground_range_m / sim.scene().radar().range_bin_m()).round() as usize;
     spoke(&frame, 0)[j - 5..j + 6]
         .iter()
         .cloned()

@@ -4,14 +4,14 @@
 
 use std::f64::consts::PI;
 use xbandsim::constants::{linear_to_db, wavelength_m};
+use xbandsim::model::{Polarisation, Scene};
 use xbandsim::scattering::rcs::{RcsSettings, RcsTarget};
-use xbandsim::scene::{Polarisation, Scene};
 
 fn target(shape_fields: &str) -> RcsTarget {
     let text =
         format!("[[object]]\nname = \"t\"\n{shape_fields}\nposition_m = [0.0, 100.0, 0.0]\n");
     let scene = Scene::from_toml_str(&text, "rcs-test").unwrap();
-    RcsTarget::new(&scene.objects[0])
+    RcsTarget::new(&scene.objects()[0])
 }
 
 fn settings(freq_hz: f64) -> RcsSettings {

@@ -1,6 +1,6 @@
 //! Bad input gets a clear error naming the field and the value, never a panic.
 
-use xbandsim::scene::Scene;
+use xbandsim::model::Scene;
 
 const OK_OBJECT: &str = "[[object]]\nname = \"a\"\nshape = \"sphere\"\nradius_m = 1.0\nposition_m = [0.0, 300.0, 2.0]\n";
 
@@ -21,8 +21,8 @@ fn assert_mentions(text: &str, needles: &[&str]) {
 #[test]
 fn valid_scene_is_accepted() {
     let s = Scene::from_toml_str(&format!("[radar]\n{OK_OBJECT}"), "t").unwrap();
-    assert_eq!(s.objects.len(), 1);
-    assert_eq!(s.radar.spokes, 360);
+    assert_eq!(s.objects().len(), 1);
+    assert_eq!(s.radar().spokes(), 360);
 }
 
 #[test]
@@ -176,7 +176,7 @@ fn physically_impossible_setups_are_refused() {
     );
     // A plausible gain is kept.
     let s = Scene::from_toml_str(&format!("[radar]\ngain_dbi = 27.0\n{OK_OBJECT}"), "t").unwrap();
-    assert!((10.0 * s.radar.antenna.peak_gain_linear.log10() - 27.0).abs() < 1e-9);
+    assert!((10.0 * s.radar().antenna().peak_gain_linear.log10() - 27.0).abs() < 1e-9);
 }
 
 /// Errors found while building the model name the file, line and column of the value, and
@@ -249,7 +249,7 @@ fn overrides_set_fields_by_path() {
     let dir = std::path::Path::new(".");
     let text = format!("[radar]\nspokes = 4\n{OK_OBJECT}");
     let spec = LoadedSpec::from_toml(&text, "s.toml", dir).unwrap();
-    let scene = spec
+    let overridden = spec
         .clone()
         .with_overrides(&[
             "radar.spokes=16",
@@ -257,14 +257,16 @@ fn overrides_set_fields_by_path() {
             "display.colormap=green",
             "environment.noise = false",
         ])
-        .unwrap()
-        .build()
         .unwrap();
-    assert_eq!(scene.radar.spokes, 16);
-    assert_eq!(scene.display.colormap, xbandsim::scene::Colormap::Green);
-    assert!(!scene.environment.noise);
-    match scene.objects[0].shape {
-        xbandsim::geometry::ShapeGeometry::Sphere { radius_m } => assert_eq!(radius_m, 2.5),
+    let scene = overridden.build().unwrap();
+    assert_eq!(scene.radar().spokes(), 16);
+    assert_eq!(
+        overridden.ppi_settings().unwrap().colormap,
+        xbandsim::ppi::Colormap::Green
+    );
+    assert!(!scene.environment().noise());
+    match scene.objects()[0].shape() {
+        xbandsim::geometry::ShapeGeometry::Sphere { radius_m } => assert_eq!(*radius_m, 2.5),
         _ => panic!("not a sphere"),
     }
     // A bad value set on the command line is located there, not in the file.

@@ -18,7 +18,7 @@ fn point_target_lands_in_range_bin() {
             point_north("p", range_m, 10.0)
         );
         let (sim, frame) = render(&text, 1);
-        let fs = sim.scene().radar.sample_rate_hz();
+        let fs = sim.scene().radar().sample_rate_hz();
         let expected_bin = 2.0 * (range_m - 0.0) / xbandsim::constants::SPEED_OF_LIGHT_M_PER_S * fs;
         let (bin, _) = argmax(spoke(&frame, 0));
         assert!(
@@ -111,10 +111,10 @@ fn point_target_snr_matches_radar_equation() {
             point_north("p", range_m, 1e4)
         );
         let (sim, frame) = render(&text, 3);
-        let radar = &sim.scene().radar;
+        let radar = sim.scene().radar();
         let expected = linear_to_db(
             radar.point_target_snr(1e4, range_m)
-                * radar.window.snr_loss_linear(radar.chirp.num_samples()),
+                * radar.window().snr_loss_linear(radar.chirp().num_samples()),
         );
         let (_, measured) = argmax(&spoke(&frame, 0)[5300..5500]);
         assert!(

@@ -1,0 +1,132 @@
+//! Stage: model. The validated, immutable runtime description of a scene in SI units, built
+//! from a [`SceneSpec`](crate::scene::SceneSpec): the [`Radar`], the [`Environment`], the
+//! scattering settings and the objects of the world. Every bad value is an [`Error`] naming
+//! the field and the value; nothing here panics on user input. Display settings are not part
+//! of the model: they belong to the PPI product (`crate::ppi::PpiSettings`).
+
+pub(crate) mod checks;
+mod environment;
+mod radar;
+mod scattering;
+mod world;
+
+pub use environment::{Environment, SeaClutter};
+pub use radar::{Polarisation, Radar, MAX_POLAR_CELLS, MAX_SPOKES, RADAR_PRESETS};
+pub use scattering::{ScatteringConfig, ScatteringModel};
+pub use world::{SceneObject, SHAPES};
+
+use crate::error::{Error, Problem, Result};
+use crate::scene::{LoadedSpec, SceneSpec};
+use checks::fmt_vec;
+use std::path::Path;
+
+/// A validated scene: the radar, the environment, the scattering settings and the objects.
+/// Immutable once built; read it through its accessors.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    radar: Radar,
+    environment: Environment,
+    scattering: ScatteringConfig,
+    objects: Vec<SceneObject>,
+}
+
+impl Scene {
+    /// Assembles a scene from validated parts, checking what involves more than one of them:
+    /// object names are unique, every object reaches above the sea surface and none sits on
+    /// the radar.
+    pub fn new(
+        radar: Radar,
+        environment: Environment,
+        scattering: ScatteringConfig,
+        objects: Vec<SceneObject>,
+    ) -> Result<Scene> {
+        for (i, obj) in objects.iter().enumerate() {
+            if objects[..i].iter().any(|p| p.name() == obj.name()) {
+                return Err(Error::invalid(
+                    Problem::Conflict,
+                    format!("object[{i}].name"),
+                    format!("\"{}\"", obj.name()),
+                    "another object already has this name",
+                ));
+            }
+            let top_m = obj.top_m();
+            if top_m < 0.0 {
+                return Err(Error::invalid(
+                    Problem::OutOfRange,
+                    format!("object \"{}\".position_m", obj.name()),
+                    fmt_vec(obj.position_m()),
+                    format!("the object lies entirely below the sea surface (its highest point is at z = {top_m:.2} m; the sea is the plane z = 0): a radar cannot see it; raise it"),
+                ));
+            }
+            let clearance = obj.shape().bounding_radius_m().max(0.5);
+            let dist = (obj.bounding_centre_m() - radar.position_m()).length();
+            if dist < clearance {
+                return Err(Error::invalid(
+                    Problem::Conflict,
+                    format!("object \"{}\".position_m", obj.name()),
+                    fmt_vec(obj.position_m()),
+                    format!("the object is at the radar's position (radar.position_m = {}); it must be at least {clearance:.2} m away", fmt_vec(radar.position_m())),
+                ));
+            }
+        }
+        Ok(Scene {
+            radar,
+            environment,
+            scattering,
+            objects,
+        })
+    }
+
+    /// Reads and validates a scene file (errors name the file, line and field).
+    pub fn load(path: &Path) -> Result<Scene> {
+        LoadedSpec::read(path)?.build()
+    }
+
+    /// Parses and validates scene TOML; `origin` names the source in errors and mesh files are
+    /// found relative to the current directory.
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<Scene> {
+        LoadedSpec::from_toml(text, origin, Path::new("."))?.build()
+    }
+
+    /// Validates a parsed scene description; mesh files are found relative to the current
+    /// directory.
+    pub fn from_spec(spec: &SceneSpec) -> Result<Scene> {
+        Scene::from_spec_in(spec, Path::new("."))
+    }
+
+    /// Validates a parsed scene description whose mesh files are relative to `base_dir`. The
+    /// `[display]` table is not part of the model (see [`crate::ppi::PpiSettings`]).
+    pub fn from_spec_in(spec: &SceneSpec, base_dir: &Path) -> Result<Scene> {
+        let radar = radar::build_radar(&spec.radar, spec.environment.polarisation)?;
+        let environment =
+            environment::build_environment(&spec.environment, radar.carrier_freq_hz())?;
+        let scattering = scattering::build_scattering(&spec.scattering)?;
+        let objects = spec
+            .objects
+            .iter()
+            .enumerate()
+            .map(|(i, o)| world::build_object(i, o, base_dir))
+            .collect::<Result<Vec<_>>>()?;
+        Scene::new(radar, environment, scattering, objects)
+    }
+
+    /// The radar.
+    pub fn radar(&self) -> &Radar {
+        &self.radar
+    }
+
+    /// The environment.
+    pub fn environment(&self) -> &Environment {
+        &self.environment
+    }
+
+    /// The scattering settings.
+    pub fn scattering(&self) -> &ScatteringConfig {
+        &self.scattering
+    }
+
+    /// The objects, in scene-file order (their index is their truth id).
+    pub fn objects(&self) -> &[SceneObject] {
+        &self.objects
+    }
+}

@@ -1,0 +1,488 @@
+//! Model: the radar — position, carrier, LFM waveform and matched-filter window, antenna,
+//! receiver (noise figure, losses, blanking) and scan (PRF, rotation, spokes, range), in SI
+//! units, validated from the scene file's `[radar]` table (docs/formats.md).
+
+use super::checks::{finite, finite_vec, fmt_vec, positive};
+use crate::antenna::{uniform_aperture_gain, Antenna};
+use crate::constants::{
+    db_to_linear, wavelength_m, BOLTZMANN_J_PER_K, REFERENCE_TEMPERATURE_K, SPEED_OF_LIGHT_M_PER_S,
+};
+use crate::error::{Error, Problem, Result};
+use crate::scene::{RadarPreset, RadarSpec, WindowName};
+use crate::waveform::{LfmChirp, Window};
+use glam::DVec3;
+
+/// Names of the radar presets.
+pub const RADAR_PRESETS: &[&str] = &["drs4d-nxt"];
+/// Largest number of spokes per revolution.
+pub const MAX_SPOKES: usize = 8192;
+
+/// Largest polar output, spokes × range bins (256 MB of float32; the clutter map and the
+/// images take a few times that again).
+pub const MAX_POLAR_CELLS: usize = 64_000_000;
+
+/// The radar, in SI units.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Radar {
+    /// Antenna phase centre, ENU m.
+    position_m: DVec3,
+    /// Carrier frequency f0, Hz.
+    carrier_freq_hz: f64,
+    /// The transmitted LFM pulse (bandwidth, pulse width, sample rate).
+    chirp: LfmChirp,
+    /// Matched-filter reference window.
+    window: Window,
+    /// Peak transmit power Pt, W.
+    peak_power_w: f64,
+    /// Noise figure F (linear).
+    noise_figure_linear: f64,
+    /// System loss L (linear, ≥ 1).
+    system_loss_linear: f64,
+    /// Antenna beamwidths, gain and tilt.
+    antenna: Antenna,
+    /// Pulse repetition frequency, Hz.
+    prf_hz: f64,
+    /// Rotation rate, rev/min.
+    rotation_rpm: f64,
+    /// Largest range in the outputs, m.
+    max_range_m: f64,
+    /// Spokes per revolution.
+    spokes: usize,
+    /// Receiver blanked while transmitting.
+    receiver_blanking: bool,
+    /// Transmit and receive polarisation.
+    polarisation: Polarisation,
+}
+
+impl Radar {
+    /// Antenna phase centre, ENU m.
+    pub fn position_m(&self) -> DVec3 {
+        self.position_m
+    }
+
+    /// Carrier frequency f0, Hz.
+    pub fn carrier_freq_hz(&self) -> f64 {
+        self.carrier_freq_hz
+    }
+
+    /// The transmitted LFM pulse (bandwidth, pulse width, sample rate).
+    pub fn chirp(&self) -> &LfmChirp {
+        &self.chirp
+    }
+
+    /// Matched-filter reference window.
+    pub fn window(&self) -> Window {
+        self.window
+    }
+
+    /// Peak transmit power Pt, W.
+    pub fn peak_power_w(&self) -> f64 {
+        self.peak_power_w
+    }
+
+    /// Noise figure F (linear).
+    pub fn noise_figure_linear(&self) -> f64 {
+        self.noise_figure_linear
+    }
+
+    /// System loss L (linear, ≥ 1).
+    pub fn system_loss_linear(&self) -> f64 {
+        self.system_loss_linear
+    }
+
+    /// Antenna beamwidths, gain and tilt.
+    pub fn antenna(&self) -> &Antenna {
+        &self.antenna
+    }
+
+    /// Pulse repetition frequency, Hz.
+    pub fn prf_hz(&self) -> f64 {
+        self.prf_hz
+    }
+
+    /// Rotation rate, rev/min.
+    pub fn rotation_rpm(&self) -> f64 {
+        self.rotation_rpm
+    }
+
+    /// Largest range in the outputs, m.
+    pub fn max_range_m(&self) -> f64 {
+        self.max_range_m
+    }
+
+    /// Spokes per revolution.
+    pub fn spokes(&self) -> usize {
+        self.spokes
+    }
+
+    /// Receiver blanked while transmitting.
+    pub fn receiver_blanking(&self) -> bool {
+        self.receiver_blanking
+    }
+
+    /// Transmit and receive polarisation.
+    pub fn polarisation(&self) -> Polarisation {
+        self.polarisation
+    }
+}
+
+/// Linear polarisation used for both transmit and receive: "HH" or "VV" in a scene file
+/// (any case; "H" and "V" also read).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
+pub enum Polarisation {
+    /// Horizontal transmit, horizontal receive.
+    #[serde(rename = "HH", alias = "hh", alias = "Hh", alias = "H", alias = "h")]
+    Hh,
+    /// Vertical transmit, vertical receive.
+    #[serde(rename = "VV", alias = "vv", alias = "Vv", alias = "V", alias = "v")]
+    Vv,
+}
+
+impl std::fmt::Display for Polarisation {
+    /// "HH" or "VV".
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Polarisation::Hh => "HH",
+            Polarisation::Vv => "VV",
+        })
+    }
+}
+
+impl std::str::FromStr for Polarisation {
+    type Err = String;
+
+    /// Parses a polarisation as a scene file writes it ("HH", "vv", "H"...).
+    fn from_str(text: &str) -> std::result::Result<Polarisation, String> {
+        use serde::de::{value::StrDeserializer, Deserialize};
+        Polarisation::deserialize(StrDeserializer::<serde::de::value::Error>::new(text))
+            .map_err(|_| format!("\"{text}\": expected \"HH\" or \"VV\""))
+    }
+}
+
+impl Radar {
+    /// Carrier wavelength λ, m.
+    pub fn wavelength_m(&self) -> f64 {
+        wavelength_m(self.carrier_freq_hz)
+    }
+
+    /// Complex sample rate fs, Hz.
+    pub fn sample_rate_hz(&self) -> f64 {
+        self.chirp.sample_rate_hz
+    }
+
+    /// Thermal noise power per complex sample, `k·T0·F·fs`, W.
+    pub fn noise_power_w(&self) -> f64 {
+        BOLTZMANN_J_PER_K
+            * REFERENCE_TEMPERATURE_K
+            * self.noise_figure_linear
+            * self.sample_rate_hz()
+    }
+
+    /// Range spacing of output bins, `c/(2·fs)`, m.
+    pub fn range_bin_m(&self) -> f64 {
+        SPEED_OF_LIGHT_M_PER_S / (2.0 * self.sample_rate_hz())
+    }
+
+    /// Number of range bins: bin j is at `j·c/(2·fs)`, up to `max_range_m`.
+    pub fn num_range_bins(&self) -> usize {
+        (self.max_range_m / self.range_bin_m()).floor() as usize + 1
+    }
+
+    /// Range inside which echoes arrive while the pulse is still being sent, `c·T/2`, m.
+    pub fn eclipse_range_m(&self) -> f64 {
+        SPEED_OF_LIGHT_M_PER_S * self.chirp.pulse_width_s / 2.0
+    }
+
+    /// Radar-equation single-pulse SNR of a point target (linear), at the beam peak,
+    /// before any window loss: `Pt·T·G0²·λ²·σ / ((4π)³·R⁴·k·T0·F·L)`
+    /// (Skolnik, *Introduction to Radar Systems*, 3rd ed., eq. 2.51 with pulse compression).
+    pub fn point_target_snr(&self, rcs_m2: f64, range_m: f64) -> f64 {
+        let lambda = self.wavelength_m();
+        let g0 = self.antenna.peak_gain_linear;
+        let four_pi_cubed = (4.0 * std::f64::consts::PI).powi(3);
+        self.peak_power_w * self.chirp.pulse_width_s * g0 * g0 * lambda * lambda * rcs_m2
+            / (four_pi_cubed
+                * range_m.powi(4)
+                * BOLTZMANN_J_PER_K
+                * REFERENCE_TEMPERATURE_K
+                * self.noise_figure_linear
+                * self.system_loss_linear)
+    }
+
+    /// The samples actually realised for the pulse (`N_T/fs`), s.
+    pub fn sampled_pulse_width_s(&self) -> f64 {
+        self.chirp.num_samples() as f64 / self.sample_rate_hz()
+    }
+
+    /// Azimuth of spoke `k`, rad (nautical: 0 = north, clockwise).
+    pub fn spoke_azimuth_rad(&self, k: usize) -> f64 {
+        std::f64::consts::TAU * k as f64 / self.spokes as f64
+    }
+}
+
+/// Validates the `[radar]` table; `environment_polarisation` is the older place a scene file
+/// may give the polarisation (`environment.polarisation`), which must agree with
+/// `radar.polarisation` when both are given.
+pub(super) fn build_radar(
+    s: &RadarSpec,
+    environment_polarisation: Option<Polarisation>,
+) -> Result<Radar> {
+    let RadarPreset::Drs4dNxt = s.preset.unwrap_or_default();
+    // drs4d-nxt: Furuno DRS4D-NXT-like figures from the seed paper (f0, B, beamwidths, Pt,
+    // fs); PRF, noise figure, mast height, range and rotation are typical values, assumed.
+    let position_m = finite_vec("radar.position_m", s.position_m.unwrap_or([0.0, 0.0, 4.0]))?;
+    if position_m.z <= 0.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.position_m",
+            fmt_vec(position_m),
+            "the antenna must be above the sea surface (z > 0; the sea is the plane z = 0)",
+        ));
+    }
+    let frequency_ghz = positive("radar.frequency_ghz", s.frequency_ghz.unwrap_or(9.41))?;
+    let bandwidth_mhz = positive("radar.bandwidth_mhz", s.bandwidth_mhz.unwrap_or(50.0))?;
+    let pulse_width_us = positive("radar.pulse_width_us", s.pulse_width_us.unwrap_or(1.0))?;
+    let sample_rate_mhz = positive("radar.sample_rate_mhz", s.sample_rate_mhz.unwrap_or(100.0))?;
+    let peak_power_w = positive("radar.peak_power_w", s.peak_power_w.unwrap_or(25.0))?;
+    let noise_figure_db = finite("radar.noise_figure_db", s.noise_figure_db.unwrap_or(5.0))?;
+    if noise_figure_db < 0.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.noise_figure_db",
+            noise_figure_db,
+            "a noise figure cannot be below 0 dB",
+        ));
+    }
+    let system_loss_db = finite("radar.system_loss_db", s.system_loss_db.unwrap_or(0.0))?;
+    if system_loss_db < 0.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.system_loss_db",
+            system_loss_db,
+            "a loss must be 0 dB or more",
+        ));
+    }
+    let az_bw_deg = positive(
+        "radar.azimuth_beamwidth_deg",
+        s.azimuth_beamwidth_deg.unwrap_or(3.9),
+    )?;
+    let el_bw_deg = positive(
+        "radar.elevation_beamwidth_deg",
+        s.elevation_beamwidth_deg.unwrap_or(25.0),
+    )?;
+    if az_bw_deg >= 180.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.azimuth_beamwidth_deg",
+            az_bw_deg,
+            "must be less than 180",
+        ));
+    }
+    if el_bw_deg >= 180.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.elevation_beamwidth_deg",
+            el_bw_deg,
+            "must be less than 180",
+        ));
+    }
+    let tilt_deg = finite("radar.tilt_deg", s.tilt_deg.unwrap_or(0.0))?;
+    if tilt_deg.abs() > 90.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.tilt_deg",
+            tilt_deg,
+            "must be within -90..90",
+        ));
+    }
+    let az_bw = az_bw_deg.to_radians();
+    let el_bw = el_bw_deg.to_radians();
+    // A lossless aperture with these beamwidths cannot exceed 4π/(θaz·θel) (Balanis,
+    // Antenna Theory, §2.6, with Kraus's approximation; the uniform aperture reaches 0.78 of it).
+    let max_gain_dbi = 10.0 * (4.0 * std::f64::consts::PI / (az_bw * el_bw)).log10();
+    let peak_gain_linear = match s.gain_dbi {
+        Some(g) => {
+            let g = finite("radar.gain_dbi", g)?;
+            if !(0.0..=max_gain_dbi + 1.0).contains(&g) {
+                return Err(Error::invalid(
+                Problem::Conflict,
+                    "radar.gain_dbi",
+                    g,
+                    format!(
+                        "implausible for beamwidths {az_bw_deg}° × {el_bw_deg}°: an antenna with them has at most 4π/(θaz·θel) = {max_gain_dbi:.1} dBi (and a radar antenna has gain above 0 dBi); change the gain or the beamwidths"
+                    ),
+                ));
+            }
+            db_to_linear(g)
+        }
+        None => uniform_aperture_gain(az_bw, el_bw),
+    };
+    let prf_hz = positive("radar.prf_hz", s.prf_hz.unwrap_or(1200.0))?;
+    let rotation_rpm = positive("radar.rotation_rpm", s.rotation_rpm.unwrap_or(24.0))?;
+    let max_range_m = positive("radar.max_range_m", s.max_range_m.unwrap_or(1500.0))?;
+    let spokes = s.spokes.unwrap_or(360);
+    if spokes == 0 || spokes > MAX_SPOKES {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.spokes",
+            spokes,
+            format!("must be between 1 and {MAX_SPOKES}"),
+        ));
+    }
+    let window = match s.window.unwrap_or_default() {
+        WindowName::None => Window::None,
+        WindowName::Hamming => Window::Hamming,
+        WindowName::Taylor => {
+            let nbar = s.taylor_nbar.unwrap_or(4);
+            if !(2..=32).contains(&nbar) {
+                return Err(Error::invalid(
+                    Problem::OutOfRange,
+                    "radar.taylor_nbar",
+                    nbar,
+                    "must be between 2 and 32",
+                ));
+            }
+            let sll = finite(
+                "radar.taylor_sidelobe_db",
+                s.taylor_sidelobe_db.unwrap_or(-35.0),
+            )?;
+            if !(-120.0..=-13.5).contains(&sll) {
+                return Err(Error::invalid(
+                    Problem::OutOfRange,
+                    "radar.taylor_sidelobe_db",
+                    sll,
+                    "must be between -120 and -13.5 dB",
+                ));
+            }
+            Window::Taylor {
+                nbar,
+                sidelobe_db: sll,
+            }
+        }
+    };
+    let pulse_width_s = pulse_width_us * 1e-6;
+    let pri_s = 1.0 / prf_hz;
+    // Compared in microseconds, as written, so that 50 us at 20 kHz is caught exactly.
+    if pulse_width_us >= 1e6 / prf_hz {
+        return Err(Error::invalid(
+                Problem::Conflict,
+            "radar.pulse_width_us",
+            pulse_width_us,
+            format!("the pulse must be shorter than the pulse repetition interval 1/prf_hz = {:.3} us (prf_hz = {prf_hz})", pri_s * 1e6),
+        ));
+    }
+    let sample_rate_hz = sample_rate_mhz * 1e6;
+    let bandwidth_hz = bandwidth_mhz * 1e6;
+    if bandwidth_hz > sample_rate_hz {
+        return Err(Error::invalid(
+                Problem::Conflict,
+            "radar.bandwidth_mhz",
+            bandwidth_mhz,
+            format!("complex sampling needs sample_rate_mhz ({sample_rate_mhz}) at least equal to the bandwidth"),
+        ));
+    }
+    let samples = (pulse_width_s * sample_rate_hz).round();
+    if samples < 2.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.pulse_width_us",
+            pulse_width_us,
+            format!("the pulse is under two samples at sample_rate_mhz = {sample_rate_mhz}"),
+        ));
+    }
+    if samples > 4.0e6 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.pulse_width_us",
+            pulse_width_us,
+            "the pulse is over 4 million samples; lower the pulse width or sample rate",
+        ));
+    }
+    let range_bin_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * sample_rate_hz);
+    // Echoes from beyond c/(2·PRF) arrive after the next pulse has gone out (second-trace
+    // echoes): the simulator records one pulse repetition interval, so it does not model
+    // them and the recorded range must stay inside it.
+    let unambiguous_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * prf_hz);
+    if max_range_m + SPEED_OF_LIGHT_M_PER_S * pulse_width_s / 2.0 > unambiguous_m {
+        return Err(Error::invalid(
+                Problem::Conflict,
+            "radar.max_range_m",
+            max_range_m,
+            format!(
+                "beyond the unambiguous range: max_range_m plus the pulse's c·T/2 must stay within c/(2·prf_hz) = {:.1} km at prf_hz = {prf_hz} (echoes from farther arrive after the next pulse, which is not modelled); lower max_range_m or prf_hz",
+                unambiguous_m / 1000.0
+            ),
+        ));
+    }
+    let bins = max_range_m / range_bin_m;
+    if bins > 4.0e6 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.max_range_m",
+            max_range_m,
+            "over 4 million range bins; lower max_range_m or sample_rate_mhz",
+        ));
+    }
+    let cells = bins * spokes as f64;
+    if cells > MAX_POLAR_CELLS as f64 {
+        return Err(Error::invalid(
+                Problem::OutOfRange,
+            "radar.max_range_m",
+            max_range_m,
+            format!(
+                "the output would have {spokes} spokes × {:.0} range bins = {:.0} M cells ({:.1} GB of polar data alone); the limit is {} M cells: lower max_range_m, spokes or sample_rate_mhz",
+                bins.ceil(),
+                cells / 1e6,
+                cells * 4.0 / 1e9,
+                MAX_POLAR_CELLS / 1_000_000
+            ),
+        ));
+    }
+    if frequency_ghz * 1e9 <= bandwidth_hz {
+        return Err(Error::invalid(
+            Problem::Conflict,
+            "radar.frequency_ghz",
+            frequency_ghz,
+            "the carrier must be above the bandwidth",
+        ));
+    }
+    let mut polarisation = s.polarisation.unwrap_or(Polarisation::Hh);
+    if let Some(pol) = environment_polarisation {
+        if s.polarisation.is_some() && pol != polarisation {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                "environment.polarisation",
+                format!("\"{pol}\""),
+                "differs from radar.polarisation; give the polarisation once",
+            ));
+        }
+        polarisation = pol;
+    }
+    Ok(Radar {
+        position_m,
+        carrier_freq_hz: frequency_ghz * 1e9,
+        chirp: LfmChirp {
+            bandwidth_hz,
+            pulse_width_s,
+            sample_rate_hz,
+        },
+        window,
+        peak_power_w,
+        noise_figure_linear: db_to_linear(noise_figure_db),
+        system_loss_linear: db_to_linear(system_loss_db),
+        antenna: Antenna {
+            az_beamwidth_rad: az_bw,
+            el_beamwidth_rad: el_bw,
+            peak_gain_linear,
+            tilt_rad: tilt_deg.to_radians(),
+        },
+        prf_hz,
+        rotation_rpm,
+        max_range_m,
+        spokes,
+        receiver_blanking: s.receiver_blanking.unwrap_or(true),
+        polarisation,
+    })
+}
