@@ -25,7 +25,7 @@ pub fn clutter_mean_power_db(sea_state: f64, range_m: f64) -> (f64, f64) {
     let h = radar.position_m().z;
     let expected_at = |bin: usize| {
         let r = bin as f64 * radar.range_bin_m();
-        let psi = (h / r - r / (2.0 * xbandsim::environment::EFFECTIVE_EARTH_RADIUS_M)).asin();
+        let psi = (h / r - r / (2.0 * xbandsim::propagation::EFFECTIVE_EARTH_RADIUS_M)).asin();
         let sigma0 = 10f64.powf(
             xbandsim::environment::clutter::nrl_sigma0_db(
                 radar.carrier_freq_hz() / 1e9,
@@ -107,7 +107,7 @@ pub fn clutter_cell_statistics(environment_lines: &str, frames: u64) -> ClutterC
     // Each cell's expected moment (closed form; ν from Ward's formula where it is the default).
     let expected_moment_at = |k: usize, n: usize| {
         let r = n as f64 * bin_m;
-        let psi = (h / r - r / (2.0 * xbandsim::environment::EFFECTIVE_EARTH_RADIUS_M)).asin();
+        let psi = (h / r - r / (2.0 * xbandsim::propagation::EFFECTIVE_EARTH_RADIUS_M)).asin();
         let ground = (r * r - h * h).sqrt();
         let area = ground * radar.antenna().az_beamwidth_rad * resolution_m / psi.cos();
         let swell_rel = radar.spoke_azimuth_rad(k) - clutter.swell_from_rad();
@@ -187,8 +187,7 @@ pub fn rain_attenuation_db(rate_mm_per_h: f64) -> (f64, f64) {
             .cloned()
             .fold(f32::MIN, f32::max) as f64
     };
-    let gamma =
-        xbandsim::environment::rain::specific_attenuation_db_per_km(9.41, rate_mm_per_h, true);
+    let gamma = xbandsim::propagation::specific_attenuation_db_per_km(9.41, rate_mm_per_h, true);
     (
         -2.0 * gamma * range_m / 1000.0,
         run(rate_mm_per_h) - run(0.0),
@@ -212,7 +211,7 @@ pub fn rain_clutter_power_db(rate_mm_per_h: f64, bin: usize) -> (f64, f64) {
         rate_mm_per_h,
         radar.wavelength_m(),
     );
-    let gamma = xbandsim::environment::rain::specific_attenuation_db_per_km(
+    let gamma = xbandsim::propagation::specific_attenuation_db_per_km(
         radar.carrier_freq_hz() / 1e9,
         rate_mm_per_h,
         true,
@@ -293,7 +292,7 @@ pub(crate) fn checks(out: &mut Checks) {
             source,
         ));
     }
-    let (kh, ah, _, _) = xbandsim::environment::rain::itu_p838_coefficients(10.0);
+    let (kh, ah, _, _) = xbandsim::propagation::itu_p838_coefficients(10.0);
     out.push(check(
         "ITU-R P.838-3 k_H at 10 GHz",
         0.01217,
@@ -346,7 +345,7 @@ pub(crate) fn checks(out: &mut Checks) {
     out.push(check(
         "radar horizon of a 16 m mast",
         4.12 * 4.0,
-        xbandsim::environment::horizon_distance_m(16.0) / 1000.0,
+        xbandsim::propagation::horizon_distance_m(16.0) / 1000.0,
         "km",
         Tolerance::Relative(0.002),
         "Skolnik 2001, §8.2",

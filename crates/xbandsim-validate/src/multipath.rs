@@ -63,7 +63,7 @@ pub fn two_ray_extremum_range_m(
     target_height_m: f64,
     wavelength_m: f64,
 ) -> f64 {
-    let eps = xbandsim::environment::sea_water_permittivity(
+    let eps = xbandsim::propagation::sea_water_permittivity(
         SPEED_OF_LIGHT_M_PER_S / wavelength_m,
         20.0,
         35.0,
@@ -71,7 +71,7 @@ pub fn two_ray_extremum_range_m(
     let mut r = two_ray_null_range_m(n, radar_height_m, target_height_m, wavelength_m);
     for _ in 0..5 {
         let psi = ((radar_height_m + target_height_m) / r).atan();
-        let (gh, _) = xbandsim::environment::fresnel_reflection(eps, psi);
+        let (gh, _) = xbandsim::propagation::fresnel_reflection(eps, psi);
         let delta = PI - gh.arg().rem_euclid(2.0 * PI);
         r = two_ray_null_range_m(
             n - delta / (2.0 * PI),

@@ -4,7 +4,8 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use num_complex::Complex32;
 use xbandsim::processing::PulseCompressor;
-use xbandsim::receiver::{fill_unit_noise, stream_rng};
+use xbandsim::receiver::fill_unit_noise;
+use xbandsim::rng::{RngKey, Stream};
 use xbandsim::sim::Simulation;
 use xbandsim::waveform::{LfmChirp, Window};
 
@@ -20,7 +21,7 @@ fn spoke_chain(c: &mut Criterion) {
         };
         let pc = PulseCompressor::new(&chirp, Window::Hamming, 2048);
         let mut scratch = pc.scratch();
-        let mut rng = stream_rng(1, 0, 0);
+        let mut rng = RngKey::new(1, 0, 0, Stream::ReceiverNoise).rng();
         g.throughput(Throughput::Elements(2048));
         g.bench_function(format!("{pulse_us}us_with_noise"), |b| {
             b.iter(|| {

@@ -33,20 +33,6 @@ pub struct FractionalDelayKernel {
     table: Vec<f32>,
 }
 
-fn bessel_i0(x: f64) -> f64 {
-    let mut sum = 1.0;
-    let mut term = 1.0;
-    let q = x * x / 4.0;
-    for k in 1..64 {
-        term *= q / (k as f64 * k as f64);
-        sum += term;
-        if term < 1e-17 * sum {
-            break;
-        }
-    }
-    sum
-}
-
 impl Default for FractionalDelayKernel {
     fn default() -> Self {
         Self::new()
@@ -57,7 +43,7 @@ impl FractionalDelayKernel {
     /// Builds the table: for each fraction μ, taps at offsets `1 − TAPS/2 ..= TAPS/2`.
     pub fn new() -> Self {
         let half = (KERNEL_TAPS / 2) as f64;
-        let i0_beta = bessel_i0(KERNEL_KAISER_BETA);
+        let i0_beta = crate::special::bessel_i0(KERNEL_KAISER_BETA);
         let mut table = Vec::with_capacity(KERNEL_PHASES * KERNEL_TAPS);
         for p in 0..KERNEL_PHASES {
             let mu = p as f64 / KERNEL_PHASES as f64;
@@ -70,7 +56,8 @@ impl FractionalDelayKernel {
                         (std::f64::consts::PI * x).sin() / (std::f64::consts::PI * x)
                     };
                     let r = (x / half).clamp(-1.0, 1.0);
-                    sinc * bessel_i0(KERNEL_KAISER_BETA * (1.0 - r * r).sqrt()) / i0_beta
+                    sinc * crate::special::bessel_i0(KERNEL_KAISER_BETA * (1.0 - r * r).sqrt())
+                        / i0_beta
                 })
                 .collect();
             let dc: f64 = taps.iter().sum();

@@ -263,7 +263,7 @@ pub fn object_truth(scene: &Scene, set: &ScatterSet, bvh: &Bvh) -> Vec<ObjectTru
     let window_loss = radar.window().snr_loss_linear(radar.chirp().num_samples());
     let bin_m = radar.range_bin_m();
     let spokes = radar.spokes();
-    let resolution_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * radar.chirp().bandwidth_hz);
+    let resolution_m = radar.range_resolution_m();
     scene
         .objects()
         .iter()
@@ -306,7 +306,7 @@ pub fn object_truth(scene: &Scene, set: &ScatterSet, bvh: &Bvh) -> Vec<ObjectTru
             let centre_range = (o.bounding_centre_m() - radar.position_m()).length();
             let top_m = o.bounding_centre_m().z + r_b;
             let beyond_horizon = scene.environment().earth_curvature()
-                && !crate::environment::above_horizon(radar.position_m().z, ground_range_m, top_m);
+                && !crate::propagation::above_horizon(radar.position_m().z, ground_range_m, top_m);
             let visibility = if beyond_horizon {
                 Visibility::BeyondHorizon
             } else if centre_range - r_b > radar.max_range_m() {

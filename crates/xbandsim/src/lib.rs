@@ -33,10 +33,13 @@ pub mod model;
 pub mod output;
 pub mod ppi;
 pub mod processing;
+pub mod propagation;
 pub mod receiver;
+pub mod rng;
 pub mod scattering;
 pub mod scene;
 pub mod sim;
+pub mod special;
 pub mod waveform;
 
 pub use error::{Error, Location, Problem, Result};

@@ -8,7 +8,7 @@ use crate::geometry::Bvh;
 use crate::labels::{object_truth, ObjectTruth};
 use crate::model::Scene;
 use crate::processing::PulseCompressor;
-use crate::receiver::{fill_unit_noise, stream_rng};
+use crate::receiver::Receiver;
 use crate::scattering::{build_scene_bvh, trace_scene, ScatterSet};
 use num_complex::Complex32;
 use rayon::prelude::*;
@@ -25,6 +25,7 @@ pub struct Simulation {
     scene: Scene,
     bvh: Bvh,
     compressor: PulseCompressor,
+    receiver: Receiver,
     kernel: FractionalDelayKernel,
 }
 
@@ -80,10 +81,16 @@ impl Simulation {
             scene.radar().window(),
             scene.radar().num_range_bins(),
         );
+        let receiver = Receiver::new(
+            scene.environment().noise(),
+            scene.radar().receiver_blanking(),
+            compressor.pulse_len(),
+        );
         Simulation {
             scene,
             bvh,
             compressor,
+            receiver,
             kernel: FractionalDelayKernel::new(),
         }
     }
@@ -96,6 +103,11 @@ impl Simulation {
     /// The scene's BVH.
     pub fn bvh(&self) -> &Bvh {
         &self.bvh
+    }
+
+    /// The receiver (noise, blanking).
+    pub fn receiver(&self) -> &Receiver {
+        &self.receiver
     }
 
     /// The pulse compressor.
@@ -158,7 +170,6 @@ impl Simulation {
         spoke: u64,
         scratch: &mut crate::processing::SpokeScratch,
     ) {
-        let radar = self.scene.radar();
         let record = self.compressor.record_len();
         scratch.buffer.fill(Complex32::new(0.0, 0.0));
         let earliest = self.impulse_response(
@@ -170,17 +181,17 @@ impl Simulation {
             spoke,
             &mut scratch.buffer[..record],
         );
-        let noise = self.scene.environment().noise();
-        if noise {
-            let mut rng = stream_rng(seed, frame, spoke);
-            fill_unit_noise(&mut rng, &mut scratch.noise[..record]);
+        let rx = &self.receiver;
+        if rx.noise() {
+            rx.fill_noise(seed, frame, spoke, &mut scratch.noise[..record]);
             scratch.noise[record..].fill(Complex32::new(0.0, 0.0));
         }
-        // Clutter starts right at the radar, so with clutter the exact (blanked) path is used.
-        let in_blanking =
-            clutter.is_some() || earliest.is_some_and(|e| e < self.compressor.pulse_len());
-        self.compressor
-            .process(scratch, noise, radar.receiver_blanking(), in_blanking);
+        self.compressor.process(
+            scratch,
+            rx.noise(),
+            rx.blanking(),
+            rx.echo_in_blanking(clutter.is_some(), earliest),
+        );
     }
 
     /// Raw I/Q of one pulse at `beam_az_rad`, formed explicitly in time (echo record, noise,
@@ -195,7 +206,6 @@ impl Simulation {
         frame: u64,
         spoke: u64,
     ) -> RawSpoke {
-        let radar = self.scene.radar();
         let record = self.compressor.record_len();
         let mut scratch = self.compressor.scratch();
         self.impulse_response(
@@ -211,16 +221,14 @@ impl Simulation {
         self.compressor.synthesize_record(&mut echo, &mut scratch);
         echo[record..].fill(Complex32::new(0.0, 0.0));
         let mut received = echo.clone();
-        if self.scene.environment().noise() {
-            let mut rng = stream_rng(seed, frame, spoke);
-            fill_unit_noise(&mut rng, &mut scratch.noise[..record]);
+        if self.receiver.noise() {
+            self.receiver
+                .fill_noise(seed, frame, spoke, &mut scratch.noise[..record]);
             for (r, n) in received.iter_mut().zip(&scratch.noise[..record]) {
                 *r += n;
             }
         }
-        if radar.receiver_blanking() {
-            received[..self.compressor.pulse_len()].fill(Complex32::new(0.0, 0.0));
-        }
+        self.receiver.blank(&mut received);
         let mut compressed = received.clone();
         self.compressor
             .compress_record(&mut compressed, &mut scratch);

@@ -31,6 +31,9 @@
 //! its quantile function (a Gaussian copula), which keeps the Gamma marginal exactly. It is
 //! periodic and drifts with the waves from frame to frame.
 
+use crate::constants::SPEED_OF_LIGHT_M_PER_S;
+use crate::special::{bessel_i0, gamma_p, ln_gamma};
+
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
@@ -120,7 +123,7 @@ pub fn git_sigma0_db(
     if sea_state <= 0.0 {
         return -200.0;
     }
-    let lambda = 0.299_792_458 / freq_ghz;
+    let lambda = SPEED_OF_LIGHT_M_PER_S / 1e9 / freq_ghz;
     let vw = sea_state_wind_speed_m_per_s(sea_state);
     let hav = 4.52e-3 * vw.powf(2.5);
     let psi = grazing_rad.max(1e-6);
@@ -139,20 +142,10 @@ pub fn git_sigma0_db(
 /// GIT's upwind factor `A_u(φ)` divided by its mean over φ: a unit-mean directional power
 /// modulation (upwind > crosswind > downwind), used with the direction-free NRL model.
 pub fn wind_direction_factor(freq_ghz: f64, grazing_rad: f64, wind_rel_rad: f64) -> f64 {
-    let lambda = 0.299_792_458 / freq_ghz;
+    let lambda = SPEED_OF_LIGHT_M_PER_S / 1e9 / freq_ghz;
     let b = 0.2 * (1.0 - 2.8 * grazing_rad.max(0.0)) * (lambda + 0.015).powf(-0.4);
     // Mean of exp(b cos φ) over φ is I0(b).
     (b * wind_rel_rad.cos()).exp() / bessel_i0(b)
-}
-
-/// Modified Bessel function I0(x) by its power series (x of order 1 here).
-pub fn bessel_i0(x: f64) -> f64 {
-    let (mut sum, mut term) = (1.0, 1.0);
-    for k in 1..40 {
-        term *= (x / 2.0) * (x / 2.0) / (k as f64 * k as f64);
-        sum += term;
-    }
-    sum
 }
 
 /// Rms wave height σ_h for sea states 0–6, m: a quarter of the upper significant wave height
@@ -194,100 +187,6 @@ pub fn k_shape_default(
             swell_rel_rad,
         ))
         .clamp(0.1, 20.0)
-}
-
-/// Complementary error function (Numerical Recipes `erfcc`, fractional error < 1.2e-7).
-pub fn erfc(x: f64) -> f64 {
-    let z = x.abs();
-    let t = 1.0 / (1.0 + 0.5 * z);
-    let ans = t
-        * (-z * z - 1.265_512_23
-            + t * (1.000_023_68
-                + t * (0.374_091_96
-                    + t * (0.096_784_18
-                        + t * (-0.186_288_06
-                            + t * (0.278_868_07
-                                + t * (-1.135_203_98
-                                    + t * (1.488_515_87
-                                        + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
-            .exp();
-    if x >= 0.0 {
-        ans
-    } else {
-        2.0 - ans
-    }
-}
-
-/// ln Γ(x) for x > 0 (Lanczos, g = 7, n = 9).
-pub fn ln_gamma(x: f64) -> f64 {
-    const G: [f64; 9] = [
-        0.999_999_999_999_809_9,
-        676.520_368_121_885_1,
-        -1_259.139_216_722_402_8,
-        771.323_428_777_653_1,
-        -176.615_029_162_140_6,
-        12.507_343_278_686_905,
-        -0.138_571_095_265_720_12,
-        9.984_369_578_019_572e-6,
-        1.505_632_735_149_311_6e-7,
-    ];
-    if x < 0.5 {
-        return (std::f64::consts::PI / (std::f64::consts::PI * x).sin()).ln() - ln_gamma(1.0 - x);
-    }
-    let x = x - 1.0;
-    let mut a = G[0];
-    let t = x + 7.5;
-    for (i, g) in G.iter().enumerate().skip(1) {
-        a += g / (x + i as f64);
-    }
-    0.5 * (2.0 * std::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + a.ln()
-}
-
-/// Regularised lower incomplete gamma P(a, x) (series / continued fraction, Press et al.,
-/// *Numerical Recipes*, 3rd ed., §6.2).
-pub fn gamma_p(a: f64, x: f64) -> f64 {
-    if x <= 0.0 {
-        return 0.0;
-    }
-    let gln = ln_gamma(a);
-    if x < a + 1.0 {
-        let (mut ap, mut sum) = (a, 1.0 / a);
-        let mut del = sum;
-        for _ in 0..1000 {
-            ap += 1.0;
-            del *= x / ap;
-            sum += del;
-            if del.abs() < sum.abs() * 1e-15 {
-                break;
-            }
-        }
-        (sum.ln() - x + a * x.ln() - gln).exp()
-    } else {
-        let tiny = 1e-300;
-        let mut b = x + 1.0 - a;
-        let mut c = 1.0 / tiny;
-        let mut d = 1.0 / b;
-        let mut h = d;
-        for i in 1..1000 {
-            let an = -(i as f64) * (i as f64 - a);
-            b += 2.0;
-            d = an * d + b;
-            if d.abs() < tiny {
-                d = tiny;
-            }
-            c = b + an / c;
-            if c.abs() < tiny {
-                c = tiny;
-            }
-            d = 1.0 / d;
-            let del = d * c;
-            h *= del;
-            if (del - 1.0).abs() < 1e-15 {
-                break;
-            }
-        }
-        1.0 - (-x + a * x.ln() - gln).exp() * h
-    }
 }
 
 /// Quantile function of Gamma(shape ν, mean 1), tabulated on a log grid of x.
@@ -609,12 +508,5 @@ mod tests {
                 "c {c}: E[T²] {m2} vs {want}"
             );
         }
-    }
-
-    #[test]
-    fn erfc_values() {
-        assert!((erfc(0.0) - 1.0).abs() < 1e-7);
-        assert!((erfc(1.0) - 0.157_299_207).abs() < 1e-7);
-        assert!((erfc(-1.0) - 1.842_700_793).abs() < 1e-7);
     }
 }

@@ -29,23 +29,20 @@
 //! the horizon and return nothing.
 
 use super::clutter::{
-    bessel_i0, erfc, git_sigma0_db, k_shape_log10, lognormal_texture, nrl_sigma0_db,
-    weibull_texture_quantile, ClutterDistribution, GammaQuantile, GaussianField, Sigma0Model,
+    git_sigma0_db, k_shape_log10, lognormal_texture, nrl_sigma0_db, weibull_texture_quantile,
+    ClutterDistribution, GammaQuantile, GaussianField, Sigma0Model,
 };
 use super::rain::volume_reflectivity_m2_per_m3;
-use super::EFFECTIVE_EARTH_RADIUS_M;
 use crate::antenna::SINC_BEAMWIDTH_FACTOR;
-use crate::constants::SPEED_OF_LIGHT_M_PER_S;
 use crate::model::{Polarisation, Scene};
-use crate::receiver::stream_rng;
+use crate::propagation::sin_grazing;
+use crate::rng::{RngKey, Stream};
+use crate::special::{bessel_i0, erfc};
 use glam::DVec2;
 use num_complex::Complex32;
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
-
-/// Stream offset separating clutter draws from noise draws.
-const CLUTTER_STREAM: u64 = 1 << 40;
 
 /// The clutter of one revolution: mean powers of every (spoke, sample) patch before azimuth
 /// weighting, and the texture of every output cell.
@@ -89,10 +86,9 @@ impl ClutterMap {
         let horizontal = radar.polarisation() == Polarisation::Hh;
         let ant = &radar.antenna();
         let delta = std::f64::consts::TAU / spokes as f64;
-        let four_pi_cubed = (4.0 * std::f64::consts::PI).powi(3);
-        let k_noise = radar.peak_power_w() * ant.peak_gain_linear.powi(2) * lambda * lambda
-            / (four_pi_cubed * radar.system_loss_linear() * radar.noise_power_w());
-        let resolution_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * radar.chirp().bandwidth_hz);
+        // Radar equation over the noise power: P_r/N per m² of σ at 1 m.
+        let k_noise = radar.radar_equation_constant_w_m2() / radar.noise_power_w();
+        let resolution_m = radar.range_resolution_m();
         let beam_integral = two_way_beam_integral_rad(ant.az_beamwidth_rad);
         // Azimuth weights over ±2 first nulls.
         let null = std::f64::consts::PI * ant.az_beamwidth_rad / SINC_BEAMWIDTH_FACTOR;
@@ -126,11 +122,7 @@ impl ClutterMap {
                     return None;
                 }
                 let ground_m = (r * r - h * h).sqrt();
-                let sin_psi = if env.earth_curvature() {
-                    h / r - r / (2.0 * EFFECTIVE_EARTH_RADIUS_M)
-                } else {
-                    h / r
-                };
+                let sin_psi = sin_grazing(h, r, env.earth_curvature());
                 if sin_psi <= 0.0 {
                     return None;
                 }
@@ -198,7 +190,7 @@ impl ClutterMap {
             .unwrap_or(1.0);
         let field = match clutter {
             Some(c) if textured => {
-                let mut rng = stream_rng(seed, u64::MAX, CLUTTER_STREAM - 1);
+                let mut rng = RngKey::new(seed, 0, 0, Stream::ClutterTexture).rng();
                 Some(GaussianField::new(
                     &mut rng,
                     2.0 * max_ground + 4.0 * c.correlation_m(),
@@ -397,7 +389,7 @@ impl ClutterMap {
         frame: u64,
         impulse_response: &mut [Complex32],
     ) {
-        let mut rng: Pcg64Mcg = stream_rng(seed, frame, CLUTTER_STREAM + k as u64);
+        let mut rng: Pcg64Mcg = RngKey::new(seed, frame, k as u64, Stream::ClutterSpeckle).rng();
         let n_max = self.samples.min(impulse_response.len());
         // Beam-weighted sea and rain power of this spoke, accumulated row by row (contiguous,
         // vectorisable) into two per-spoke buffers.

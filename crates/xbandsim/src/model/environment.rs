@@ -7,10 +7,10 @@ use crate::environment::clutter::{
     sea_state_rms_height_m, sea_state_wind_speed_m_per_s, ClutterDistribution, Sigma0Model,
 };
 use crate::environment::rain::{Rain, RainCell};
-use crate::environment::{
+use crate::error::{Error, Problem, Result};
+use crate::propagation::{
     sea_water_permittivity, two_way_attenuation_power, SeaRoughness, SeaSurface,
 };
-use crate::error::{Error, Problem, Result};
 use crate::scene::{ClutterDistributionName, EnvironmentSpec};
 
 /// Environment: noise, the sea surface and propagation.

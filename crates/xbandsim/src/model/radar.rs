@@ -185,6 +185,12 @@ impl Radar {
         SPEED_OF_LIGHT_M_PER_S / (2.0 * self.sample_rate_hz())
     }
 
+    /// Range resolution of the compressed pulse, `c/(2B)`, m (Skolnik, *Introduction to Radar
+    /// Systems*, 3rd ed., §11.5; the half-power width of the unwindowed sinc is 0.886 of it).
+    pub fn range_resolution_m(&self) -> f64 {
+        SPEED_OF_LIGHT_M_PER_S / (2.0 * self.chirp.bandwidth_hz)
+    }
+
     /// Number of range bins: bin j is at `j·c/(2·fs)`, up to `max_range_m`.
     pub fn num_range_bins(&self) -> usize {
         (self.max_range_m / self.range_bin_m()).floor() as usize + 1
@@ -195,20 +201,27 @@ impl Radar {
         SPEED_OF_LIGHT_M_PER_S * self.chirp.pulse_width_s / 2.0
     }
 
-    /// Radar-equation single-pulse SNR of a point target (linear), at the beam peak,
-    /// before any window loss: `Pt·T·G0²·λ²·σ / ((4π)³·R⁴·k·T0·F·L)`
-    /// (Skolnik, *Introduction to Radar Systems*, 3rd ed., eq. 2.51 with pulse compression).
-    pub fn point_target_snr(&self, rcs_m2: f64, range_m: f64) -> f64 {
+    /// The radar equation's constant factor `Pt·G0²·λ²/((4π)³·L)`, W·m² (Skolnik,
+    /// *Introduction to Radar Systems*, 3rd ed., eq. 2.1 with the system loss; docs/physics.md
+    /// §2.4): the power received from a 1 m² target at 1 m on the beam axis. Every use of the
+    /// radar equation goes through it — point targets' SNR, ray-tube voltages, clutter cells.
+    pub fn radar_equation_constant_w_m2(&self) -> f64 {
         let lambda = self.wavelength_m();
         let g0 = self.antenna.peak_gain_linear;
         let four_pi_cubed = (4.0 * std::f64::consts::PI).powi(3);
-        self.peak_power_w * self.chirp.pulse_width_s * g0 * g0 * lambda * lambda * rcs_m2
-            / (four_pi_cubed
-                * range_m.powi(4)
+        self.peak_power_w * g0 * g0 * lambda * lambda / (four_pi_cubed * self.system_loss_linear)
+    }
+
+    /// Radar-equation single-pulse SNR of a point target (linear), at the beam peak,
+    /// before any window loss: `Pt·T·G0²·λ²·σ / ((4π)³·R⁴·k·T0·F·L)`
+    /// (Skolnik, *Introduction to Radar Systems*, 3rd ed., eq. 2.51 with pulse compression):
+    /// [`Radar::radar_equation_constant_w_m2`] × `T·σ/(R⁴·k·T0·F)`.
+    pub fn point_target_snr(&self, rcs_m2: f64, range_m: f64) -> f64 {
+        self.radar_equation_constant_w_m2() * self.chirp.pulse_width_s * rcs_m2
+            / (range_m.powi(4)
                 * BOLTZMANN_J_PER_K
                 * REFERENCE_TEMPERATURE_K
-                * self.noise_figure_linear
-                * self.system_loss_linear)
+                * self.noise_figure_linear)
     }
 
     /// The samples actually realised for the pulse (`N_T/fs`), s.

@@ -131,13 +131,7 @@ pub fn direction_from_az_el(az_rad: f64, el_rad: f64) -> DVec3 {
 /// (docs/physics.md §2.4): multiplying a path's `S` by it gives its peak-gain voltage.
 #[inline]
 pub fn radar_equation_volts_per_root_m2(radar: &Radar, range_tx_m: f64, range_rx_m: f64) -> f64 {
-    let lambda = radar.wavelength_m();
-    let g0 = radar.antenna().peak_gain_linear;
-    let four_pi_cubed = (4.0 * std::f64::consts::PI).powi(3);
-    (radar.peak_power_w() * g0 * g0 * lambda * lambda
-        / (four_pi_cubed * radar.system_loss_linear()))
-    .sqrt()
-        / (range_tx_m * range_rx_m)
+    radar.radar_equation_constant_w_m2().sqrt() / (range_tx_m * range_rx_m)
 }
 
 /// Volts per m of root-RCS for a path, with the atmosphere's two-way loss over the mean of

@@ -29,9 +29,9 @@
 //! Ideal `point` objects give `S = √σ·exp(−j2πℓ/λ)` per path (four paths over the sea).
 
 use super::{azimuth_elevation_rad, carrier_phase, Contribution, ScatterSet};
-use crate::environment::SeaSurface;
 use crate::geometry::{Bvh, Ray, ShapeGeometry};
 use crate::model::{Polarisation, Scene};
+use crate::propagation::SeaSurface;
 use glam::DVec3;
 use num_complex::Complex64;
 use rayon::prelude::*;
@@ -410,7 +410,7 @@ pub fn trace_tube(
         if let (true, Illumination::FromPoint { radar_m }) = (s.earth_curvature, grid.illumination)
         {
             let ground = (hit_p - radar_m).truncate().length();
-            if !crate::environment::above_horizon(radar_m.z, ground, hit_p.z) {
+            if !crate::propagation::above_horizon(radar_m.z, ground, hit_p.z) {
                 break; // below the radar horizon
             }
         }
@@ -742,7 +742,7 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         if let ShapeGeometry::Point { rcs_m2 } = obj.shape() {
             let ground = (obj.position_m() - radar.position_m()).truncate().length();
             if s.earth_curvature
-                && !crate::environment::above_horizon(
+                && !crate::propagation::above_horizon(
                     radar.position_m().z,
                     ground,
                     obj.position_m().z,
@@ -792,7 +792,7 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         let ground_m = ((centre - radar.position_m()).truncate().length() - radius).max(0.0);
         if nearest_m > radar.max_range_m() + radar.eclipse_range_m()
             || (s.earth_curvature
-                && !crate::environment::above_horizon(
+                && !crate::propagation::above_horizon(
                     radar.position_m().z,
                     ground_m,
                     centre.z + radius,

@@ -3,10 +3,10 @@
 //! Schema generated from these types.
 
 use crate::environment::clutter::Sigma0Model;
-use crate::environment::SeaRoughness;
 use crate::geometry::MeshUnit;
 use crate::model::{Polarisation, ScatteringModel};
 use crate::ppi::Colormap;
+use crate::propagation::SeaRoughness;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 

@@ -199,7 +199,7 @@ fn bad_environment_values_are_named() {
 #[test]
 fn sea_roughness_defaults_follow_the_docs() {
     use xbandsim::environment::clutter::sea_state_rms_height_m;
-    use xbandsim::environment::SeaRoughness;
+    use xbandsim::propagation::SeaRoughness;
     let sea = |lines: &str| {
         scene(&format!("[environment]\n{lines}\n"))
             .environment()

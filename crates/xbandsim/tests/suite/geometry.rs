@@ -8,7 +8,7 @@ use xbandsim::geometry::{
 struct Lcg(u64);
 impl Lcg {
     fn next(&mut self) -> f64 {
-        self.0 = xbandsim::receiver::splitmix64(self.0);
+        self.0 = xbandsim::rng::splitmix64(self.0);
         (self.0 >> 11) as f64 / (1u64 << 53) as f64
     }
     fn vec(&mut self, scale: f64) -> DVec3 {

@@ -20,7 +20,7 @@ fn rain_on_the_path_is_in_the_label() {
     );
     let (_, frame) = render(&text, 1);
     let t = &frame.truth[0];
-    let gamma = xbandsim::environment::rain::specific_attenuation_db_per_km(9.41, 40.0, true);
+    let gamma = xbandsim::propagation::specific_attenuation_db_per_km(9.41, 40.0, true);
     let expected_rain_db = 2.0 * gamma * 0.8;
     assert!(
         (t.losses_db.rain - expected_rain_db).abs() < 0.01,

@@ -213,7 +213,7 @@ fn fft_matched_filter_equals_direct_correlation() {
         let pc = PulseCompressor::new(&chirp, window, bins);
         let mut rng_state = 12345u64;
         let mut next = || {
-            rng_state = xbandsim::receiver::splitmix64(rng_state);
+            rng_state = xbandsim::rng::splitmix64(rng_state);
             (rng_state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
         };
         let record: Vec<Complex64> = (0..pc.record_len())

@@ -18,6 +18,7 @@
 //! and it matches measured sea forward scatter where Ament falls off too fast (g ≳ 0.5), so
 //! it is the usual choice for the sea at low grazing; both agree for a smooth sea.
 
+use crate::special::exp_scaled_bessel_i0;
 use num_complex::Complex64;
 
 /// Vacuum permittivity, F/m (CODATA 2018).
@@ -82,27 +83,6 @@ pub fn roughness_factor(
     }
 }
 
-/// `exp(−x)·I0(x)` for x ≥ 0, without overflow: the power series below 30 and the
-/// asymptotic series `(1 + 1/(8x) + 9/(2(8x)²) + …)/√(2πx)` above (Abramowitz & Stegun
-/// 9.7.1; the first omitted term is below 1e-8 there).
-pub fn exp_scaled_bessel_i0(x: f64) -> f64 {
-    if x < 30.0 {
-        let (mut sum, mut term) = (1.0f64, 1.0f64);
-        for k in 1..80 {
-            term *= (x / 2.0) * (x / 2.0) / (k as f64 * k as f64);
-            sum += term;
-            if term < sum * 1e-17 {
-                break;
-            }
-        }
-        sum * (-x).exp()
-    } else {
-        let z = 1.0 / (8.0 * x);
-        (1.0 + z * (1.0 + z * (9.0 / 2.0 + z * (225.0 / 6.0 + z * 11025.0 / 24.0))))
-            / (2.0 * std::f64::consts::PI * x).sqrt()
-    }
-}
-
 /// The sea surface at z = 0 as seen by the scattering code.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SeaSurface {
@@ -149,25 +129,6 @@ mod tests {
         // A perfect conductor: Γ_H = −1, Γ_V = +1 at any angle.
         let (gh, gv) = fresnel_reflection(Complex64::new(1e12, -1e12), 0.3);
         assert!((gh + 1.0).norm() < 1e-5 && (gv - 1.0).norm() < 1e-5);
-    }
-
-    /// exp(−x)·I0(x) against tabulated values (Abramowitz & Stegun, Table 9.8; here to
-    /// 1e-9 from SciPy's `i0e`), on both sides of the series/asymptotic switch at 30.
-    #[test]
-    fn scaled_bessel_i0_values() {
-        for (x, want) in [
-            (0.1, 0.907_100_925_782_301_1),
-            (1.0, 0.465_759_607_593_640_4),
-            (5.0, 0.183_540_812_609_328_3),
-            (14.9, 0.104_253_872_824_291_3),
-            (15.0, 0.103_899_531_448_822_7),
-            (29.9, 0.073_269_219_046_001_91),
-            (30.0, 0.073_145_946_482_237_3),
-            (40.0, 0.063_278_279_875_235_32),
-        ] {
-            let got = exp_scaled_bessel_i0(x);
-            assert!((got / want - 1.0).abs() < 1e-6, "x {x}: {got} vs {want}");
-        }
     }
 
     /// Miller–Brown–Vegh reflects more than Ament on a rough sea and both tend to 1 on a
