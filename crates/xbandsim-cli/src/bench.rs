@@ -7,11 +7,11 @@ use glam::DVec3;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use xbandsim::engine::Simulation;
 use xbandsim::geometry::{Bvh, Primitive, PrimitiveKind, Ray};
-use xbandsim::ppi::PpiSettings;
+use xbandsim::products::ppi::PpiSettings;
 use xbandsim::scattering::{build_scene_bvh, direction_from_az_el, paper};
 use xbandsim::scene::LoadedSpec;
-use xbandsim::sim::Simulation;
 use xbandsim::Scene;
 
 /// The paper's scene, built into the binary so that `xbandsim bench` runs from any folder.

@@ -8,11 +8,11 @@ use std::path::Path;
 use xbandsim::antenna::sinc2_pattern;
 use xbandsim::constants::linear_to_db;
 use xbandsim::echo::EchoGroups;
-use xbandsim::output::write_png;
-use xbandsim::ppi::PpiSettings;
-use xbandsim::ppi::{colour_image, ScanConverter};
+use xbandsim::engine::Simulation;
+use xbandsim::products::output::write_png;
+use xbandsim::products::ppi::PpiSettings;
+use xbandsim::products::ppi::{colour_image, ScanConverter};
 use xbandsim::scene::{LoadedSpec, ObjectSpec, SceneSpec, ShapeName};
-use xbandsim::sim::Simulation;
 use xbandsim::Scene;
 
 const FONT: &str = "sans-serif";

@@ -93,7 +93,7 @@ fn make_vessel(out: &std::path::Path, length_m: f64, segments: usize) -> anyhow:
     }
     let mesh = xbandsim::geometry::mesh::vessel(length_m, segments);
     let text = mesh.to_obj(&format!("xbandsim procedural vessel: length {length_m} m, {segments} segments, {} triangles\nframe: bow +y, up +z, waterline z = 0; units m\nregenerate: xbandsim make-vessel --length-m {length_m} --segments {segments} --out FILE", mesh.triangles.len()));
-    xbandsim::output::write_atomic(out, text.as_bytes())?;
+    xbandsim::products::output::write_atomic(out, text.as_bytes())?;
     say!(
         "wrote {} ({} vertices, {} triangles)",
         out.display(),

@@ -227,6 +227,6 @@ fn plot(path: &std::path::Path, rows: &[Row], title: &str) -> Result<()> {
             .map_err(|e| anyhow!("{e:?}"))?;
         root.present().map_err(|e| anyhow!("{e:?}"))?;
     }
-    xbandsim::output::write_png(path, w, h, 3, &buf)?;
+    xbandsim::products::output::write_png(path, w, h, 3, &buf)?;
     Ok(())
 }

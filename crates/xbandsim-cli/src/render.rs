@@ -2,14 +2,12 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use xbandsim::labels::ObjectTruth;
-use xbandsim::output::{json_bytes, npy_f32_bytes, png_bytes, write_set};
-use xbandsim::ppi::{colour_image, gray_image, PpiSettings};
+use xbandsim::engine::Simulation;
+use xbandsim::products::frame_files::write_frame_files;
+use xbandsim::products::labels::ObjectTruth;
 use xbandsim::scene::LoadedSpec;
-use xbandsim::sim::{Frame, FrameStats, Simulation};
 
 /// Arguments of `xbandsim render`.
 #[derive(Args, Debug, Clone)]
@@ -94,105 +92,6 @@ fn toml_string(text: &str) -> String {
     toml::Value::String(text.to_string()).to_string()
 }
 
-#[derive(Serialize)]
-struct TruthFile<'a> {
-    scene: String,
-    seed: u64,
-    spokes: usize,
-    range_bins: usize,
-    range_bin_m: f64,
-    image_size_px: u32,
-    display_range_m: f64,
-    radar_position_m: [f64; 3],
-    objects: &'a [ObjectTruth],
-    /// Deterministic counts only: timings go to the terminal, so that the same seed gives
-    /// a byte-identical truth.json.
-    trace: TraceCounts,
-}
-
-#[derive(Serialize)]
-struct TraceCounts {
-    rays_cast: u64,
-    contributions: usize,
-    echo_groups: usize,
-}
-
-impl TraceCounts {
-    fn of(s: &FrameStats) -> TraceCounts {
-        TraceCounts {
-            rays_cast: s.rays_cast,
-            contributions: s.contributions,
-            echo_groups: s.echo_groups,
-        }
-    }
-}
-
-/// Writes the four outputs of a frame into `out` as a set (all encoded first, then written
-/// together: a failure leaves the previous set in place and no temporary files).
-pub fn write_frame(
-    sim: &Simulation,
-    display: &PpiSettings,
-    frame: &Frame,
-    out: &Path,
-    scene_name: &str,
-    seed: u64,
-) -> Result<()> {
-    let scene = sim.scene();
-    let conv = display.scan_converter(scene.radar());
-    let size = conv.size_px();
-    let mut objects = frame.truth.clone();
-    conv.geometry().label(&mut objects);
-    let mut ppi = vec![0f32; (size * size) as usize];
-    conv.convert(&frame.polar_db, f32::NAN, &mut ppi);
-    let d = display;
-    let polar = npy_f32_bytes(&[frame.spokes, frame.range_bins], &frame.polar_db);
-    let colour = png_bytes(
-        &out.join("ppi.png"),
-        size,
-        size,
-        3,
-        &colour_image(
-            &conv,
-            &ppi,
-            d.colormap,
-            d.min_db,
-            d.max_db,
-            d.range_ring_spacing_m,
-        ),
-    )?;
-    let gray = png_bytes(
-        &out.join("ppi_gray.png"),
-        size,
-        size,
-        1,
-        &gray_image(&ppi, d.min_db, d.max_db),
-    )?;
-    let truth = TruthFile {
-        scene: scene_name.to_string(),
-        seed,
-        spokes: frame.spokes,
-        range_bins: frame.range_bins,
-        range_bin_m: frame.range_bin_m,
-        image_size_px: size,
-        display_range_m: conv.display_range_m(),
-        radar_position_m: scene.radar().position_m().to_array(),
-        objects: &objects,
-        trace: TraceCounts::of(&frame.stats),
-    };
-    let truth = json_bytes(&out.join("truth.json"), &truth)?;
-    write_set(
-        out,
-        &[
-            ("polar.npy", polar),
-            ("ppi.png", colour),
-            ("ppi_gray.png", gray),
-            ("truth.json", truth),
-        ],
-    )
-    .with_context(|| format!("writing the outputs into {}", out.display()))?;
-    Ok(())
-}
-
 /// Tells on stderr which objects had their PO tubes widened by the ray budget (truth.json
 /// says the same in `po_tubes.capped`).
 pub fn warn_ray_caps(truth: &[ObjectTruth]) {
@@ -224,14 +123,15 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     let frame = sim.render_frame_progress(a.seed, 0, &|| progress.inc(1));
     progress.finish_and_clear();
     warn_ray_caps(&frame.truth);
-    write_frame(
-        &sim,
+    write_frame_files(
+        sim.scene().radar(),
         &display,
         &frame,
         &a.out,
         &a.scene.display().to_string(),
         a.seed,
-    )?;
+    )
+    .with_context(|| format!("writing the outputs into {}", a.out.display()))?;
     let s = &frame.stats;
     crate::say!(
         "rendered {}: {} objects, {} rays, {} contributions, {} spokes x {} bins, trace {:.1} ms, echoes+filter {:.1} ms, total {:.2} s -> {}",

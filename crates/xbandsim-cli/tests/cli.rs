@@ -38,7 +38,8 @@ fn render_writes_the_four_outputs() {
     for f in ["ppi.png", "ppi_gray.png", "polar.npy", "truth.json"] {
         assert!(dir.path().join(f).is_file(), "{f} missing");
     }
-    let (shape, data) = xbandsim::output::read_npy_f32(&dir.path().join("polar.npy")).unwrap();
+    let (shape, data) =
+        xbandsim::products::output::read_npy_f32(&dir.path().join("polar.npy")).unwrap();
     assert_eq!(shape[0], 720);
     assert_eq!(shape[1], 1000 * 2 * 100_000_000 / 299_792_458 + 1);
     assert!(data.iter().all(|v| v.is_finite()));

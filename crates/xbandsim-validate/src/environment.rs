@@ -5,8 +5,8 @@ use crate::harness::*;
 use crate::{check, Checks, Tolerance};
 use serde::Serialize;
 use xbandsim::constants::{linear_to_db, SPEED_OF_LIGHT_M_PER_S};
+use xbandsim::engine::Simulation;
 use xbandsim::model::{Polarisation, Scene};
-use xbandsim::sim::Simulation;
 
 /// Mean sea-clutter power (dB over noise) in the matched-filter output around `range_m`
 /// (±40 bins, 4 frames of 2048 spokes, Rayleigh clutter, HH, radar at 10 m)
@@ -226,7 +226,7 @@ pub fn rain_clutter_power_db(rate_mm_per_h: f64, bin: usize) -> (f64, f64) {
 
 /// Whether a point target (h 9 m, radar 16 m) at `ground_range_m` returns an echo and is
 /// labelled visible.
-pub fn horizon_echo(ground_range_m: f64) -> (bool, xbandsim::labels::Visibility) {
+pub fn horizon_echo(ground_range_m: f64) -> (bool, xbandsim::products::labels::Visibility) {
     let text = format!("[environment]\nnoise = false\nclutter = false\nmultipath = false\n[radar]\nposition_m = [0.0, 0.0, 16.0]\nmax_range_m = 31000.0\nspokes = 4\nsample_rate_mhz = 50.0\nbandwidth_mhz = 25.0\n[[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 1e6\nposition_m = [0.0, {ground_range_m}, 9.0]\n");
     let (sim, frame) = render_text(&text, 1);
     (
@@ -332,8 +332,8 @@ pub(crate) fn checks(out: &mut Checks) {
     let (echo_out, vis_out) = horizon_echo(horizon_km * 1000.0 * 1.02);
     let both = echo_in
         && !echo_out
-        && vis_in == xbandsim::labels::Visibility::Visible
-        && vis_out == xbandsim::labels::Visibility::BeyondHorizon;
+        && vis_in == xbandsim::products::labels::Visibility::Visible
+        && vis_out == xbandsim::products::labels::Visibility::BeyondHorizon;
     out.push(check(
         "horizon 4.12(√h1+√h2) km: echo at 0.98×, none at 1.02× (h 16 m / 9 m)",
         1.0,

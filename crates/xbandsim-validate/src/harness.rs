@@ -3,7 +3,7 @@
 
 use xbandsim::constants::SPEED_OF_LIGHT_M_PER_S;
 use xbandsim::model::Scene;
-use xbandsim::sim::{Frame, Simulation};
+use xbandsim::{Frame, Simulation};
 
 /// A free-space scene head (no sea reflections) and a `[radar]` block on the drs4d-nxt
 /// preset at 4 m with extra lines: the closed forms below are for free space.

@@ -62,7 +62,7 @@ pub fn eclipse_peak_db(
     bin: f64,
     blanking: bool,
     window: &str,
-) -> (f32, xbandsim::labels::ObjectTruth) {
+) -> (f32, xbandsim::products::labels::ObjectTruth) {
     let fs = 100e6;
     let range_m = bin_range_m(bin, fs);
     let text = format!(

@@ -2,8 +2,8 @@
 //! and the whole synthesis with and without it, 360 spokes × 2049 bins.
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use xbandsim::engine::Simulation;
 use xbandsim::model::Scene;
-use xbandsim::sim::Simulation;
 
 fn scene(clutter: bool) -> Scene {
     let text = format!(

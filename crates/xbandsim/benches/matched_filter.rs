@@ -3,10 +3,10 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use num_complex::Complex32;
+use xbandsim::engine::Simulation;
 use xbandsim::processing::PulseCompressor;
 use xbandsim::receiver::fill_unit_noise;
 use xbandsim::rng::{RngKey, Stream};
-use xbandsim::sim::Simulation;
 use xbandsim::waveform::{LfmChirp, Window};
 
 const PAPER: &str = include_str!("../../../scenes/paper.toml");

@@ -3,12 +3,12 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::DVec3;
+use xbandsim::engine::Simulation;
 use xbandsim::geometry::{
     closest_hit_brute_force, object_frame, Bvh, Primitive, Ray, ShapeGeometry,
 };
 use xbandsim::model::Scene;
 use xbandsim::scattering::{build_scene_bvh, direction_from_az_el, paper};
-use xbandsim::sim::Simulation;
 
 const PAPER: &str = include_str!("../../../scenes/paper.toml");
 

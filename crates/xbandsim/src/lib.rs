@@ -8,10 +8,12 @@
 //! binding and the dataset generator use): [`LoadedSpec`] reads a scene file and its
 //! overrides, [`Scene`] is the validated model, [`Simulation`] renders [`Frame`]s with their
 //! per-object [`ObjectTruth`], and [`Error`] says what went wrong ([`Problem`], [`Location`]).
-//! The modules below follow the pipeline: [`scene`] → [`geometry`] → [`scattering`] →
-//! [`antenna`] / [`echo`] → [`waveform`] / [`receiver`] / [`processing`] → [`ppi`] / [`labels`],
-//! orchestrated by [`sim`]; docs/architecture.md maps them. Every equation is listed with its
-//! source in `docs/physics.md`.
+//! The modules follow the pipeline: [`scene`] (the file) → [`model`] (the validated scene) →
+//! [`geometry`] → [`scattering`] / [`propagation`] / [`environment`] → [`antenna`] / [`echo`]
+//! → [`waveform`] / [`receiver`] / [`processing`] → [`products`] (frame, labels, PPI, files),
+//! run by the [`engine`] on a schedule; [`rng`], [`special`] and [`constants`] serve them all.
+//! docs/architecture.md maps them. Every equation is listed with its source in
+//! `docs/physics.md`.
 //!
 //! ```no_run
 //! use xbandsim::{LoadedSpec, Simulation};
@@ -25,26 +27,25 @@
 pub mod antenna;
 pub mod constants;
 pub mod echo;
+pub mod engine;
 pub mod environment;
 pub mod error;
 pub mod geometry;
-pub mod labels;
 pub mod model;
-pub mod output;
-pub mod ppi;
 pub mod processing;
+pub mod products;
 pub mod propagation;
 pub mod receiver;
 pub mod rng;
 pub mod scattering;
 pub mod scene;
-pub mod sim;
 pub mod special;
 pub mod waveform;
 
+pub use engine::Simulation;
 pub use error::{Error, Location, Problem, Result};
-pub use labels::{ObjectTruth, Visibility};
 pub use model::Scene;
-pub use ppi::PpiSettings;
+pub use products::labels::{ObjectTruth, Visibility};
+pub use products::ppi::PpiSettings;
+pub use products::Frame;
 pub use scene::{LoadedSpec, SceneSpec};
-pub use sim::{Frame, Simulation};

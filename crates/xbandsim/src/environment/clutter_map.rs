@@ -380,16 +380,12 @@ impl ClutterMap {
         self.distribution
     }
 
-    /// Adds spoke `k`'s clutter echo (one pulse) to `impulse_response` (noise-rms units):
-    /// complex Gaussian speckle with the cell's power.
-    pub fn add_to_spoke(
-        &self,
-        k: usize,
-        seed: u64,
-        frame: u64,
-        impulse_response: &mut [Complex32],
-    ) {
-        let mut rng: Pcg64Mcg = RngKey::new(seed, frame, k as u64, Stream::ClutterSpeckle).rng();
+    /// Adds the clutter echo of one pulse with the beam at spoke `k` to `impulse_response`
+    /// (noise-rms units): complex Gaussian speckle with the cell's power, drawn from the
+    /// pulse's `speckle` stream.
+    pub fn add_to_spoke(&self, k: usize, speckle: RngKey, impulse_response: &mut [Complex32]) {
+        debug_assert_eq!(speckle.stream, Stream::ClutterSpeckle);
+        let mut rng: Pcg64Mcg = speckle.rng();
         let n_max = self.samples.min(impulse_response.len());
         // Beam-weighted sea and rain power of this spoke, accumulated row by row (contiguous,
         // vectorisable) into two per-spoke buffers.

@@ -2,7 +2,7 @@
 //! from a [`SceneSpec`](crate::scene::SceneSpec): the [`Radar`], the [`Environment`], the
 //! scattering settings and the objects of the world. Every bad value is an [`Error`] naming
 //! the field and the value; nothing here panics on user input. Display settings are not part
-//! of the model: they belong to the PPI product (`crate::ppi::PpiSettings`).
+//! of the model: they belong to the PPI product (`crate::products::ppi::PpiSettings`).
 
 pub(crate) mod checks;
 mod environment;
@@ -95,7 +95,7 @@ impl Scene {
     }
 
     /// Validates a parsed scene description whose mesh files are relative to `base_dir`. The
-    /// `[display]` table is not part of the model (see [`crate::ppi::PpiSettings`]).
+    /// `[display]` table is not part of the model (see [`crate::products::ppi::PpiSettings`]).
     pub fn from_spec_in(spec: &SceneSpec, base_dir: &Path) -> Result<Scene> {
         let radar = radar::build_radar(&spec.radar, spec.environment.polarisation)?;
         let environment =

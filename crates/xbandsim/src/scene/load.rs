@@ -11,7 +11,7 @@
 use super::SceneSpec;
 use crate::error::{Error, Location, Result};
 use crate::model::Scene;
-use crate::ppi::PpiSettings;
+use crate::products::ppi::PpiSettings;
 use std::path::{Path, PathBuf};
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;

@@ -5,7 +5,7 @@
 use crate::environment::clutter::Sigma0Model;
 use crate::geometry::MeshUnit;
 use crate::model::{Polarisation, ScatteringModel};
-use crate::ppi::Colormap;
+use crate::products::ppi::Colormap;
 use crate::propagation::SeaRoughness;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};

@@ -3,7 +3,7 @@
 #![allow(dead_code, unused_imports)]
 
 use xbandsim::model::Scene;
-use xbandsim::sim::{Frame, Simulation};
+use xbandsim::{Frame, Simulation};
 pub use xbandsim_validate::{
     argmax, bin_range_m, fine_profile, first_null_bins, point_north, pslr_db, radar_block,
     radar_block_no_noise, spoke, width_at_db,

@@ -1,7 +1,7 @@
 //! Same seed, same output, whatever the thread count; another seed, other noise.
 
 use super::common::*;
-use xbandsim::sim::Simulation;
+use xbandsim::engine::Simulation;
 
 const SCENE: &str = include_str!("../../../../scenes/paper.toml");
 

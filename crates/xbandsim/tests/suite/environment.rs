@@ -3,7 +3,7 @@
 
 use super::common::*;
 use xbandsim::environment::clutter::{git_sigma0_db, nrl_sigma0_db, wind_direction_factor};
-use xbandsim::labels::Visibility;
+use xbandsim::products::labels::Visibility;
 use xbandsim_validate::{
     clutter_cell_statistics, clutter_mean_power_db, horizon_echo, rain_attenuation_db,
     rain_clutter_power_db, CLUTTER_FRAMES, CLUTTER_MOMENT_TOLERANCE,
@@ -144,7 +144,7 @@ fn horizon_hides_targets_and_truth_says_so() {
 #[test]
 fn clutter_drifts_and_is_deterministic() {
     let text = "[environment]\nnoise = false\nmultipath = false\nsea_state = 4.0\nclutter_correlation_m = 60.0\n[radar]\nposition_m = [0.0, 0.0, 10.0]\nspokes = 256\nmax_range_m = 800.0\n";
-    let sim = xbandsim::sim::Simulation::new(scene(text));
+    let sim = xbandsim::engine::Simulation::new(scene(text));
     let a = sim.render_frame(9, 0).polar_db;
     let b = sim.render_frame(9, 0).polar_db;
     assert!(a == b);

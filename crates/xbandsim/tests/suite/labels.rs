@@ -3,7 +3,7 @@
 //! no echo.
 
 use super::common::*;
-use xbandsim::labels::Visibility;
+use xbandsim::products::labels::Visibility;
 use xbandsim_validate::{bin_range_m, radar_block_no_noise};
 
 /// A point target behind a rain cell: the label's rain loss equals 2·γ·(chord through the
@@ -79,7 +79,7 @@ position_m = [-2500.0, 0.0, 4.0]
     // Pixel boxes are the PPI product's: absent from the frame's truth until an image labels it.
     assert!(frame.truth.iter().all(|t| t.ppi_box_px.is_none()));
     let mut truth = frame.truth.clone();
-    xbandsim::ppi::PpiGeometry {
+    xbandsim::products::ppi::PpiGeometry {
         size_px: 512,
         display_range_m: sim.scene().radar().max_range_m(),
     }

@@ -6,6 +6,7 @@ mod common;
 
 mod antenna;
 mod determinism;
+mod engine;
 mod environment;
 mod geometry;
 mod labels;

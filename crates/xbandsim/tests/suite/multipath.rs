@@ -85,7 +85,10 @@ fn objects_shadow_each_other() {
     );
     let (sim, frame) = render(&text, 1);
     let hidden = frame.truth.iter().find(|t| t.name == "hidden").unwrap();
-    assert_eq!(hidden.visibility, xbandsim::labels::Visibility::Shadowed);
+    assert_eq!(
+        hidden.visibility,
+        xbandsim::products::labels::Visibility::Shadowed
+    );
     let set = sim.trace();
     assert!(
         set.contributions.iter().any(|c| c.object == 0),

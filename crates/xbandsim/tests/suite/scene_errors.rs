@@ -262,7 +262,7 @@ fn overrides_set_fields_by_path() {
     assert_eq!(scene.radar().spokes(), 16);
     assert_eq!(
         overridden.ppi_settings().unwrap().colormap,
-        xbandsim::ppi::Colormap::Green
+        xbandsim::products::ppi::Colormap::Green
     );
     assert!(!scene.environment().noise());
     match scene.objects()[0].shape() {

@@ -135,7 +135,7 @@ fn point_target_snr_matches_radar_equation() {
 /// expected SNR matches the measured peak.
 #[test]
 fn eclipsing_inside_c_t_over_2() {
-    use xbandsim::labels::Visibility;
+    use xbandsim::products::labels::Visibility;
     // 2 µs pulse at 100 MHz: 200 samples; `eclipse_peak_db` is the measurement `validate` uses.
     let pulse_samples = 200.0f64;
     let run = xbandsim_validate::eclipse_peak_db;
@@ -182,7 +182,7 @@ fn eclipsing_inside_c_t_over_2() {
 /// physical reason), one under the noise without eclipsing below_noise.
 #[test]
 fn eclipse_that_hides_a_target_is_named() {
-    use xbandsim::labels::Visibility;
+    use xbandsim::products::labels::Visibility;
     // 1 µs pulse: c·T/2 = 150 m. A 1e-7 m² point at 60 m has about 30 dB SNR unblanked.
     let label = |range_m: f64, rcs_m2: f64| {
         let text = format!(
@@ -322,7 +322,7 @@ fn raw_spoke_matches_fast_path() {
             )),
             point_north("p", 450.0, 50.0) + &point_north("q", 200.0, 5.0)
         );
-        let sim = xbandsim::sim::Simulation::new(scene(&text));
+        let sim = xbandsim::engine::Simulation::new(scene(&text));
         let groups = sim.echo_groups(&sim.trace());
         let raw = sim.raw_spoke(None, &groups, 0.0, 5, 0, 0);
         let mut scratch = sim.compressor().scratch();
@@ -347,7 +347,7 @@ fn dirty_scratch_does_not_change_the_output() {
             "[environment]\nmultipath = false\n{extra}\nsea_state = 3.0\n[radar]\nposition_m = [0.0, 0.0, 10.0]\nmax_range_m = 1200.0\nspokes = 64\n{}",
             point_north_line()
         );
-        let sim = xbandsim::sim::Simulation::new(scene(&text));
+        let sim = xbandsim::engine::Simulation::new(scene(&text));
         let groups = sim.echo_groups(&sim.trace());
         let clutter = sim.clutter_map(9, 0);
         let run = |scratch: &mut xbandsim::processing::SpokeScratch, spoke: u64| {

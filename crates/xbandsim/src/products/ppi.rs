@@ -7,9 +7,9 @@
 //! interpolated linearly between range bins.
 
 use crate::error::{Error, Problem, Result};
-use crate::labels::{EchoRegion, ObjectTruth};
 use crate::model::checks::finite;
 use crate::model::Radar;
+use crate::products::labels::{EchoRegion, ObjectTruth};
 use crate::scene::DisplaySpec;
 
 /// Geometry of a square north-up PPI image: side in pixels and the range at its edge.

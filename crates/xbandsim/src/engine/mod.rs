@@ -1,17 +1,30 @@
-//! Stage: orchestration. `Simulation` = Scene + its BVH + FFT plans; `render` traces the scene
-//! once, groups the contributions, and for every spoke weights them by the antenna pattern,
-//! adds noise, blanks and compresses (docs/physics.md, "Pipeline"). Nothing else lives here.
+//! Stage: engine. [`Simulation`] = the model + its BVH + FFT plans + the receiver + a trace
+//! cache. It runs a [`Schedule`]: for the scene state the schedule sees it takes the traced
+//! contributions and their echo groups (from the [`TraceCache`]), then for every pulse weights
+//! the groups by the antenna pattern at the pulse's azimuth, adds clutter and noise, blanks and
+//! compresses, and integrates each dwell's pulses into one spoke of the record
+//! (docs/physics.md, "Pipeline"; docs/architecture.md, "Engine"). Today's render is the
+//! frozen-scan schedule: one pulse per spoke, the scene frozen for the revolution.
+
+mod schedule;
+mod trace_cache;
+
+pub use schedule::{Dwell, Pulse, Schedule};
+pub use trace_cache::{TraceCache, Traced};
 
 use crate::echo::{EchoGroups, FractionalDelayKernel};
 use crate::environment::clutter_map::ClutterMap;
 use crate::geometry::Bvh;
-use crate::labels::{object_truth, ObjectTruth};
 use crate::model::Scene;
 use crate::processing::PulseCompressor;
+use crate::products::labels::{object_truth, ObjectTruth};
+use crate::products::{Frame, FrameStats};
 use crate::receiver::Receiver;
+use crate::rng::{RngKey, Stream};
 use crate::scattering::{build_scene_bvh, trace_scene, ScatterSet};
 use num_complex::Complex32;
 use rayon::prelude::*;
+use std::sync::Arc;
 use std::time::Instant;
 
 /// Groups weaker than this after the azimuth weight (noise-rms units, −80 dB) are skipped.
@@ -27,21 +40,7 @@ pub struct Simulation {
     compressor: PulseCompressor,
     receiver: Receiver,
     kernel: FractionalDelayKernel,
-}
-
-/// Timings and counts of one frame.
-#[derive(Debug, Clone, Default, serde::Serialize)]
-pub struct FrameStats {
-    /// Rays cast by the scattering model.
-    pub rays_cast: u64,
-    /// Scattering contributions.
-    pub contributions: usize,
-    /// Echo groups after binning.
-    pub echo_groups: usize,
-    /// Seconds spent tracing.
-    pub trace_s: f64,
-    /// Seconds spent on echoes, noise and matched filtering.
-    pub synthesis_s: f64,
+    cache: TraceCache,
 }
 
 /// The raw signals of one pulse, in units of the noise rms voltage `√(k·T0·F·fs)`.
@@ -53,23 +52,6 @@ pub struct RawSpoke {
     pub received_iq: Vec<Complex32>,
     /// Matched-filter output, one value per range bin.
     pub compressed: Vec<Complex32>,
-}
-
-/// One rendered revolution.
-#[derive(Debug, Clone)]
-pub struct Frame {
-    /// Spokes (rows of `polar_db`).
-    pub spokes: usize,
-    /// Range bins (columns).
-    pub range_bins: usize,
-    /// Range of bin j is `j·range_bin_m`.
-    pub range_bin_m: f64,
-    /// Matched-filter output power over mean noise power, dB, spokes × bins row-major.
-    pub polar_db: Vec<f32>,
-    /// Per-object ground truth.
-    pub truth: Vec<ObjectTruth>,
-    /// Counts and timings.
-    pub stats: FrameStats,
 }
 
 impl Simulation {
@@ -92,6 +74,7 @@ impl Simulation {
             compressor,
             receiver,
             kernel: FractionalDelayKernel::new(),
+            cache: TraceCache::default(),
         }
     }
 
@@ -134,16 +117,15 @@ impl Simulation {
     }
 
     /// Adds one pulse's band-limited impulse response (targets weighted by the azimuth pattern
-    /// for a beam at `beam_az_rad`, plus clutter) into `impulse_response` (noise-rms units);
-    /// returns the earliest target sample written.
+    /// for a beam at `beam_az_rad`, plus the clutter of spoke `spoke` with the pulse's speckle)
+    /// into `impulse_response` (noise-rms units); returns the earliest target sample written.
     fn impulse_response(
         &self,
         clutter: Option<&ClutterMap>,
         groups: &EchoGroups,
+        spoke: usize,
         beam_az_rad: f64,
-        seed: u64,
-        frame: u64,
-        spoke: u64,
+        speckle: RngKey,
         impulse_response: &mut [Complex32],
     ) -> Option<usize> {
         let earliest = groups.accumulate(
@@ -153,13 +135,14 @@ impl Simulation {
             impulse_response,
         );
         if let Some(c) = clutter {
-            c.add_to_spoke(spoke as usize, seed, frame, impulse_response);
+            c.add_to_spoke(spoke, speckle, impulse_response);
         }
         earliest
     }
 
     /// Compressed output of one spoke at `beam_az_rad` into `scratch.buffer[..bins]`
-    /// (amplitude in noise-rms units).
+    /// (amplitude in noise-rms units): the pulse numbered `spoke` of a one-pulse-per-spoke
+    /// scan.
     pub fn compress_spoke(
         &self,
         clutter: Option<&ClutterMap>,
@@ -170,20 +153,48 @@ impl Simulation {
         spoke: u64,
         scratch: &mut crate::processing::SpokeScratch,
     ) {
+        let pulse = Pulse {
+            number: spoke,
+            time_s: 0.0,
+            azimuth_rad: beam_az_rad,
+        };
+        self.compress_pulse(
+            clutter,
+            groups,
+            spoke as usize,
+            &pulse,
+            seed,
+            frame,
+            scratch,
+        );
+    }
+
+    /// Compressed output of one pulse into `scratch.buffer[..bins]` (amplitude in noise-rms
+    /// units): targets at the pulse's azimuth, the clutter cells of spoke `spoke`, the pulse's
+    /// own speckle and noise streams, blanking, matched filter.
+    pub fn compress_pulse(
+        &self,
+        clutter: Option<&ClutterMap>,
+        groups: &EchoGroups,
+        spoke: usize,
+        pulse: &Pulse,
+        seed: u64,
+        frame: u64,
+        scratch: &mut crate::processing::SpokeScratch,
+    ) {
         let record = self.compressor.record_len();
         scratch.buffer.fill(Complex32::new(0.0, 0.0));
         let earliest = self.impulse_response(
             clutter,
             groups,
-            beam_az_rad,
-            seed,
-            frame,
             spoke,
+            pulse.azimuth_rad,
+            RngKey::new(seed, frame, pulse.number, Stream::ClutterSpeckle),
             &mut scratch.buffer[..record],
         );
         let rx = &self.receiver;
         if rx.noise() {
-            rx.fill_noise(seed, frame, spoke, &mut scratch.noise[..record]);
+            rx.fill_noise(seed, frame, pulse.number, &mut scratch.noise[..record]);
             scratch.noise[record..].fill(Complex32::new(0.0, 0.0));
         }
         self.compressor.process(
@@ -211,10 +222,9 @@ impl Simulation {
         self.impulse_response(
             clutter,
             groups,
+            spoke as usize,
             beam_az_rad,
-            seed,
-            frame,
-            spoke,
+            RngKey::new(seed, frame, spoke, Stream::ClutterSpeckle),
             &mut scratch.buffer[..record],
         );
         let mut echo = scratch.buffer.clone();
@@ -270,25 +280,48 @@ impl Simulation {
         frame: u64,
         spoke_done: &(dyn Fn() + Sync),
     ) -> Vec<f32> {
-        let radar = self.scene.radar();
+        let schedule = Schedule::frozen_scan(self.scene.radar(), frame);
+        self.synthesize_schedule(groups, clutter, seed, &schedule, spoke_done)
+    }
+
+    /// Polar output (spokes × bins, dB over noise) of a schedule from prepared groups and its
+    /// revolution's clutter map: every dwell's pulses compressed and their powers averaged into
+    /// its spoke. Dwells run in parallel, each worker with its own scratch; `dwell_done` is
+    /// called after every dwell.
+    pub fn synthesize_schedule(
+        &self,
+        groups: &EchoGroups,
+        clutter: Option<&ClutterMap>,
+        seed: u64,
+        schedule: &Schedule,
+        dwell_done: &(dyn Fn() + Sync),
+    ) -> Vec<f32> {
+        let spokes = self.scene.radar().spokes();
         let bins = self.compressor.num_bins();
-        let mut polar = vec![0f32; radar.spokes() * bins];
+        // Schedule::new and frozen_scan guarantee one dwell per spoke.
+        let mut dwell_of_spoke = vec![0usize; spokes];
+        for (i, d) in schedule.dwells().iter().enumerate() {
+            dwell_of_spoke[d.spoke] = i;
+        }
+        let mut polar = vec![0f32; spokes * bins];
         polar.par_chunks_mut(bins).enumerate().for_each_init(
             || self.compressor.scratch(),
             |scratch, (k, row)| {
-                self.compress_spoke(
-                    clutter,
-                    groups,
-                    radar.spoke_azimuth_rad(k),
-                    seed,
-                    frame,
-                    k as u64,
-                    scratch,
-                );
-                for (o, y) in row.iter_mut().zip(&scratch.buffer[..bins]) {
-                    *o = (10.0 * y.norm_sqr().log10()).max(POLAR_FLOOR_DB);
+                let dwell = &schedule.dwells()[dwell_of_spoke[k]];
+                row.fill(0.0);
+                for pulse in &dwell.pulses {
+                    self.compress_pulse(clutter, groups, k, pulse, seed, schedule.frame(), scratch);
+                    for (o, y) in row.iter_mut().zip(&scratch.buffer[..bins]) {
+                        *o += y.norm_sqr();
+                    }
                 }
-                spoke_done();
+                // Non-coherent integration: the mean power of the dwell's pulses (exactly
+                // the pulse's power for a one-pulse dwell).
+                let inv_pulses = 1.0 / dwell.pulses.len() as f32;
+                for o in row.iter_mut() {
+                    *o = (10.0 * (*o * inv_pulses).log10()).max(POLAR_FLOOR_DB);
+                }
+                dwell_done();
             },
         );
         polar
@@ -300,7 +333,7 @@ impl Simulation {
     }
 
     /// Ground truth for a traced scene state (PPI pixel boxes are the PPI product's:
-    /// [`crate::ppi::PpiGeometry::label`]).
+    /// [`crate::products::ppi::PpiGeometry::label`]).
     pub fn truth(&self, set: &ScatterSet) -> Vec<ObjectTruth> {
         object_truth(&self.scene, set, &self.bvh)
     }
@@ -323,15 +356,41 @@ impl Simulation {
         frame: u64,
         spoke_done: &(dyn Fn() + Sync),
     ) -> Frame {
+        let schedule = Schedule::frozen_scan(self.scene.radar(), frame);
+        self.run(&schedule, seed, spoke_done)
+    }
+
+    /// The traced scene state at `scene_time_s` and its echo groups, from the trace cache
+    /// (traced on first use).
+    pub fn traced(&self, scene_time_s: f64) -> Arc<Traced> {
+        self.traced_now(scene_time_s).0
+    }
+
+    fn traced_now(&self, scene_time_s: f64) -> (Arc<Traced>, bool) {
+        self.cache.get_or_trace(scene_time_s, || {
+            let set = self.trace();
+            let groups = self.echo_groups(&set);
+            Traced { set, groups }
+        })
+    }
+
+    /// Runs a schedule: the traced state it sees (cached), its revolution's clutter map,
+    /// every dwell synthesised and integrated, and the labels of that state. `dwell_done` is
+    /// called after every dwell (from the worker threads).
+    pub fn run(&self, schedule: &Schedule, seed: u64, dwell_done: &(dyn Fn() + Sync)) -> Frame {
         let t0 = Instant::now();
-        let set = self.trace();
-        let trace_s = t0.elapsed().as_secs_f64();
+        let (traced, fresh) = self.traced_now(schedule.scene_time_s());
+        let trace_s = if fresh {
+            t0.elapsed().as_secs_f64()
+        } else {
+            0.0
+        };
         let t1 = Instant::now();
-        let groups = self.echo_groups(&set);
-        let clutter = self.clutter_map(seed, frame);
-        let polar_db = self.synthesize_progress(&groups, clutter.as_ref(), seed, frame, spoke_done);
+        let clutter = self.clutter_map(seed, schedule.frame());
+        let polar_db =
+            self.synthesize_schedule(&traced.groups, clutter.as_ref(), seed, schedule, dwell_done);
         let synthesis_s = t1.elapsed().as_secs_f64();
-        let truth = self.truth(&set);
+        let truth = self.truth(&traced.set);
         let radar = self.scene.radar();
         Frame {
             spokes: radar.spokes(),
@@ -340,9 +399,9 @@ impl Simulation {
             polar_db,
             truth,
             stats: FrameStats {
-                rays_cast: set.rays_cast,
-                contributions: set.contributions.len(),
-                echo_groups: groups.groups.len(),
+                rays_cast: traced.set.rays_cast,
+                contributions: traced.set.contributions.len(),
+                echo_groups: traced.groups.groups.len(),
                 trace_s,
                 synthesis_s,
             },

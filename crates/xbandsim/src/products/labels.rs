@@ -379,7 +379,7 @@ pub fn object_truth(scene: &Scene, set: &ScatterSet, bvh: &Bvh) -> Vec<ObjectTru
 /// Where an object's echo can lie: its bounding sphere's slant-range extent plus one range
 /// resolution, and its azimuth extent plus half the beamwidth each side. The polar box is
 /// drawn from it here; products draw their own boxes from it (the PPI's pixel box, in
-/// [`crate::ppi::PpiGeometry::pixel_box`]).
+/// [`crate::products::ppi::PpiGeometry::pixel_box`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EchoRegion {
     /// Nearest slant range, m.

@@ -1,0 +1,156 @@
+//! The schedule the engine runs: a revolution as dwells (one per spoke of the record), each
+//! dwell as the pulses integrated into it, each pulse at its own time and antenna azimuth.
+//! "A pulse at time t at antenna azimuth a" is the unit of work; today's behaviour — one pulse
+//! per spoke, the antenna at the spoke's azimuth, the scene frozen at the start of the
+//! revolution — is one schedule ([`Schedule::frozen_scan`]) among others.
+
+use crate::error::{Error, Problem, Result};
+use crate::model::Radar;
+
+/// One transmitted pulse.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pulse {
+    /// Pulse number within the revolution: it keys the pulse's random streams (noise,
+    /// speckle), so it must be unique within a schedule.
+    pub number: u64,
+    /// Transmit time from the start of the run, s.
+    pub time_s: f64,
+    /// Antenna azimuth, rad (nautical: 0 = north, clockwise).
+    pub azimuth_rad: f64,
+}
+
+/// The pulses integrated into one spoke of the record. Their matched-filter powers are
+/// averaged (non-coherent integration); a one-pulse dwell is today's spoke.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dwell {
+    /// The spoke (row of the polar record) this dwell fills; it also places the clutter
+    /// cells the beam sees.
+    pub spoke: usize,
+    /// Its pulses (at least one).
+    pub pulses: Vec<Pulse>,
+}
+
+/// One revolution's dwells, and the scene time every pulse sees.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Schedule {
+    frame: u64,
+    scene_time_s: f64,
+    dwells: Vec<Dwell>,
+}
+
+impl Schedule {
+    /// Today's scan: revolution `frame`, one pulse per spoke, pulse k at
+    /// `t = (frame + k/spokes)·60/rpm` with the antenna at spoke k's azimuth `2πk/spokes`,
+    /// and the scene frozen at the start of the revolution, `frame·60/rpm`.
+    pub fn frozen_scan(radar: &Radar, frame: u64) -> Schedule {
+        let spokes = radar.spokes();
+        let period_s = 60.0 / radar.rotation_rpm();
+        let dwells = (0..spokes)
+            .map(|k| Dwell {
+                spoke: k,
+                pulses: vec![Pulse {
+                    number: k as u64,
+                    time_s: (frame as f64 + k as f64 / spokes as f64) * period_s,
+                    azimuth_rad: radar.spoke_azimuth_rad(k),
+                }],
+            })
+            .collect();
+        Schedule {
+            frame,
+            scene_time_s: frame as f64 * period_s,
+            dwells,
+        }
+    }
+
+    /// A schedule of one's own for `radar`: every spoke filled by exactly one dwell (in any
+    /// order), every dwell with at least one pulse, pulse numbers unique, times and azimuths
+    /// finite. The scene is seen at `scene_time_s`.
+    pub fn new(
+        radar: &Radar,
+        frame: u64,
+        scene_time_s: f64,
+        dwells: Vec<Dwell>,
+    ) -> Result<Schedule> {
+        let spokes = radar.spokes();
+        if !scene_time_s.is_finite() {
+            return Err(Error::invalid(
+                Problem::NotFinite,
+                "schedule.scene_time_s",
+                scene_time_s,
+                "must be a finite number",
+            ));
+        }
+        if dwells.len() != spokes {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                "schedule.dwells",
+                dwells.len(),
+                format!("a revolution needs one dwell per spoke (radar.spokes = {spokes})"),
+            ));
+        }
+        let mut filled = vec![false; spokes];
+        let mut numbers = std::collections::HashSet::new();
+        for (i, d) in dwells.iter().enumerate() {
+            let field = format!("schedule.dwells[{i}]");
+            if d.spoke >= spokes || std::mem::replace(&mut filled[d.spoke], true) {
+                return Err(Error::invalid(
+                    Problem::Conflict,
+                    format!("{field}.spoke"),
+                    d.spoke,
+                    format!("each spoke 0..{spokes} must be filled by exactly one dwell"),
+                ));
+            }
+            if d.pulses.is_empty() {
+                return Err(Error::invalid(
+                    Problem::Missing,
+                    format!("{field}.pulses"),
+                    "[]",
+                    "a dwell needs at least one pulse",
+                ));
+            }
+            for p in &d.pulses {
+                if !p.time_s.is_finite() || !p.azimuth_rad.is_finite() {
+                    return Err(Error::invalid(
+                        Problem::NotFinite,
+                        format!("{field}.pulses"),
+                        format!("{p:?}"),
+                        "pulse times and azimuths must be finite",
+                    ));
+                }
+                if !numbers.insert(p.number) {
+                    return Err(Error::invalid(
+                        Problem::Conflict,
+                        format!("{field}.pulses"),
+                        p.number,
+                        "pulse numbers key the random streams and must be unique",
+                    ));
+                }
+            }
+        }
+        Ok(Schedule {
+            frame,
+            scene_time_s,
+            dwells,
+        })
+    }
+
+    /// Revolution number (keys the random streams and the clutter texture's drift).
+    pub fn frame(&self) -> u64 {
+        self.frame
+    }
+
+    /// The scene time every pulse of this schedule sees, s.
+    pub fn scene_time_s(&self) -> f64 {
+        self.scene_time_s
+    }
+
+    /// The dwells.
+    pub fn dwells(&self) -> &[Dwell] {
+        &self.dwells
+    }
+
+    /// Number of pulses.
+    pub fn num_pulses(&self) -> usize {
+        self.dwells.iter().map(|d| d.pulses.len()).sum()
+    }
+}
