@@ -54,13 +54,13 @@ pub fn peak_rss_mb() -> Option<f64> {
 
 /// Casts the paper's uniform scan grid (closest hit) and returns the number of hits.
 fn cast_scan_grid(scene: &Scene, bvh: &Bvh) -> usize {
-    let n = paper::grid_size(scene);
+    let n = paper::grid_size(scene.scattering());
     let origin = scene.radar().position_m();
     (0..n)
         .into_par_iter()
         .with_min_len(4096)
         .filter(|&i| {
-            let (az, el) = paper::grid_direction(scene, i);
+            let (az, el) = paper::grid_direction(scene.scattering(), scene.radar().antenna(), i);
             bvh.closest_hit(
                 &Ray {
                     origin_m: origin,
@@ -115,8 +115,8 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     }
 
     // 1. Ray casting, the paper's radar-scan pattern (360 x 100 az x 100 el = 3.6 M rays).
-    let bvh = build_scene_bvh(&scene);
-    let n_rays = paper::grid_size(&scene) as f64;
+    let bvh = build_scene_bvh(scene.objects());
+    let n_rays = paper::grid_size(scene.scattering()) as f64;
     let t = median_s(a.repeats, || {
         std::hint::black_box(cast_scan_grid(&scene, &bvh));
     });

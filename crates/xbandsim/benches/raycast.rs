@@ -14,7 +14,7 @@ const PAPER: &str = include_str!("../../../scenes/paper.toml");
 
 fn scan_rays(c: &mut Criterion) {
     let scene = Scene::from_toml_str(PAPER, "paper").unwrap();
-    let bvh = build_scene_bvh(&scene);
+    let bvh = build_scene_bvh(scene.objects());
     // One degree of the paper's scan grid: 100 az x 100 el rays, single thread.
     let n = 100 * scene.scattering().paper_rays_elevation();
     let mut g = c.benchmark_group("raycast");
@@ -24,7 +24,8 @@ fn scan_rays(c: &mut Criterion) {
         b.iter(|| {
             let mut hits = 0;
             for i in (36 * n)..(37 * n) {
-                let (az, el) = paper::grid_direction(&scene, i);
+                let (az, el) =
+                    paper::grid_direction(scene.scattering(), scene.radar().antenna(), i);
                 hits += bvh
                     .closest_hit(
                         &Ray {

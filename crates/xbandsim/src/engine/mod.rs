@@ -57,7 +57,7 @@ pub struct RawSpoke {
 impl Simulation {
     /// Builds the BVH and the FFT plans.
     pub fn new(scene: Scene) -> Simulation {
-        let bvh = build_scene_bvh(&scene);
+        let bvh = build_scene_bvh(scene.objects());
         let compressor = PulseCompressor::new(
             scene.radar().chirp(),
             scene.radar().window(),
@@ -329,7 +329,13 @@ impl Simulation {
 
     /// Sea and rain clutter of frame `frame` (None when the scene has neither).
     pub fn clutter_map(&self, seed: u64, frame: u64) -> Option<ClutterMap> {
-        ClutterMap::new(&self.scene, seed, frame, self.compressor.record_len())
+        ClutterMap::new(
+            self.scene.radar(),
+            self.scene.environment(),
+            seed,
+            frame,
+            self.compressor.record_len(),
+        )
     }
 
     /// Ground truth for a traced scene state (PPI pixel boxes are the PPI product's:

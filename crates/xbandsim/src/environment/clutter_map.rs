@@ -34,7 +34,7 @@ use super::clutter::{
 };
 use super::rain::volume_reflectivity_m2_per_m3;
 use crate::antenna::SINC_BEAMWIDTH_FACTOR;
-use crate::model::{Polarisation, Scene};
+use crate::model::{Environment, Polarisation, Radar};
 use crate::propagation::sin_grazing;
 use crate::rng::{RngKey, Stream};
 use crate::special::{bessel_i0, erfc};
@@ -72,12 +72,16 @@ fn normal_cdf(g: f64) -> f64 {
 impl ClutterMap {
     /// The clutter of frame `frame` (the texture drifts with time `frame × rotation period`)
     /// for records of `samples` samples; None when there is neither sea clutter nor rain.
-    pub fn new(scene: &Scene, seed: u64, frame: u64, samples: usize) -> Option<ClutterMap> {
-        let env = scene.environment();
+    pub fn new(
+        radar: &Radar,
+        env: &Environment,
+        seed: u64,
+        frame: u64,
+        samples: usize,
+    ) -> Option<ClutterMap> {
         if env.clutter().is_none() && env.rain().is_none() {
             return None;
         }
-        let radar = scene.radar();
         let spokes = radar.spokes();
         let h = radar.position_m().z.max(0.0);
         let dr = radar.range_bin_m();

@@ -8,7 +8,7 @@
 
 use crate::constants::{linear_to_db, SPEED_OF_LIGHT_M_PER_S};
 use crate::geometry::{Bvh, Ray};
-use crate::model::{Polarisation, ScatteringModel, Scene};
+use crate::model::{Environment, Polarisation, Radar, ScatteringModel, Scene};
 use crate::scattering::po::TubeBudget;
 use crate::scattering::{azimuth_elevation_rad, ScatterSet};
 use glam::DVec3;
@@ -207,11 +207,10 @@ fn loss_db(power_factor: f64) -> f64 {
 }
 
 /// Two-way rain attenuation along the straight path from the radar to `target_m`, dB.
-pub fn rain_two_way_loss_db(scene: &Scene, target_m: DVec3) -> f64 {
-    let Some(rain) = scene.environment().rain() else {
+pub fn rain_two_way_loss_db(radar: &Radar, environment: &Environment, target_m: DVec3) -> f64 {
+    let Some(rain) = environment.rain() else {
         return 0.0;
     };
-    let radar = scene.radar();
     let rel = (target_m - radar.position_m()).truncate();
     let ground = rel.length();
     if ground <= 0.0 {
@@ -290,7 +289,7 @@ pub fn object_truth(scene: &Scene, set: &ScatterSet, bvh: &Bvh) -> Vec<ObjectTru
                 window: loss_db(window_loss),
                 elevation_pattern: loss_db(ant.elevation_pattern(el).powi(2).max(1e-300)),
                 atmosphere: loss_db(scene.environment().attenuation_power(range_m)),
-                rain: rain_two_way_loss_db(scene, o.position_m()),
+                rain: rain_two_way_loss_db(radar, scene.environment(), o.position_m()),
                 eclipse: (eclipse_fraction > 0.0).then(|| loss_db(eclipse_fraction.powi(2))),
             };
             let snr_unclipped_db = rcs.map(|s| {

@@ -16,7 +16,7 @@ pub mod rcs;
 
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
 use crate::geometry::{Bvh, Primitive};
-use crate::model::{Radar, ScatteringModel, Scene};
+use crate::model::{Environment, Radar, ScatteringModel, Scene, SceneObject};
 use glam::DVec3;
 use num_complex::Complex64;
 
@@ -137,10 +137,14 @@ pub fn radar_equation_volts_per_root_m2(radar: &Radar, range_tx_m: f64, range_rx
 /// Volts per m of root-RCS for a path, with the atmosphere's two-way loss over the mean of
 /// the outgoing and returning ranges.
 #[inline]
-pub fn path_volts_per_root_m2(scene: &Scene, range_tx_m: f64, range_rx_m: f64) -> f64 {
-    radar_equation_volts_per_root_m2(scene.radar(), range_tx_m, range_rx_m)
-        * scene
-            .environment()
+pub fn path_volts_per_root_m2(
+    radar: &Radar,
+    environment: &Environment,
+    range_tx_m: f64,
+    range_rx_m: f64,
+) -> f64 {
+    radar_equation_volts_per_root_m2(radar, range_tx_m, range_rx_m)
+        * environment
             .attenuation_power(0.5 * (range_tx_m + range_rx_m))
             .sqrt()
 }
@@ -153,9 +157,8 @@ pub fn carrier_phase(path_m: f64, wavelength_m: f64) -> Complex64 {
 }
 
 /// Builds the ray-tracing acceleration structure of a scene (all objects' primitives).
-pub fn build_scene_bvh(scene: &Scene) -> Bvh {
-    let prims: Vec<Primitive> = scene
-        .objects()
+pub fn build_scene_bvh(objects: &[SceneObject]) -> Bvh {
+    let prims: Vec<Primitive> = objects
         .iter()
         .enumerate()
         .flat_map(|(i, o)| o.shape().primitives(o.position_m(), o.rotation(), i as u32))

@@ -7,8 +7,9 @@
 //! It is not calibrated: `V_ref` (`paper_reference_voltage_uv`) sets the level against noise.
 
 use super::{azimuth_elevation_rad, carrier_phase, direction_from_az_el, Contribution, ScatterSet};
+use crate::antenna::Antenna;
 use crate::geometry::{Bvh, Ray};
-use crate::model::Scene;
+use crate::model::{ScatteringConfig, Scene};
 use num_complex::Complex64;
 use rayon::prelude::*;
 
@@ -19,11 +20,10 @@ pub fn paper_amplitude(one_way_path_m: f64) -> f64 {
 }
 
 /// Directions of the paper's uniform scan grid, azimuth-major: (az, el) for `index`.
-pub fn grid_direction(scene: &Scene, index: usize) -> (f64, f64) {
-    let n_el = scene.scattering().paper_rays_elevation();
-    let n_az = scene.scattering().paper_rays_per_degree_az() * 360;
+pub fn grid_direction(settings: &ScatteringConfig, ant: &Antenna, index: usize) -> (f64, f64) {
+    let n_el = settings.paper_rays_elevation();
+    let n_az = settings.paper_rays_per_degree_az() * 360;
     let (ia, ie) = (index / n_el, index % n_el);
-    let ant = scene.radar().antenna();
     let az = std::f64::consts::TAU * (ia as f64 + 0.5) / n_az as f64;
     let el = ant.tilt_rad - ant.el_beamwidth_rad / 2.0
         + ant.el_beamwidth_rad * (ie as f64 + 0.5) / n_el as f64;
@@ -31,8 +31,8 @@ pub fn grid_direction(scene: &Scene, index: usize) -> (f64, f64) {
 }
 
 /// Number of rays in the paper's grid.
-pub fn grid_size(scene: &Scene) -> usize {
-    scene.scattering().paper_rays_per_degree_az() * 360 * scene.scattering().paper_rays_elevation()
+pub fn grid_size(settings: &ScatteringConfig) -> usize {
+    settings.paper_rays_per_degree_az() * 360 * settings.paper_rays_elevation()
 }
 
 /// Traces the uniform grid and applies the paper's amplitude law.
@@ -71,7 +71,7 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         .par_iter()
         .flat_map_iter(|&ia| {
             (0..n_el).filter_map(move |ie| {
-                let (az, el) = grid_direction(scene, ia * n_el + ie);
+                let (az, el) = grid_direction(scene.scattering(), radar.antenna(), ia * n_el + ie);
                 let ray = Ray {
                     origin_m: origin,
                     dir: direction_from_az_el(az, el),

@@ -1,7 +1,7 @@
 //! `xbandsim figures`: the seed paper's Fig. 2 (antenna pattern), Fig. 3 (signal chain) and
 //! Fig. 4 (PPIs for 1, 20 and 50 µs pulses), drawn with plotters from the library's outputs.
 
-use anyhow::{anyhow, Context, Result};
+use anyhow::{Context, Result};
 use num_complex::Complex32;
 use plotters::prelude::*;
 use std::path::Path;
@@ -9,43 +9,15 @@ use xbandsim::antenna::sinc2_pattern;
 use xbandsim::constants::linear_to_db;
 use xbandsim::echo::EchoGroups;
 use xbandsim::engine::Simulation;
-use xbandsim::products::output::write_png;
 use xbandsim::products::ppi::PpiSettings;
 use xbandsim::products::ppi::{colour_image, ScanConverter};
 use xbandsim::scene::{LoadedSpec, ObjectSpec, SceneSpec, ShapeName};
 use xbandsim::Scene;
 
-const FONT: &str = "sans-serif";
+mod plot;
 
-fn plot_err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
-    anyhow!("drawing failed: {e:?}")
-}
-
-/// Registers the embedded DejaVu Sans font with plotters (no system fonts are needed).
-pub fn register_fonts() -> Result<()> {
-    plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular())
-        .map_err(|_| anyhow!("embedded font is invalid"))?;
-    plotters::style::register_font(FONT, FontStyle::Bold, dejavu::sans::bold())
-        .map_err(|_| anyhow!("embedded font is invalid"))?;
-    Ok(())
-}
-
-/// Draws with plotters into an RGB buffer and writes it atomically as PNG.
-fn save_rgb(
-    path: &Path,
-    w: u32,
-    h: u32,
-    draw: impl FnOnce(DrawingArea<BitMapBackend, plotters::coord::Shift>) -> Result<()>,
-) -> Result<()> {
-    let mut buf = vec![255u8; (w * h * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        draw(root.clone())?;
-        root.present().map_err(plot_err)?;
-    }
-    write_png(path, w, h, 3, &buf)?;
-    Ok(())
-}
+pub use plot::register_fonts;
+use plot::{panel_grid, plot_err, save_rgb, time_panel, FONT};
 
 /// Runs `xbandsim figures`.
 pub fn run(out: &Path, scene_path: &Path, seed: u64) -> Result<()> {
@@ -304,43 +276,6 @@ fn fig3(out: &Path, base: &SceneSpec, base_dir: &Path, seed: u64) -> Result<()> 
     })
 }
 
-/// A panel of real-part time series (µs, noise-rms units) sharing symmetric y limits.
-fn time_panel(
-    area: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
-    caption: &str,
-    series: &[(Vec<(f64, f64)>, RGBColor)],
-) -> Result<()> {
-    let t_max = series
-        .iter()
-        .flat_map(|(p, _)| p.last().map(|l| l.0))
-        .fold(1e-3, f64::max);
-    let peak = series
-        .iter()
-        .flat_map(|(p, _)| p.iter().map(|q| q.1.abs()))
-        .fold(1e-6, f64::max)
-        * 1.1;
-    let mut chart = ChartBuilder::on(area)
-        .caption(caption, (FONT, 18))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(55)
-        .build_cartesian_2d(0f64..t_max, -peak..peak)
-        .map_err(plot_err)?;
-    chart
-        .configure_mesh()
-        .x_desc("time after transmission (us)")
-        .y_desc("Re r(t) / noise rms")
-        .label_style((FONT, 13))
-        .draw()
-        .map_err(plot_err)?;
-    for (points, colour) in series {
-        chart
-            .draw_series(LineSeries::new(points.iter().copied(), colour))
-            .map_err(plot_err)?;
-    }
-    Ok(())
-}
-
 /// Fig. 4: PPIs for 1, 20 and 50 µs pulses; top row as in the paper (receiver not blanked),
 /// bottom row as a real radar (blanked while transmitting, so targets within c·T/2 eclipse).
 fn fig4(out: &Path, spec: &SceneSpec, base_dir: &Path, seed: u64) -> Result<()> {
@@ -391,45 +326,6 @@ fn ppi_panel(scene: Scene, d: &PpiSettings, size: u32, seed: u64, extra_db: f64)
         d.max_db + extra_db,
         d.range_ring_spacing_m,
     )
-}
-
-/// Square images with titles in a grid of `cols` columns, written as one PNG.
-fn panel_grid(
-    path: &Path,
-    heading: &str,
-    images: &[(String, Vec<u8>)],
-    panel: u32,
-    cols: u32,
-) -> Result<()> {
-    let rows = (images.len() as u32).div_ceil(cols);
-    let (w, h) = (panel * cols + 10 * (cols + 1), rows * (panel + 40) + 40);
-    save_rgb(path, w, h, |root| {
-        root.fill(&WHITE).map_err(plot_err)?;
-        root.draw(&Text::new(heading.to_string(), (20, 8), (FONT, 18)))
-            .map_err(plot_err)?;
-        for (i, (title, rgb)) in images.iter().enumerate() {
-            let (col, row) = (i as u32 % cols, i as u32 / cols);
-            let x0 = 10 + col * (panel + 10);
-            let y0 = 40 + row * (panel + 40);
-            root.draw(&Text::new(
-                title.clone(),
-                (x0 as i32 + 5, y0 as i32),
-                (FONT, 16),
-            ))
-            .map_err(plot_err)?;
-            for y in 0..panel {
-                for x in 0..panel {
-                    let k = ((y * panel + x) * 3) as usize;
-                    root.draw_pixel(
-                        ((x0 + x) as i32, (y0 + 20 + y) as i32),
-                        &RGBColor(rgb[k], rgb[k + 1], rgb[k + 2]),
-                    )
-                    .map_err(plot_err)?;
-                }
-            }
-        }
-        Ok(())
-    })
 }
 
 /// Fig. 5 (ours): the same open-water scene without and with sea clutter and rain, and the

@@ -1,0 +1,350 @@
+//! Shooting-and-bouncing rays with physical-optics ray tubes (the default model).
+//!
+//! For each object that is not a point, square ray tubes of side δ (`ray_spacing_wavelengths`·λ,
+//! grown if the object would need more than `max_rays_per_object`) are launched from the radar
+//! phase centre toward a grid over the disk that covers the object's bounding sphere, seen
+//! from the radar. A tube whose first hit is on another object is shadowed and dropped (that
+//! object has tubes of its own). At every hit the tube's PO integral toward the radar gives
+//! (docs/physics.md §2.2; Ling, Chou & Lee 1989; Knott, Shaeffer & Tuley, *Radar Cross Section*,
+//! 2nd ed., ch. 5):
+//!
+//! `S = (√(4π)/λ) · A⊥ · P · F · exp(−j2πℓ/λ)`
+//!
+//! - `A⊥` the tube's cross-section (δ² scaled by (ℓ₁/R)² for the spherical spread to the object),
+//! - `P = E_r · p̂_rx`, with the field reflected at each perfect-conductor hit as
+//!   `E_r = 2(n̂·E_i)n̂ − E_i` starting from the transmit polarisation `p̂_tx`, and at the sea
+//!   by the Fresnel coefficients Γ_H, Γ_V (complex) in the local plane of incidence,
+//! - `F = (n̂·ŝ)/|n̂·k̂_i| · sinc(q·e₁/2)·sinc(q·e₂/2)`, `q = k(ŝ − k̂_r)`, the exact PO integral
+//!   over the tube's parallelogram footprint `e₁, e₂` on its facet (sinc x = sin x / x),
+//! - `ℓ` the whole path radar → hits → radar (f64).
+//!
+//! **The sea (multipath).** With the sea on, the plane z = 0 reflects (`propagation::sea_reflection`).
+//! Each object gets a second tube grid aimed at its mirror image below the sea: those tubes
+//! reach it after a sea reflection. Every hit on an object radiates back both directly and via
+//! the sea (toward the radar's image), so the four paths direct–direct, direct–sea, sea–direct
+//! and sea–sea of the two-ray model all arise, with shadowing by other objects. The sea's own
+//! backscatter (clutter) is not a PO return here.
+//!
+//! Return paths other than the way a tube came in are checked with shadow rays.
+//! Ideal `point` objects give `S = √σ·exp(−j2πℓ/λ)` per path (four paths over the sea).
+
+mod tube;
+
+pub use tube::{
+    polarisation_vector, sea_reflect, trace_tube, ComplexVec3, Illumination, SbrSettings, TubeGrid,
+    TubeReturn,
+};
+
+use super::{azimuth_elevation_rad, carrier_phase, Contribution, ScatterSet};
+use crate::geometry::{Bvh, Ray, ShapeGeometry};
+use crate::model::{Polarisation, Scene};
+use crate::propagation::SeaSurface;
+use glam::DVec3;
+use num_complex::Complex64;
+use rayon::prelude::*;
+
+/// The tube grid an object was traced with, against what was asked for.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct TubeBudget {
+    /// Requested tube side (`ray_spacing_wavelengths`·λ), m.
+    pub requested_spacing_m: f64,
+    /// Tube side used at the grid plane through the object's centre, m.
+    pub spacing_m: f64,
+    /// Tubes in the direct grid's disk (about π/4 of `cells_per_side²`).
+    pub tubes: usize,
+    /// `max_rays_per_object` bound, so `spacing_m > requested_spacing_m`.
+    pub capped: bool,
+}
+
+/// What tracing one object gave.
+#[derive(Debug, Clone)]
+pub struct ObjectTrace {
+    /// Returns of every tube, in a deterministic order.
+    pub returns: Vec<TubeReturn>,
+    /// Rays cast (including bounce and shadow rays).
+    pub rays: u64,
+    /// The direct grid's tube budget.
+    pub budget: TubeBudget,
+}
+
+/// All returns of one object lit by `illumination` (rows traced in parallel, collected in
+/// order so the result does not depend on the thread count). With the sea on (and a radar
+/// at a point), a second grid aimed at the object's mirror image adds the paths that reach
+/// it via the sea.
+pub fn trace_object(
+    bvh: &Bvh,
+    illumination: Illumination,
+    centre_m: DVec3,
+    radius_m: f64,
+    index: u32,
+    s: &SbrSettings,
+) -> ObjectTrace {
+    let mut grids = vec![TubeGrid::new(
+        illumination,
+        centre_m,
+        radius_m,
+        s.spacing_m,
+        s.max_rays,
+        false,
+    )];
+    if let (Some(_), Illumination::FromPoint { radar_m }) = (s.sea, illumination) {
+        if radar_m.z > 0.0 && centre_m.z + radius_m > 0.0 {
+            let image = DVec3::new(centre_m.x, centre_m.y, -centre_m.z);
+            grids.push(TubeGrid::new(
+                illumination,
+                image,
+                radius_m,
+                s.spacing_m,
+                s.max_rays,
+                true,
+            ));
+        }
+    }
+    let direct = &grids[0];
+    let budget = TubeBudget {
+        requested_spacing_m: s.spacing_m,
+        spacing_m: direct.spacing_m,
+        tubes: (0..direct.cells_per_side)
+            .map(|j| {
+                (0..direct.cells_per_side)
+                    .filter(|&i| direct.point(i, j).is_some())
+                    .count()
+            })
+            .sum(),
+        capped: direct.capped,
+    };
+    let mut returns = Vec::new();
+    let mut rays = 0;
+    for grid in &grids {
+        let rows: Vec<(Vec<TubeReturn>, u64)> = (0..grid.cells_per_side)
+            .into_par_iter()
+            .map(|j| {
+                let mut out = Vec::new();
+                let mut rays = 0;
+                for i in 0..grid.cells_per_side {
+                    rays += trace_tube(bvh, grid, i, j, index, s, &mut out);
+                }
+                (out, rays)
+            })
+            .collect();
+        for (r, n) in rows {
+            returns.extend(r);
+            rays += n;
+        }
+    }
+    ObjectTrace {
+        returns,
+        rays,
+        budget,
+    }
+}
+
+/// Monostatic RCS of everything in `bvh` tagged `index`, lit by a plane wave from
+/// `toward_radar` (unit, object → radar): `σ = |Σ S|²`, m².
+pub fn plane_wave_rcs_m2(
+    bvh: &Bvh,
+    toward_radar: DVec3,
+    centre_m: DVec3,
+    radius_m: f64,
+    index: u32,
+    s: &SbrSettings,
+) -> f64 {
+    trace_object(
+        bvh,
+        Illumination::PlaneWave { toward_radar },
+        centre_m,
+        radius_m,
+        index,
+        s,
+    )
+    .returns
+    .iter()
+    .map(|r| r.root_rcs_m)
+    .sum::<Complex64>()
+    .norm_sqr()
+}
+
+/// SBR settings of a scene.
+pub fn settings_for(scene: &Scene) -> SbrSettings {
+    let lambda = scene.radar().wavelength_m();
+    SbrSettings {
+        wavelength_m: lambda,
+        polarisation: scene.radar().polarisation(),
+        max_bounces: scene.scattering().max_bounces(),
+        spacing_m: scene.scattering().ray_spacing_wavelengths() * lambda,
+        max_rays: scene.scattering().max_rays_per_object(),
+        sea: scene.environment().sea().copied(),
+        earth_curvature: scene.environment().earth_curvature(),
+    }
+}
+
+/// One leg between the radar and a point target: path length, direction from the radar, and
+/// the sea's reflection coefficient along it (1 for the direct leg); None if blocked.
+fn point_leg(
+    bvh: &Bvh,
+    radar_m: DVec3,
+    target_m: DVec3,
+    via_sea: Option<&SeaSurface>,
+    s: &SbrSettings,
+) -> Option<(f64, DVec3, Complex64)> {
+    match via_sea {
+        None => {
+            let v = target_m - radar_m;
+            let len = v.length();
+            let dir = v / len;
+            (!bvh.any_hit(
+                &Ray {
+                    origin_m: radar_m,
+                    dir,
+                },
+                len,
+            ))
+            .then_some((len, dir, Complex64::new(1.0, 0.0)))
+        }
+        Some(sea) => {
+            if radar_m.z <= 0.0 || target_m.z <= 0.0 {
+                return None;
+            }
+            let image = DVec3::new(target_m.x, target_m.y, -target_m.z);
+            let v = image - radar_m;
+            let len = v.length();
+            let dir = v / len;
+            let t_sea = radar_m.z / -dir.z;
+            let sea_pt = radar_m + dir * t_sea;
+            let up = target_m - sea_pt;
+            let up_len = up.length();
+            if bvh.any_hit(
+                &Ray {
+                    origin_m: radar_m,
+                    dir,
+                },
+                t_sea,
+            ) || bvh.any_hit(
+                &Ray {
+                    origin_m: sea_pt,
+                    dir: up / up_len,
+                },
+                up_len,
+            ) {
+                return None;
+            }
+            let (gh, gv) = sea.reflection((-dir.z).asin(), s.wavelength_m);
+            Some((
+                len,
+                dir,
+                if s.polarisation == Polarisation::Hh {
+                    gh
+                } else {
+                    gv
+                },
+            ))
+        }
+    }
+}
+
+/// Traces every object of the scene with SBR/PO and converts to volts.
+pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
+    let radar = scene.radar();
+    let s = settings_for(scene);
+    let volts = |r_tx: f64, r_rx: f64| {
+        super::path_volts_per_root_m2(scene.radar(), scene.environment(), r_tx, r_rx)
+    };
+    let mut set = ScatterSet {
+        tube_budgets: vec![None; scene.objects().len()],
+        ..ScatterSet::default()
+    };
+    for (idx, obj) in scene.objects().iter().enumerate() {
+        let index = idx as u32;
+        if let ShapeGeometry::Point { rcs_m2 } = obj.shape() {
+            let ground = (obj.position_m() - radar.position_m()).truncate().length();
+            if s.earth_curvature
+                && !crate::propagation::above_horizon(
+                    radar.position_m().z,
+                    ground,
+                    obj.position_m().z,
+                )
+            {
+                continue;
+            }
+            let mut routes: Vec<Option<&SeaSurface>> = vec![None];
+            if let Some(sea) = s.sea.as_ref() {
+                routes.push(Some(sea));
+            }
+            let legs: Vec<(f64, DVec3, Complex64, u8)> = routes
+                .into_iter()
+                .filter_map(|via| {
+                    point_leg(bvh, radar.position_m(), obj.position_m(), via, &s)
+                        .map(|(len, dir, g)| (len, dir, g, u8::from(via.is_some())))
+                })
+                .collect();
+            set.rays_cast += 2 * legs.len() as u64;
+            for &(len_tx, dir_tx, g_tx, sea_tx) in &legs {
+                for &(len_rx, dir_rx, g_rx, sea_rx) in &legs {
+                    let path_m = len_tx + len_rx;
+                    let root = carrier_phase(path_m, s.wavelength_m) * g_tx * g_rx * rcs_m2.sqrt();
+                    let (az_tx, el_tx) = azimuth_elevation_rad(dir_tx);
+                    let (az_rx, el_rx) = azimuth_elevation_rad(dir_rx);
+                    set.contributions.push(Contribution {
+                        amplitude_v: root * volts(len_tx, len_rx),
+                        root_rcs_m: root,
+                        path_m,
+                        az_tx_rad: az_tx,
+                        el_tx_rad: el_tx,
+                        az_rx_rad: az_rx,
+                        el_rx_rad: el_rx,
+                        object: index,
+                        bounces: 0,
+                        sea_reflections: sea_tx + sea_rx,
+                    });
+                }
+            }
+            continue;
+        }
+        // Objects that cannot be seen are not traced: wholly beyond the recorded range
+        // (max range + c·T/2, where the last echo tail ends) or below the radar horizon.
+        let centre = obj.bounding_centre_m();
+        let radius = obj.shape().bounding_radius_m();
+        let nearest_m = (centre - radar.position_m()).length() - radius;
+        let ground_m = ((centre - radar.position_m()).truncate().length() - radius).max(0.0);
+        if nearest_m > radar.max_range_m() + radar.eclipse_range_m()
+            || (s.earth_curvature
+                && !crate::propagation::above_horizon(
+                    radar.position_m().z,
+                    ground_m,
+                    centre.z + radius,
+                ))
+        {
+            continue;
+        }
+        let illumination = Illumination::FromPoint {
+            radar_m: radar.position_m(),
+        };
+        let traced = trace_object(
+            bvh,
+            illumination,
+            obj.bounding_centre_m(),
+            obj.shape().bounding_radius_m(),
+            index,
+            &s,
+        );
+        set.rays_cast += traced.rays;
+        set.tube_budgets[idx] = Some(traced.budget);
+        set.contributions.extend(traced.returns.iter().map(|r| {
+            let (az_tx, el_tx) = azimuth_elevation_rad(r.tx_dir);
+            let (az_rx, el_rx) = azimuth_elevation_rad(r.rx_dir);
+            Contribution {
+                amplitude_v: r.root_rcs_m * volts(r.range_tx_m, r.range_rx_m),
+                root_rcs_m: r.root_rcs_m,
+                path_m: r.path_m,
+                az_tx_rad: az_tx,
+                el_tx_rad: el_tx,
+                az_rx_rad: az_rx,
+                el_rx_rad: el_rx,
+                object: index,
+                bounces: r.bounces,
+                sea_reflections: r.sea_reflections,
+            }
+        }));
+    }
+    set
+}
