@@ -43,15 +43,16 @@ impl Schedule {
     /// `t = (frame + k/spokes)·60/rpm` with the antenna at spoke k's azimuth `2πk/spokes`,
     /// and the scene frozen at the start of the revolution, `frame·60/rpm`.
     pub fn frozen_scan(radar: &Radar, frame: u64) -> Schedule {
-        let spokes = radar.spokes();
-        let period_s = 60.0 / radar.rotation_rpm();
+        let scan = radar.scan();
+        let spokes = scan.spokes();
+        let period_s = scan.period_s();
         let dwells = (0..spokes)
             .map(|k| Dwell {
                 spoke: k,
                 pulses: vec![Pulse {
                     number: k as u64,
                     time_s: (frame as f64 + k as f64 / spokes as f64) * period_s,
-                    azimuth_rad: radar.spoke_azimuth_rad(k),
+                    azimuth_rad: scan.spoke_azimuth_rad(k),
                 }],
             })
             .collect();

@@ -11,7 +11,7 @@ mod scattering;
 mod world;
 
 pub use environment::{Environment, SeaClutter};
-pub use radar::{Polarisation, Radar, MAX_POLAR_CELLS, MAX_SPOKES, RADAR_PRESETS};
+pub use radar::{Polarisation, Radar, Scan, MAX_POLAR_CELLS, MAX_SPOKES, RADAR_PRESETS};
 pub use scattering::{ScatteringConfig, ScatteringModel};
 pub use world::{SceneObject, SHAPES};
 

@@ -40,21 +40,61 @@ pub struct Radar {
     system_loss_linear: f64,
     /// Antenna beamwidths, gain and tilt.
     antenna: Antenna,
-    /// Pulse repetition frequency, Hz.
-    prf_hz: f64,
-    /// Rotation rate, rev/min.
-    rotation_rpm: f64,
-    /// Largest range in the outputs, m.
-    max_range_m: f64,
-    /// Spokes per revolution.
-    spokes: usize,
+    /// How the antenna turns and what a revolution records.
+    scan: Scan,
     /// Receiver blanked while transmitting.
     receiver_blanking: bool,
     /// Transmit and receive polarisation.
     polarisation: Polarisation,
 }
 
+/// The scan: pulse rate, rotation, spokes per revolution and recorded range.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scan {
+    prf_hz: f64,
+    rotation_rpm: f64,
+    spokes: usize,
+    max_range_m: f64,
+}
+
+impl Scan {
+    /// Pulse repetition frequency, Hz.
+    pub fn prf_hz(&self) -> f64 {
+        self.prf_hz
+    }
+
+    /// Rotation rate, rev/min.
+    pub fn rotation_rpm(&self) -> f64 {
+        self.rotation_rpm
+    }
+
+    /// Antenna rotation period `60/rpm`, s.
+    pub fn period_s(&self) -> f64 {
+        60.0 / self.rotation_rpm
+    }
+
+    /// Spokes per revolution.
+    pub fn spokes(&self) -> usize {
+        self.spokes
+    }
+
+    /// Largest range in the outputs, m.
+    pub fn max_range_m(&self) -> f64 {
+        self.max_range_m
+    }
+
+    /// Azimuth of spoke `k`, `2πk/spokes` rad (nautical: 0 = north, clockwise).
+    pub fn spoke_azimuth_rad(&self, k: usize) -> f64 {
+        std::f64::consts::TAU * k as f64 / self.spokes as f64
+    }
+}
+
 impl Radar {
+    /// The scan (PRF, rotation, spokes, range).
+    pub fn scan(&self) -> &Scan {
+        &self.scan
+    }
+
     /// Antenna phase centre, ENU m.
     pub fn position_m(&self) -> DVec3 {
         self.position_m
@@ -97,22 +137,22 @@ impl Radar {
 
     /// Pulse repetition frequency, Hz.
     pub fn prf_hz(&self) -> f64 {
-        self.prf_hz
+        self.scan.prf_hz
     }
 
     /// Rotation rate, rev/min.
     pub fn rotation_rpm(&self) -> f64 {
-        self.rotation_rpm
+        self.scan.rotation_rpm
     }
 
     /// Largest range in the outputs, m.
     pub fn max_range_m(&self) -> f64 {
-        self.max_range_m
+        self.scan.max_range_m
     }
 
     /// Spokes per revolution.
     pub fn spokes(&self) -> usize {
-        self.spokes
+        self.scan.spokes
     }
 
     /// Receiver blanked while transmitting.
@@ -193,7 +233,7 @@ impl Radar {
 
     /// Number of range bins: bin j is at `j·c/(2·fs)`, up to `max_range_m`.
     pub fn num_range_bins(&self) -> usize {
-        (self.max_range_m / self.range_bin_m()).floor() as usize + 1
+        (self.scan.max_range_m / self.range_bin_m()).floor() as usize + 1
     }
 
     /// Range inside which echoes arrive while the pulse is still being sent, `c·T/2`, m.
@@ -231,7 +271,7 @@ impl Radar {
 
     /// Azimuth of spoke `k`, rad (nautical: 0 = north, clockwise).
     pub fn spoke_azimuth_rad(&self, k: usize) -> f64 {
-        std::f64::consts::TAU * k as f64 / self.spokes as f64
+        self.scan.spoke_azimuth_rad(k)
     }
 }
 
@@ -491,10 +531,12 @@ pub(super) fn build_radar(
             peak_gain_linear,
             tilt_rad: tilt_deg.to_radians(),
         },
-        prf_hz,
-        rotation_rpm,
-        max_range_m,
-        spokes,
+        scan: Scan {
+            prf_hz,
+            rotation_rpm,
+            spokes,
+            max_range_m,
+        },
         receiver_blanking: s.receiver_blanking.unwrap_or(true),
         polarisation,
     })
