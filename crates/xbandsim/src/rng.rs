@@ -45,9 +45,11 @@ pub struct RngKey {
     pub stream: Stream,
 }
 
-/// Offset that keeps the clutter streams' words apart from the noise streams' (pulse numbers
-/// stay far below 2^40).
-const CLUTTER_WORD: u64 = 1 << 40;
+/// Pulse numbers of a revolution stay below this (2^40): it keeps the clutter streams' words
+/// apart from the noise streams' (`engine::Schedule::new` refuses larger pulse numbers).
+pub const MAX_PULSES_PER_FRAME: u64 = 1 << 40;
+
+const CLUTTER_WORD: u64 = MAX_PULSES_PER_FRAME;
 
 impl RngKey {
     /// The key of `stream` for pulse `pulse` of frame `frame`.

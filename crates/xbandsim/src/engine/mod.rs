@@ -14,6 +14,7 @@ pub use trace_cache::{TraceCache, Traced};
 
 use crate::echo::{EchoGroups, FractionalDelayKernel};
 use crate::environment::clutter_map::ClutterMap;
+use crate::error::{Error, Problem, Result};
 use crate::geometry::Bvh;
 use crate::model::Scene;
 use crate::processing::PulseCompressor;
@@ -281,14 +282,26 @@ impl Simulation {
         spoke_done: &(dyn Fn() + Sync),
     ) -> Vec<f32> {
         let schedule = Schedule::frozen_scan(self.scene.radar(), frame);
-        self.synthesize_schedule(groups, clutter, seed, &schedule, spoke_done)
+        self.synthesize_checked(groups, clutter, seed, &schedule, spoke_done)
     }
 
     /// Polar output (spokes × bins, dB over noise) of a schedule from prepared groups and its
     /// revolution's clutter map: every dwell's pulses compressed and their powers averaged into
     /// its spoke. Dwells run in parallel, each worker with its own scratch; `dwell_done` is
-    /// called after every dwell.
+    /// called after every dwell. A schedule made for another number of spokes is refused.
     pub fn synthesize_schedule(
+        &self,
+        groups: &EchoGroups,
+        clutter: Option<&ClutterMap>,
+        seed: u64,
+        schedule: &Schedule,
+        dwell_done: &(dyn Fn() + Sync),
+    ) -> Result<Vec<f32>> {
+        self.check_schedule(schedule)?;
+        Ok(self.synthesize_checked(groups, clutter, seed, schedule, dwell_done))
+    }
+
+    fn synthesize_checked(
         &self,
         groups: &EchoGroups,
         clutter: Option<&ClutterMap>,
@@ -363,7 +376,7 @@ impl Simulation {
         spoke_done: &(dyn Fn() + Sync),
     ) -> Frame {
         let schedule = Schedule::frozen_scan(self.scene.radar(), frame);
-        self.run(&schedule, seed, spoke_done)
+        self.run_checked(&schedule, seed, spoke_done)
     }
 
     /// The traced scene state at `scene_time_s` and its echo groups, from the trace cache
@@ -382,8 +395,35 @@ impl Simulation {
 
     /// Runs a schedule: the traced state it sees (cached), its revolution's clutter map,
     /// every dwell synthesised and integrated, and the labels of that state. `dwell_done` is
-    /// called after every dwell (from the worker threads).
-    pub fn run(&self, schedule: &Schedule, seed: u64, dwell_done: &(dyn Fn() + Sync)) -> Frame {
+    /// called after every dwell (from the worker threads). A schedule made for a radar with
+    /// another number of spokes is refused.
+    pub fn run(
+        &self,
+        schedule: &Schedule,
+        seed: u64,
+        dwell_done: &(dyn Fn() + Sync),
+    ) -> Result<Frame> {
+        self.check_schedule(schedule)?;
+        Ok(self.run_checked(schedule, seed, dwell_done))
+    }
+
+    fn check_schedule(&self, schedule: &Schedule) -> Result<()> {
+        let spokes = self.scene.radar().spokes();
+        if schedule.spokes() != spokes {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                "schedule.dwells",
+                schedule.spokes(),
+                format!(
+                    "the schedule fills {} spokes but this radar records {spokes} (radar.spokes)",
+                    schedule.spokes()
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    fn run_checked(&self, schedule: &Schedule, seed: u64, dwell_done: &(dyn Fn() + Sync)) -> Frame {
         let t0 = Instant::now();
         let (traced, fresh) = self.traced_now(schedule.scene_time_s());
         let trace_s = if fresh {
@@ -394,7 +434,7 @@ impl Simulation {
         let t1 = Instant::now();
         let clutter = self.clutter_map(seed, schedule.frame());
         let polar_db =
-            self.synthesize_schedule(&traced.groups, clutter.as_ref(), seed, schedule, dwell_done);
+            self.synthesize_checked(&traced.groups, clutter.as_ref(), seed, schedule, dwell_done);
         let synthesis_s = t1.elapsed().as_secs_f64();
         let truth = self.truth(&traced.set);
         let radar = self.scene.radar();

@@ -6,6 +6,7 @@
 
 use crate::error::{Error, Problem, Result};
 use crate::model::Radar;
+use crate::rng::MAX_PULSES_PER_FRAME;
 
 /// One transmitted pulse.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -33,6 +34,7 @@ pub struct Dwell {
 /// One revolution's dwells, and the scene time every pulse sees.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Schedule {
+    spokes: usize,
     frame: u64,
     scene_time_s: f64,
     dwells: Vec<Dwell>,
@@ -57,6 +59,7 @@ impl Schedule {
             })
             .collect();
         Schedule {
+            spokes,
             frame,
             scene_time_s: frame as f64 * period_s,
             dwells,
@@ -118,6 +121,14 @@ impl Schedule {
                         "pulse times and azimuths must be finite",
                     ));
                 }
+                if p.number >= MAX_PULSES_PER_FRAME {
+                    return Err(Error::invalid(
+                        Problem::OutOfRange,
+                        format!("{field}.pulses"),
+                        p.number,
+                        format!("pulse numbers must be below 2^40 = {MAX_PULSES_PER_FRAME} (they key the random streams)"),
+                    ));
+                }
                 if !numbers.insert(p.number) {
                     return Err(Error::invalid(
                         Problem::Conflict,
@@ -129,10 +140,16 @@ impl Schedule {
             }
         }
         Ok(Schedule {
+            spokes,
             frame,
             scene_time_s,
             dwells,
         })
+    }
+
+    /// Spokes of the record it fills (the radar's it was made for).
+    pub fn spokes(&self) -> usize {
+        self.spokes
     }
 
     /// Revolution number (keys the random streams and the clutter texture's drift).

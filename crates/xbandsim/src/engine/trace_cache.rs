@@ -33,15 +33,26 @@ impl TraceCache {
         _scene_time_s: f64,
         trace: impl FnOnce() -> Traced,
     ) -> (Arc<Traced>, bool) {
-        let mut slot = self
-            .static_state
-            .lock()
-            .unwrap_or_else(|poisoned| poisoned.into_inner());
-        if let Some(t) = slot.as_ref() {
+        let slot = || {
+            self.static_state
+                .lock()
+                .unwrap_or_else(|poisoned| poisoned.into_inner())
+        };
+        if let Some(t) = slot().as_ref() {
             return (Arc::clone(t), false);
         }
-        let t = Arc::new(trace());
-        *slot = Some(Arc::clone(&t));
-        (t, true)
+        // Traced without holding the lock: the tracer runs on rayon's pool, and a worker that
+        // waited here for a lock held by another task could deadlock. Two callers may both
+        // trace the first time; tracing is deterministic, so either result is the same and
+        // the first one stored is kept.
+        let traced = Arc::new(trace());
+        let mut guard = slot();
+        match guard.as_ref() {
+            Some(t) => (Arc::clone(t), false),
+            None => {
+                *guard = Some(Arc::clone(&traced));
+                (traced, true)
+            }
+        }
     }
 }

@@ -35,9 +35,10 @@ pub struct SceneObject {
 }
 
 impl SceneObject {
-    /// An object of `shape` at `position_m` (ENU m) turned by `rotation` (object to world).
-    /// The shape's sizes are checked where the shape is made; here the name must not be
-    /// empty and the position must be finite.
+    /// An object of `shape` at `position_m` (ENU m) turned by `rotation` (object to world):
+    /// the name must not be empty, the position finite, every size of the shape finite and
+    /// above zero (a mesh must hold triangles) and the rotation a proper rotation
+    /// (`RᵀR = I`, det R = 1, to 1e-9).
     pub fn new(
         name: impl Into<String>,
         class: impl Into<String>,
@@ -58,12 +59,37 @@ impl SceneObject {
             &format!("object \"{name}\".position_m"),
             position_m.to_array(),
         )?;
-        if !rotation.is_finite() {
+        let orthonormal = (rotation.transpose() * rotation - DMat3::IDENTITY)
+            .to_cols_array()
+            .iter()
+            .all(|e| e.abs() < 1e-9);
+        if !rotation.is_finite() || !orthonormal || (rotation.determinant() - 1.0).abs() > 1e-9 {
             return Err(Error::invalid(
-                Problem::NotFinite,
+                Problem::OutOfRange,
                 format!("object \"{name}\".rotation"),
                 format!("{rotation:?}"),
-                "must be a finite rotation",
+                "must be a rotation matrix (orthonormal, determinant 1)",
+            ));
+        }
+        let sizes: Vec<f64> = match &shape {
+            ShapeGeometry::Point { rcs_m2 } => vec![*rcs_m2],
+            ShapeGeometry::Sphere { radius_m } => vec![*radius_m],
+            ShapeGeometry::Plate { width_m, height_m }
+            | ShapeGeometry::Dihedral { width_m, height_m } => vec![*width_m, *height_m],
+            ShapeGeometry::Trihedral { edge_m } => vec![*edge_m],
+            ShapeGeometry::Cylinder { radius_m, height_m } => vec![*radius_m, *height_m],
+            ShapeGeometry::Box { size_m } => size_m.to_array().to_vec(),
+            ShapeGeometry::Mesh { mesh } => vec![mesh.triangles.len() as f64],
+        };
+        if let Some(bad) = sizes.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                format!("object \"{name}\".shape"),
+                bad,
+                format!(
+                    "every size of a {} must be a finite number above zero (a mesh needs triangles)",
+                    shape.name()
+                ),
             ));
         }
         Ok(SceneObject {

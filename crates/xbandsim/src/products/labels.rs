@@ -1,7 +1,9 @@
 //! Stage: labels. Ground truth for every object, from the scene and the traced physics, not
 //! from detection: position, range, azimuth, aspect RCS, every loss its echo suffers, the
-//! expected SNR, a visibility flag that names the physical reason, and boxes in polar
-//! (spoke, bin) and PPI pixel coordinates (docs/formats.md, "truth.json").
+//! expected SNR, a visibility flag that names the physical reason, the box in polar
+//! (spoke, bin) coordinates and the echo region from which products draw their own boxes
+//! (the PPI's pixel box: [`crate::products::ppi::PpiGeometry::label`]; docs/formats.md,
+//! "truth.json").
 //!
 //! No sentinel numbers: a value that does not exist (the RCS of an object that returns no
 //! echo, a box around nothing) is `None` (JSON `null`).
@@ -136,7 +138,10 @@ pub struct ObjectTruth {
     /// Box in polar coordinates; null when the object leaves no echo in the record.
     pub polar_box: Option<PolarBox>,
     /// Box in PPI pixels `[x_min, y_min, x_max, y_max]`, clipped to the image; null when the
-    /// object leaves no echo in the image.
+    /// object leaves no echo in the image. Set by the PPI product
+    /// ([`crate::products::ppi::PpiGeometry::label`], which `write_frame_files` applies for
+    /// its image): a frame's truth from the engine has none, since the image size is a
+    /// display setting and not part of the scene.
     pub ppi_box_px: Option<[f64; 4]>,
     /// Where its echo can lie (None when it leaves no echo); products draw boxes from it.
     #[serde(skip)]
@@ -416,6 +421,9 @@ impl EchoRegion {
 
     /// The box in (spoke, bin) of the record; None when the region starts beyond its last bin.
     pub fn polar_box(&self, bin_m: f64, num_bins: usize, spokes: usize) -> Option<PolarBox> {
+        if num_bins == 0 || spokes == 0 {
+            return None;
+        }
         let spoke_rad = std::f64::consts::TAU / spokes as f64;
         let (az, half_az) = (self.azimuth_rad, self.half_width_rad);
         let max_bin = num_bins - 1;

@@ -37,7 +37,8 @@ pub struct Frame {
     pub range_bin_m: f64,
     /// Matched-filter output power over mean noise power, dB, spokes × bins row-major.
     pub polar_db: Vec<f32>,
-    /// Per-object ground truth.
+    /// Per-object ground truth (PPI pixel boxes are added by the PPI product for a given
+    /// image: `products::ppi::PpiGeometry::label`).
     pub truth: Vec<ObjectTruth>,
     /// Counts and timings.
     pub stats: FrameStats,

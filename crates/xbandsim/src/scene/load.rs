@@ -105,7 +105,12 @@ impl LoadedSpec {
     /// Validates the description into a scene; a field error carries the location of its
     /// value ([`Error::location`]).
     pub fn build(&self) -> Result<Scene> {
-        Scene::from_spec_in(&self.spec, &self.base_dir).map_err(|e| self.locate_error(e))
+        let scene =
+            Scene::from_spec_in(&self.spec, &self.base_dir).map_err(|e| self.locate_error(e))?;
+        // `[display]` is the PPI product's, not the model's, but a file is valid or not as a
+        // whole: every command refuses a bad display table.
+        self.ppi_settings()?;
+        Ok(scene)
     }
 
     /// Validates the `[display]` table into the PPI product's settings (errors located like

@@ -51,8 +51,8 @@ fn frozen_scan_is_a_schedule_like_any_other() {
         frozen.dwells().iter().rev().cloned().collect(),
     )
     .unwrap();
-    let a = sim.run(&frozen, 9, &|| {});
-    let b = sim.run(&by_hand, 9, &|| {});
+    let a = sim.run(&frozen, 9, &|| {}).unwrap();
+    let b = sim.run(&by_hand, 9, &|| {}).unwrap();
     assert_eq!(a.polar_db, b.polar_db);
     assert_eq!(a.polar_db, sim.render_frame(9, 2).polar_db);
 }
@@ -123,7 +123,7 @@ fn noncoherent_integration_averages_independent_pulses() {
             })
             .collect();
         let schedule = Schedule::new(radar, 0, 0.0, dwells).unwrap();
-        let frame = sim.run(&schedule, 5, &|| {});
+        let frame = sim.run(&schedule, 5, &|| {}).unwrap();
         let powers: Vec<f64> = frame
             .polar_db
             .chunks(frame.range_bins)

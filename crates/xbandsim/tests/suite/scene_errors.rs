@@ -442,3 +442,73 @@ fn random_specs_never_panic() {
     eprintln!("{ok} accepted, {refused} refused");
     assert!(ok > 20 && refused > 20, "{ok} accepted, {refused} refused");
 }
+
+/// Objects made in code go through the same kind of checks as objects from a file: sizes,
+/// position, rotation and name are refused with the field and the kind.
+#[test]
+fn objects_made_in_code_are_checked() {
+    use glam::{DMat3, DVec3};
+    use xbandsim::geometry::ShapeGeometry;
+    use xbandsim::model::SceneObject;
+    let sphere = |r: f64| ShapeGeometry::Sphere { radius_m: r };
+    let at = DVec3::new(0.0, 100.0, 1.0);
+    assert!(SceneObject::new("ok", "buoy", sphere(1.0), at, DMat3::IDENTITY).is_ok());
+    let cases = [
+        SceneObject::new("neg", "x", sphere(-1.0), at, DMat3::IDENTITY),
+        SceneObject::new("nan", "x", sphere(f64::NAN), at, DMat3::IDENTITY),
+        SceneObject::new(
+            "box",
+            "x",
+            ShapeGeometry::Box {
+                size_m: DVec3::new(1.0, 0.0, 1.0),
+            },
+            at,
+            DMat3::IDENTITY,
+        ),
+        SceneObject::new(
+            "pos",
+            "x",
+            sphere(1.0),
+            DVec3::new(f64::INFINITY, 0.0, 0.0),
+            DMat3::IDENTITY,
+        ),
+        SceneObject::new(
+            "scaled",
+            "x",
+            sphere(1.0),
+            at,
+            DMat3::from_diagonal(DVec3::splat(2.0)),
+        ),
+        SceneObject::new(
+            "mirror",
+            "x",
+            sphere(1.0),
+            at,
+            DMat3::from_diagonal(DVec3::new(1.0, 1.0, -1.0)),
+        ),
+        SceneObject::new(" ", "x", sphere(1.0), at, DMat3::IDENTITY),
+    ];
+    let fields = [
+        "\"neg\".shape",
+        "\"nan\".shape",
+        "\"box\".shape",
+        "\"pos\".position_m",
+        "\"scaled\".rotation",
+        "\"mirror\".rotation",
+        "object.name",
+    ];
+    for (result, field) in cases.into_iter().zip(fields) {
+        let e = result.expect_err(field);
+        assert!(e.to_string().contains(field), "{field}: {e}");
+        assert!(e.problem().is_some(), "{e}");
+    }
+}
+
+/// A bad `[display]` table is refused by every loader, though the display is not part of the
+/// model.
+#[test]
+fn bad_display_is_refused_by_every_loader() {
+    let text = format!("[display]\nimage_size_px = 3\n{OK_OBJECT}");
+    let e = Scene::from_toml_str(&text, "d.toml").unwrap_err();
+    assert!(e.to_string().contains("display.image_size_px"), "{e}");
+}
