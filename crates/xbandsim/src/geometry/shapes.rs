@@ -15,6 +15,7 @@
 
 use super::mesh::TriangleMesh;
 use super::{Primitive, PrimitiveKind};
+use crate::scene::ShapeName;
 use glam::{DMat3, DVec3};
 use std::sync::Arc;
 
@@ -47,18 +48,23 @@ pub fn object_frame(yaw_rad: f64, pitch_rad: f64, roll_rad: f64) -> DMat3 {
 }
 
 impl ShapeGeometry {
-    /// The shape's name as a scene file writes it (`shape = "..."`).
-    pub fn name(&self) -> &'static str {
+    /// The shape's kind, as a scene file names it (`shape = "..."`).
+    pub fn kind(&self) -> ShapeName {
         match self {
-            ShapeGeometry::Point { .. } => "point",
-            ShapeGeometry::Sphere { .. } => "sphere",
-            ShapeGeometry::Plate { .. } => "plate",
-            ShapeGeometry::Trihedral { .. } => "trihedral",
-            ShapeGeometry::Dihedral { .. } => "dihedral",
-            ShapeGeometry::Cylinder { .. } => "cylinder",
-            ShapeGeometry::Box { .. } => "box",
-            ShapeGeometry::Mesh { .. } => "mesh",
+            ShapeGeometry::Point { .. } => ShapeName::Point,
+            ShapeGeometry::Sphere { .. } => ShapeName::Sphere,
+            ShapeGeometry::Plate { .. } => ShapeName::Plate,
+            ShapeGeometry::Trihedral { .. } => ShapeName::Trihedral,
+            ShapeGeometry::Dihedral { .. } => ShapeName::Dihedral,
+            ShapeGeometry::Cylinder { .. } => ShapeName::Cylinder,
+            ShapeGeometry::Box { .. } => ShapeName::Box,
+            ShapeGeometry::Mesh { .. } => ShapeName::Mesh,
         }
+    }
+
+    /// The shape's name as a scene file writes it.
+    pub fn name(&self) -> &'static str {
+        self.kind().as_str()
     }
 
     /// Radius of a sphere about the object's position that holds the whole shape, m.

@@ -11,9 +11,9 @@ mod scattering;
 mod world;
 
 pub use environment::{Environment, SeaClutter};
-pub use radar::{Polarisation, Radar, Scan, MAX_POLAR_CELLS, MAX_SPOKES, RADAR_PRESETS};
+pub use radar::{Polarisation, Radar, Scan, MAX_POLAR_CELLS, MAX_SPOKES};
 pub use scattering::{ScatteringConfig, ScatteringModel};
-pub use world::{SceneObject, SHAPES};
+pub use world::SceneObject;
 
 use crate::error::{Error, Problem, Result};
 use crate::scene::{LoadedSpec, SceneSpec};

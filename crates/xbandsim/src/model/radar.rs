@@ -12,8 +12,6 @@ use crate::scene::{RadarPreset, RadarSpec, WindowName};
 use crate::waveform::{LfmChirp, Window};
 use glam::DVec3;
 
-/// Names of the radar presets.
-pub const RADAR_PRESETS: &[&str] = &["drs4d-nxt"];
 /// Largest number of spokes per revolution.
 pub const MAX_SPOKES: usize = 8192;
 

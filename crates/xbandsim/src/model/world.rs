@@ -8,17 +8,6 @@ use crate::scene::{ObjectSpec, ShapeName};
 use glam::{DMat3, DVec3};
 use std::path::Path;
 
-/// Names of the object shapes.
-pub const SHAPES: &[&str] = &[
-    "point",
-    "sphere",
-    "plate",
-    "trihedral",
-    "dihedral",
-    "cylinder",
-    "box",
-    "mesh",
-];
 /// A validated scene object.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneObject {
@@ -166,7 +155,10 @@ pub(super) fn build_object(i: usize, o: &ObjectSpec, base_dir: &Path) -> Result<
     let shape_kind = o.shape.ok_or_else(|| {
         Error::missing(
             f("shape"),
-            format!("every object needs a shape, one of: {}", SHAPES.join(", ")),
+            format!(
+                "every object needs a shape, one of: {}",
+                ShapeName::ALL.map(|s| s.as_str()).join(", ")
+            ),
         )
     })?;
     let shape_name = shape_kind.as_str().to_string();

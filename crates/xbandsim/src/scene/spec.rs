@@ -72,6 +72,18 @@ pub enum ShapeName {
 }
 
 impl ShapeName {
+    /// Every shape, in the order the documentation lists them.
+    pub const ALL: [ShapeName; 8] = [
+        ShapeName::Point,
+        ShapeName::Sphere,
+        ShapeName::Plate,
+        ShapeName::Trihedral,
+        ShapeName::Dihedral,
+        ShapeName::Cylinder,
+        ShapeName::Box,
+        ShapeName::Mesh,
+    ];
+
     /// The name as written in a scene file.
     pub fn as_str(&self) -> &'static str {
         match self {
