@@ -41,6 +41,10 @@ pub struct RenderArgs {
     /// Turn receiver noise off.
     #[arg(long)]
     pub no_noise: bool,
+    /// Render N consecutive revolutions (everything moving) into OUT/frame_0000/,
+    /// OUT/frame_0001/, ... (without it: one revolution, its files straight in OUT).
+    #[arg(long, value_name = "N")]
+    pub frames: Option<u64>,
     /// Override any scene field: FIELD=VALUE with FIELD a dotted path and VALUE a TOML value,
     /// e.g. --set radar.pulse_width_us=2 --set object[0].yaw_deg=45 (repeatable).
     #[arg(long, value_name = "FIELD=VALUE")]
@@ -108,43 +112,76 @@ pub fn warn_ray_caps(truth: &[ObjectTruth]) {
 /// Runs `xbandsim render`.
 pub fn run(a: &RenderArgs) -> Result<()> {
     let t0 = Instant::now();
+    if a.frames == Some(0) {
+        bail!("invalid --frames 0: must be 1 or more");
+    }
     let spec = load_spec(&a.scene, &overrides(a)?)?;
     let scene = spec.build()?;
     let display = spec.ppi_settings()?;
     let sim = Simulation::new(scene);
     let radar = sim.scene().radar();
-    // A bar for renders of more than a few million cells (a second or more).
-    let big = radar.spokes() * radar.num_range_bins() > 2_000_000;
-    let progress = if big {
-        crate::progress::bar(radar.spokes() as u64, "render: spokes")
-    } else {
-        indicatif::ProgressBar::hidden()
+    let scene_name = a.scene.display().to_string();
+    let Some(count) = a.frames else {
+        // A bar for renders of more than a few million cells (a second or more).
+        let big = radar.spokes() * radar.num_range_bins() > 2_000_000;
+        let progress = if big {
+            crate::progress::bar(radar.spokes() as u64, "render: spokes")
+        } else {
+            indicatif::ProgressBar::hidden()
+        };
+        let frame = sim.render_frame_progress(a.seed, 0, &|| progress.inc(1));
+        progress.finish_and_clear();
+        warn_ray_caps(&frame.truth);
+        write_frame_files(radar, &display, &frame, &a.out, &scene_name, a.seed)
+            .with_context(|| format!("writing the outputs into {}", a.out.display()))?;
+        let s = &frame.stats;
+        crate::say!(
+            "rendered {}: {} objects, {} rays, {} contributions, {} spokes x {} bins, trace {:.1} ms, echoes+filter {:.1} ms, total {:.2} s -> {}",
+            a.scene.display(),
+            sim.scene().objects().len(),
+            s.rays_cast,
+            s.contributions,
+            frame.spokes,
+            frame.range_bins,
+            s.trace_s * 1e3,
+            s.synthesis_s * 1e3,
+            t0.elapsed().as_secs_f64(),
+            a.out.display()
+        );
+        return Ok(());
     };
-    let frame = sim.render_frame_progress(a.seed, 0, &|| progress.inc(1));
+    let progress = crate::progress::bar(count, "render: frames");
+    let (mut trace_s, mut synthesis_s) = (0.0, 0.0);
+    for k in 0..count {
+        let frame = sim.render_frame_progress(a.seed, k, &|| {});
+        if k == 0 {
+            warn_ray_caps(&frame.truth);
+        }
+        let dir = a.out.join(frame_dir_name(k));
+        write_frame_files(radar, &display, &frame, &dir, &scene_name, a.seed)
+            .with_context(|| format!("writing frame {k} into {}", dir.display()))?;
+        trace_s += frame.stats.trace_s;
+        synthesis_s += frame.stats.synthesis_s;
+        progress.inc(1);
+    }
     progress.finish_and_clear();
-    warn_ray_caps(&frame.truth);
-    write_frame_files(
-        sim.scene().radar(),
-        &display,
-        &frame,
-        &a.out,
-        &a.scene.display().to_string(),
-        a.seed,
-    )
-    .with_context(|| format!("writing the outputs into {}", a.out.display()))?;
-    let s = &frame.stats;
     crate::say!(
-        "rendered {}: {} objects, {} rays, {} contributions, {} spokes x {} bins, trace {:.1} ms, echoes+filter {:.1} ms, total {:.2} s -> {}",
+        "rendered {}: {} frames of {:.2} s ({} objects, {} spokes, {}), trace {:.1} ms, echoes+filter {:.1} ms, total {:.2} s -> {}",
         a.scene.display(),
+        count,
+        radar.scan().period_s(),
         sim.scene().objects().len(),
-        s.rays_cast,
-        s.contributions,
-        frame.spokes,
-        frame.range_bins,
-        s.trace_s * 1e3,
-        s.synthesis_s * 1e3,
+        radar.spokes(),
+        if sim.scene().is_still() { "still scene, traced once" } else { "moving" },
+        trace_s * 1e3,
+        synthesis_s * 1e3,
         t0.elapsed().as_secs_f64(),
         a.out.display()
     );
     Ok(())
+}
+
+/// The directory of frame `k` of a multi-frame render: `frame_0000`, `frame_0001`, ...
+pub fn frame_dir_name(k: u64) -> String {
+    format!("frame_{k:04}")
 }

@@ -62,6 +62,66 @@ fn render_writes_the_four_outputs() {
     assert!(leftovers.is_empty());
 }
 
+/// `--frames N` writes N revolutions of a moving scene, one folder each, and refuses 0.
+#[test]
+fn frames_writes_consecutive_revolutions() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = xbandsim()
+        .args([
+            "render",
+            "scenes/crossing.toml",
+            "--frames",
+            "2",
+            "--spokes",
+            "90",
+            "--out",
+        ])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("2 frames"));
+    let truth = |k: u64| -> serde_json::Value {
+        let path = dir.path().join(format!("frame_{k:04}")).join("truth.json");
+        serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
+    };
+    let (t0, t1) = (truth(0), truth(1));
+    assert_eq!(t0["frame"], 0);
+    assert_eq!(t1["frame"], 1);
+    assert_eq!(t1["frame_start_time_s"], 2.5);
+    assert!(t1["own_ship"]["speed_kn"].as_f64().unwrap() > 5.9);
+    for f in ["ppi.png", "ppi_gray.png", "polar.npy"] {
+        assert!(
+            dir.path().join("frame_0001").join(f).is_file(),
+            "{f} missing"
+        );
+    }
+    assert!(
+        !dir.path().join("truth.json").exists(),
+        "no flat files with --frames"
+    );
+    // The crossing ship moved east by about its speed times the revolution period.
+    let east = |t: &serde_json::Value| t["objects"][0]["position_m"][0].as_f64().unwrap();
+    let moved = east(&t1) - east(&t0);
+    assert!(
+        (moved - 12.0 * 1852.0 / 3600.0 * 2.5).abs() < 0.5,
+        "moved {moved} m"
+    );
+    assert_eq!(t0["objects"][0]["track_id"], t1["objects"][0]["track_id"]);
+
+    let out = xbandsim()
+        .args(["render", "scenes/crossing.toml", "--frames", "0", "--out"])
+        .arg(dir.path().join("none"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--frames 0"));
+}
+
 #[test]
 fn bad_scene_gives_a_clear_error_and_no_output() {
     let dir = tempfile::tempdir().unwrap();
@@ -116,6 +176,11 @@ fn schema_is_json_and_covers_the_format() {
         "edge_m",
         "rcs_m2",
         "range_ring_spacing_m",
+        "speed_kn",
+        "turn_rate_deg_per_s",
+        "track",
+        "motion_period_s",
+        "own_ship",
     ] {
         assert!(text.contains(field), "schema lacks {field}");
     }

@@ -2,7 +2,8 @@
 //!
 //! The restructuring of docs/architecture.md had to leave behaviour untouched, so the SHA-256 of
 //! each output below was recorded once (`tests/golden/hashes.txt`) and is checked on every test
-//! run: the polar data, both PPI images and truth.json of every example scene, the JSON of
+//! run: the polar data, both PPI images and truth.json of every example scene (three
+//! revolutions of the moving scenes/crossing.toml), the JSON of
 //! `xbandsim rcs` for plates, corners, spheres and the mesh vessel, and the figures of
 //! `xbandsim validate --json`. A change of physics on purpose updates the file (run this test
 //! with `XBANDSIM_BLESS_GOLDEN=1` and commit the new hashes with the reason); anything else that
@@ -86,6 +87,25 @@ fn outputs() -> BTreeMap<String, String> {
         for file in ["polar.npy", "ppi.png", "ppi_gray.png", "truth.json"] {
             let bytes = std::fs::read(out.join(file)).unwrap();
             hashes.insert(format!("render-{case}/{file}"), sha256(&bytes));
+        }
+    }
+    // Three revolutions of the moving scene, every frame's files.
+    let out = dir.path().join("crossing");
+    run(&[
+        "render",
+        "scenes/crossing.toml",
+        "--frames",
+        "3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    for k in 0..3 {
+        for file in ["polar.npy", "ppi.png", "ppi_gray.png", "truth.json"] {
+            let bytes = std::fs::read(out.join(format!("frame_{k:04}")).join(file)).unwrap();
+            hashes.insert(
+                format!("render-crossing-frames/frame_{k:04}/{file}"),
+                sha256(&bytes),
+            );
         }
     }
     let sweeps: [(&str, &str, &str, &str); 5] = [

@@ -9,6 +9,7 @@
 pub mod antenna;
 pub mod environment;
 pub mod harness;
+pub mod motion;
 pub mod multipath;
 pub mod rcs;
 pub mod signal_chain;
@@ -17,6 +18,7 @@ pub mod signal_chain;
 pub use antenna::*;
 pub use environment::*;
 pub use harness::*;
+pub use motion::*;
 pub use multipath::*;
 pub use rcs::*;
 pub use signal_chain::*;
@@ -129,5 +131,6 @@ pub fn run_all_with(on_check: &mut dyn FnMut(&CheckResult)) -> Vec<CheckResult> 
     environment::checks(&mut out);
     antenna::checks(&mut out);
     rcs::checks(&mut out);
+    motion::checks(&mut out);
     out.done
 }

@@ -4,7 +4,8 @@
 //! the groups by the antenna pattern at the pulse's azimuth, adds clutter and noise, blanks and
 //! compresses, and integrates each dwell's pulses into one spoke of the record
 //! (docs/physics.md, "Pipeline"; docs/architecture.md, "Engine"). Today's render is the
-//! frozen-scan schedule: one pulse per spoke, the scene frozen for the revolution.
+//! frozen-scan schedule: one pulse per spoke and one scene state per revolution, every object
+//! where the beam crosses it ([`crate::model::Revolution`]).
 
 mod schedule;
 mod trace_cache;
@@ -16,7 +17,8 @@ use crate::echo::{EchoGroups, FractionalDelayKernel};
 use crate::environment::clutter_map::ClutterMap;
 use crate::error::{Error, Problem, Result};
 use crate::geometry::Bvh;
-use crate::model::Scene;
+use crate::model::revolution::Revolution;
+use crate::model::{Radar, Scene};
 use crate::processing::PulseCompressor;
 use crate::products::labels::{object_truth, ObjectTruth};
 use crate::products::{Frame, FrameStats};
@@ -36,8 +38,8 @@ pub const POLAR_FLOOR_DB: f32 = -120.0;
 
 /// A scene ready to render.
 pub struct Simulation {
-    scene: Scene,
-    bvh: Bvh,
+    scene: Arc<Scene>,
+    bvh: Arc<Bvh>,
     compressor: PulseCompressor,
     receiver: Receiver,
     kernel: FractionalDelayKernel,
@@ -70,8 +72,8 @@ impl Simulation {
             compressor.pulse_len(),
         );
         Simulation {
-            scene,
-            bvh,
+            scene: Arc::new(scene),
+            bvh: Arc::new(bvh),
             compressor,
             receiver,
             kernel: FractionalDelayKernel::new(),
@@ -84,7 +86,7 @@ impl Simulation {
         &self.scene
     }
 
-    /// The scene's BVH.
+    /// The BVH of the scene as written (every object at its t = 0 pose).
     pub fn bvh(&self) -> &Bvh {
         &self.bvh
     }
@@ -99,7 +101,7 @@ impl Simulation {
         &self.compressor
     }
 
-    /// Traces the scene once.
+    /// Traces the scene as written once (every object at its t = 0 pose).
     pub fn trace(&self) -> ScatterSet {
         trace_scene(&self.scene, &self.bvh)
     }
@@ -340,10 +342,17 @@ impl Simulation {
         polar
     }
 
-    /// Sea and rain clutter of frame `frame` (None when the scene has neither).
+    /// Sea and rain clutter of frame `frame` (None when the scene has neither), seen from
+    /// the antenna's position at the start of the run.
     pub fn clutter_map(&self, seed: u64, frame: u64) -> Option<ClutterMap> {
+        self.clutter_map_from(self.scene.radar(), seed, frame)
+    }
+
+    /// Sea and rain clutter of frame `frame` seen by `radar` (this scene's radar, carried to
+    /// where the own ship has taken it).
+    fn clutter_map_from(&self, radar: &Radar, seed: u64, frame: u64) -> Option<ClutterMap> {
         ClutterMap::new(
-            self.scene.radar(),
+            radar,
             self.scene.environment(),
             seed,
             frame,
@@ -351,10 +360,12 @@ impl Simulation {
         )
     }
 
-    /// Ground truth for a traced scene state (PPI pixel boxes are the PPI product's:
-    /// [`crate::products::ppi::PpiGeometry::label`]).
+    /// Ground truth of a trace of the scene as written ([`Simulation::trace`]) in the
+    /// revolution that starts at t = 0 (exact for a still scene; a moving scene's truth comes
+    /// with its frame). PPI pixel boxes are the PPI product's:
+    /// [`crate::products::ppi::PpiGeometry::label`].
     pub fn truth(&self, set: &ScatterSet) -> Vec<ObjectTruth> {
-        object_truth(&self.scene, set, &self.bvh)
+        object_truth(&Revolution::of(&self.scene, 0.0), set, &self.bvh)
     }
 
     /// Renders one revolution: trace, group, synthesise every spoke, label.
@@ -379,17 +390,29 @@ impl Simulation {
         self.run_checked(&schedule, seed, spoke_done)
     }
 
-    /// The traced scene state at `scene_time_s` and its echo groups, from the trace cache
-    /// (traced on first use).
-    pub fn traced(&self, scene_time_s: f64) -> Arc<Traced> {
-        self.traced_now(scene_time_s).0
+    /// The traced state of the revolution that starts at `start_time_s` and its echo groups,
+    /// from the trace cache (traced on first use; a still scene is traced once for all times).
+    pub fn traced(&self, start_time_s: f64) -> Arc<Traced> {
+        self.traced_now(start_time_s).0
     }
 
-    fn traced_now(&self, scene_time_s: f64) -> (Arc<Traced>, bool) {
-        self.cache.get_or_trace(scene_time_s, || {
-            let set = self.trace();
+    fn traced_now(&self, start_time_s: f64) -> (Arc<Traced>, bool) {
+        let still = self.scene.is_still();
+        self.cache.get_or_trace(start_time_s, still, || {
+            let revolution = Revolution::of(&self.scene, start_time_s);
+            let bvh = if still {
+                Arc::clone(&self.bvh)
+            } else {
+                Arc::new(build_scene_bvh(revolution.scene().objects()))
+            };
+            let set = trace_scene(revolution.scene(), &bvh);
             let groups = self.echo_groups(&set);
-            Traced { set, groups }
+            Traced {
+                revolution,
+                bvh,
+                set,
+                groups,
+            }
         })
     }
 
@@ -432,13 +455,25 @@ impl Simulation {
             0.0
         };
         let t1 = Instant::now();
-        let clutter = self.clutter_map(seed, schedule.frame());
+        // A still scene's one traced state serves every revolution; only the times the beam
+        // crosses each object (in the labels) are the revolution's own.
+        let own_revolution;
+        let revolution = if self.scene.is_still() {
+            own_revolution = Revolution::of(&self.scene, schedule.scene_time_s());
+            &own_revolution
+        } else {
+            &traced.revolution
+        };
+        let clutter = self.clutter_map_from(revolution.scene().radar(), seed, schedule.frame());
         let polar_db =
             self.synthesize_checked(&traced.groups, clutter.as_ref(), seed, schedule, dwell_done);
         let synthesis_s = t1.elapsed().as_secs_f64();
-        let truth = self.truth(&traced.set);
+        let truth = object_truth(revolution, &traced.set, &traced.bvh);
         let radar = self.scene.radar();
         Frame {
+            frame: schedule.frame(),
+            start_time_s: revolution.start_time_s(),
+            own_ship: revolution.own_ship().copied(),
             spokes: radar.spokes(),
             range_bins: self.compressor.num_bins(),
             range_bin_m: radar.range_bin_m(),

@@ -1,8 +1,9 @@
 //! The schedule the engine runs: a revolution as dwells (one per spoke of the record), each
 //! dwell as the pulses integrated into it, each pulse at its own time and antenna azimuth.
-//! "A pulse at time t at antenna azimuth a" is the unit of work; today's behaviour — one pulse
-//! per spoke, the antenna at the spoke's azimuth, the scene frozen at the start of the
-//! revolution — is one schedule ([`Schedule::frozen_scan`]) among others.
+//! "A pulse at time t at antenna azimuth a" is the unit of work; the spoke-mode scan — one
+//! pulse per spoke, the antenna at the spoke's azimuth, one scene state per revolution with
+//! every object where the beam crosses it ([`crate::model::Revolution`]) — is one schedule
+//! ([`Schedule::frozen_scan`]) among others.
 
 use crate::error::{Error, Problem, Result};
 use crate::model::Radar;
@@ -43,7 +44,8 @@ pub struct Schedule {
 impl Schedule {
     /// Today's scan: revolution `frame`, one pulse per spoke, pulse k at
     /// `t = (frame + k/spokes)·60/rpm` with the antenna at spoke k's azimuth `2πk/spokes`,
-    /// and the scene frozen at the start of the revolution, `frame·60/rpm`.
+    /// and the scene state of the revolution that starts at `frame·60/rpm` (every object
+    /// where the beam crosses it; a still scene is the same at every time).
     pub fn frozen_scan(radar: &Radar, frame: u64) -> Schedule {
         let scan = radar.scan();
         let spokes = scan.spokes();
@@ -68,7 +70,7 @@ impl Schedule {
 
     /// A schedule of one's own for `radar`: every spoke filled by exactly one dwell (in any
     /// order), every dwell with at least one pulse, pulse numbers unique, times and azimuths
-    /// finite. The scene is seen at `scene_time_s`.
+    /// finite. The pulses see the scene state of the revolution starting at `scene_time_s`.
     pub fn new(
         radar: &Radar,
         frame: u64,
@@ -157,7 +159,7 @@ impl Schedule {
         self.frame
     }
 
-    /// The scene time every pulse of this schedule sees, s.
+    /// Start of the revolution whose scene state every pulse of this schedule sees, s.
     pub fn scene_time_s(&self) -> f64 {
         self.scene_time_s
     }

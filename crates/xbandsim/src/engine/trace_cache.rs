@@ -1,18 +1,29 @@
-//! The trace cache: the traced contributions and their echo groups of a scene state, kept so
-//! that pulses and revolutions that see the same state do not trace it again.
+//! The trace cache: the traced contributions and their echo groups of a revolution's scene
+//! state, kept so that pulses and revolutions that see the same state do not trace it again.
 //!
-//! When is a state the same? The world holds no motion yet, so every scene time gives the
-//! same state and the scene is traced once per [`crate::engine::Simulation`], on first use.
-//! Time-varying worlds will key the cache by the state's time quantised to the re-trace
-//! interval their accuracy needs; the engine asks the cache by scene time already.
+//! When is a state the same? A still scene (nothing moves: [`crate::model::Scene::is_still`])
+//! is the same at every time and is traced once per [`crate::engine::Simulation`], on first
+//! use. A moving scene's state is that of one revolution (every object where the beam crosses
+//! it, [`crate::model::Revolution`]), keyed by the revolution's start time; the last
+//! [`MOVING_STATES_KEPT`] are kept.
 
 use crate::echo::EchoGroups;
+use crate::geometry::Bvh;
+use crate::model::Revolution;
 use crate::scattering::ScatterSet;
 use std::sync::{Arc, Mutex};
 
-/// The traced state of a scene at one time.
+/// How many revolutions of a moving scene the cache keeps.
+pub const MOVING_STATES_KEPT: usize = 2;
+
+/// The traced state of a scene for one revolution.
 #[derive(Debug)]
 pub struct Traced {
+    /// The revolution traced: its still scene and every object's state (for a still scene,
+    /// the first revolution asked for; the scene is the same in all).
+    pub revolution: Revolution,
+    /// The BVH of the revolution's scene.
+    pub bvh: Arc<Bvh>,
     /// Every contribution, with the ray count.
     pub set: ScatterSet,
     /// The contributions grouped into band-limited impulse responses.
@@ -22,37 +33,48 @@ pub struct Traced {
 /// The cache (safe to share between threads).
 #[derive(Debug, Default)]
 pub struct TraceCache {
-    static_state: Mutex<Option<Arc<Traced>>>,
+    /// (start time's bits, state), newest last; one entry with key 0 for a still scene.
+    states: Mutex<Vec<(u64, Arc<Traced>)>>,
 }
 
 impl TraceCache {
-    /// The traced state at `scene_time_s`, from the cache or made by `trace` (a static world:
-    /// the same state at every time). The `bool` says whether it was traced now.
+    /// The traced state of the revolution starting at `start_time_s`, from the cache or made
+    /// by `trace`; `still` says the scene is the same at every time (one state for all). The
+    /// `bool` says whether it was traced now.
     pub fn get_or_trace(
         &self,
-        _scene_time_s: f64,
+        start_time_s: f64,
+        still: bool,
         trace: impl FnOnce() -> Traced,
     ) -> (Arc<Traced>, bool) {
+        let key = if still { 0 } else { start_time_s.to_bits() };
         let slot = || {
-            self.static_state
+            self.states
                 .lock()
                 .unwrap_or_else(|poisoned| poisoned.into_inner())
         };
-        if let Some(t) = slot().as_ref() {
-            return (Arc::clone(t), false);
+        let find = |states: &[(u64, Arc<Traced>)]| {
+            states
+                .iter()
+                .find(|(k, _)| *k == key)
+                .map(|(_, t)| Arc::clone(t))
+        };
+        if let Some(t) = find(&slot()) {
+            return (t, false);
         }
         // Traced without holding the lock: the tracer runs on rayon's pool, and a worker that
         // waited here for a lock held by another task could deadlock. Two callers may both
-        // trace the first time; tracing is deterministic, so either result is the same and
+        // trace the same state; tracing is deterministic, so either result is the same and
         // the first one stored is kept.
         let traced = Arc::new(trace());
-        let mut guard = slot();
-        match guard.as_ref() {
-            Some(t) => (Arc::clone(t), false),
-            None => {
-                *guard = Some(Arc::clone(&traced));
-                (traced, true)
-            }
+        let mut states = slot();
+        if let Some(t) = find(&states) {
+            return (t, false);
         }
+        states.push((key, Arc::clone(&traced)));
+        if states.len() > MOVING_STATES_KEPT {
+            states.remove(0);
+        }
+        (traced, true)
     }
 }

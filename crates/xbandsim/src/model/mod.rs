@@ -6,12 +6,16 @@
 
 pub(crate) mod checks;
 mod environment;
+pub mod motion;
 mod radar;
+pub mod revolution;
 mod scattering;
 mod world;
 
 pub use environment::{Environment, SeaClutter};
+pub use motion::{Kinematics, Motion, OwnShip};
 pub use radar::{Polarisation, Radar, Scan, MAX_POLAR_CELLS, MAX_SPOKES};
+pub use revolution::Revolution;
 pub use scattering::{ScatteringConfig, ScatteringModel};
 pub use world::SceneObject;
 
@@ -28,6 +32,7 @@ pub struct Scene {
     environment: Environment,
     scattering: ScatteringConfig,
     objects: Vec<SceneObject>,
+    own_ship: Option<OwnShip>,
 }
 
 impl Scene {
@@ -74,7 +79,14 @@ impl Scene {
             environment,
             scattering,
             objects,
+            own_ship: None,
         })
+    }
+
+    /// The scene with the radar riding on `own_ship`.
+    pub fn with_own_ship(mut self, own_ship: OwnShip) -> Scene {
+        self.own_ship = Some(own_ship);
+        self
     }
 
     /// Reads and validates a scene file (errors name the file, line and field).
@@ -107,7 +119,18 @@ impl Scene {
             .enumerate()
             .map(|(i, o)| world::build_object(i, o, base_dir))
             .collect::<Result<Vec<_>>>()?;
-        Scene::new(radar, environment, scattering, objects)
+        let scene = Scene::new(radar, environment, scattering, objects)?;
+        Ok(match &spec.own_ship {
+            None => scene,
+            Some(s) => {
+                let course_deg = s.course_deg.unwrap_or(0.0);
+                scene.with_own_ship(OwnShip::new(
+                    s.speed_kn.unwrap_or(0.0),
+                    course_deg,
+                    s.heading_deg.unwrap_or(course_deg),
+                )?)
+            }
+        })
     }
 
     /// The radar.
@@ -128,5 +151,16 @@ impl Scene {
     /// The objects, in scene-file order (their index is their truth id).
     pub fn objects(&self) -> &[SceneObject] {
         &self.objects
+    }
+
+    /// The ship the radar rides on (None: the radar stands still).
+    pub fn own_ship(&self) -> Option<&OwnShip> {
+        self.own_ship.as_ref()
+    }
+
+    /// Whether nothing moves: no object has a motion and there is no own ship. A still
+    /// scene is the same at every time and is traced once.
+    pub fn is_still(&self) -> bool {
+        self.own_ship.is_none() && self.objects.iter().all(|o| o.motion().is_none())
     }
 }

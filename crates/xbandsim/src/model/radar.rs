@@ -98,6 +98,14 @@ impl Radar {
         self.position_m
     }
 
+    /// The same radar with its antenna at `position_m` (the own ship carried it there).
+    pub(crate) fn moved_to(&self, position_m: DVec3) -> Radar {
+        Radar {
+            position_m,
+            ..self.clone()
+        }
+    }
+
     /// Carrier frequency f0, Hz.
     pub fn carrier_freq_hz(&self) -> f64 {
         self.carrier_freq_hz

@@ -2,6 +2,9 @@
 //! scene file's `[[object]]` tables (docs/formats.md).
 
 use super::checks::{finite, finite_vec, positive};
+use super::motion::{
+    heading_of, HeadingRule, Kinematics, Motion, Trajectory, WaveMotion, Waypoint, KNOT_M_PER_S,
+};
 use crate::error::{Error, Problem, Result};
 use crate::geometry::{object_frame, MeshUnit, ShapeGeometry, TriangleMesh};
 use crate::scene::{ObjectSpec, ShapeName};
@@ -21,6 +24,18 @@ pub struct SceneObject {
     position_m: DVec3,
     /// Object-to-world rotation.
     rotation: DMat3,
+    /// How it moves (None: it stays where it is).
+    moving: Option<Moving>,
+}
+
+/// A moving object's motion and the pose it starts from.
+#[derive(Debug, Clone, PartialEq)]
+struct Moving {
+    motion: Motion,
+    /// The steady path's origin at t = 0 (a track keeps only its height), ENU m.
+    start_m: DVec3,
+    /// Static pitch and roll, applied before the heading.
+    tilt: DMat3,
 }
 
 impl SceneObject {
@@ -87,7 +102,66 @@ impl SceneObject {
             shape,
             position_m,
             rotation,
+            moving: None,
         })
+    }
+
+    /// The object moving with `motion` from `start_m` (the steady path's origin at t = 0; a
+    /// track takes only its height), tilted at rest by `tilt` (static pitch and roll, a
+    /// rotation): its position and rotation become those of t = 0.
+    pub fn with_motion(mut self, motion: Motion, start_m: DVec3, tilt: DMat3) -> Result<Self> {
+        let field = format!("object \"{}\"", self.name);
+        let start_m = finite_vec(&format!("{field}.position_m"), start_m.to_array())?;
+        let moving = Moving {
+            motion,
+            start_m,
+            tilt,
+        };
+        let k = moving.motion.kinematics(start_m, tilt, 0.0);
+        // The t = 0 pose goes through the same checks as a static object's.
+        let checked = SceneObject::new(
+            self.name.clone(),
+            self.class.clone(),
+            self.shape.clone(),
+            k.position_m,
+            k.rotation,
+        )?;
+        self.position_m = checked.position_m;
+        self.rotation = checked.rotation;
+        self.moving = Some(moving);
+        Ok(self)
+    }
+
+    /// Its motion (None for an object that stays put).
+    pub fn motion(&self) -> Option<&Motion> {
+        self.moving.as_ref().map(|m| &m.motion)
+    }
+
+    /// Position, velocity, heading and rotation at time `t_s` (a still object: where it is,
+    /// zero velocity, the heading of its bow, +y).
+    pub fn kinematics(&self, t_s: f64) -> Kinematics {
+        match &self.moving {
+            Some(m) => m.motion.kinematics(m.start_m, m.tilt, t_s),
+            None => Kinematics {
+                position_m: self.position_m,
+                velocity_mps: DVec3::ZERO,
+                heading_rad: heading_of(self.rotation).unwrap_or(0.0),
+                rotation: self.rotation,
+            },
+        }
+    }
+
+    /// The still object standing where this one is at time `t_s`, shifted by `shift_m`.
+    pub fn posed_at(&self, t_s: f64, shift_m: DVec3) -> SceneObject {
+        let k = self.kinematics(t_s);
+        SceneObject {
+            name: self.name.clone(),
+            class: self.class.clone(),
+            shape: self.shape.clone(),
+            position_m: k.position_m + shift_m,
+            rotation: k.rotation,
+            moving: None,
+        }
     }
 
     /// Unique name.
@@ -260,23 +334,181 @@ pub(super) fn build_object(i: usize, o: &ObjectSpec, base_dir: &Path) -> Result<
             ));
         }
     }
-    let position_m = finite_vec(
-        &f("position_m"),
-        o.position_m.ok_or_else(|| {
-            Error::missing(
-                f("position_m"),
-                "every object needs position_m = [east, north, up]",
-            )
-        })?,
-    )?;
-    let yaw = finite(&f("yaw_deg"), o.yaw_deg.unwrap_or(0.0))?.to_radians();
+    let yaw = o
+        .yaw_deg
+        .map(|v| finite(&f("yaw_deg"), v))
+        .transpose()?
+        .map(f64::to_radians);
     let pitch = finite(&f("pitch_deg"), o.pitch_deg.unwrap_or(0.0))?.to_radians();
     let roll = finite(&f("roll_deg"), o.roll_deg.unwrap_or(0.0))?.to_radians();
-    Ok(SceneObject {
+    let motion = build_motion(&prefix, o, yaw)?;
+    let position_m = match (&motion, o.position_m) {
+        (Some(m), given) if matches!(m.path(), Trajectory::Track { .. }) => {
+            let k = m.kinematics(DVec3::ZERO, DMat3::IDENTITY, 0.0);
+            match given {
+                None => DVec3::new(k.position_m.x, k.position_m.y, 0.0),
+                Some(p) => {
+                    let p = finite_vec(&f("position_m"), p)?;
+                    if (p.truncate() - k.position_m.truncate()).length() > 1e-3 {
+                        return Err(Error::invalid(
+                            Problem::Conflict,
+                            f("position_m"),
+                            format!("{p:?}"),
+                            format!("the track puts the object at east {:.3} m, north {:.3} m at t = 0; with a track, position_m may only repeat that and set the height (or leave it out: height 0)", k.position_m.x, k.position_m.y),
+                        ));
+                    }
+                    p
+                }
+            }
+        }
+        (_, Some(p)) => finite_vec(&f("position_m"), p)?,
+        (_, None) => {
+            return Err(Error::missing(
+                f("position_m"),
+                "every object needs position_m = [east, north, up] (or a track)",
+            ))
+        }
+    };
+    let object = SceneObject {
         class: o.class.clone().unwrap_or_else(|| "object".to_string()),
         name,
         shape,
         position_m,
-        rotation: object_frame(yaw, pitch, roll),
-    })
+        rotation: object_frame(yaw.unwrap_or(0.0), pitch, roll),
+        moving: None,
+    };
+    match motion {
+        None => Ok(object),
+        Some(m) => object.with_motion(m, position_m, object_frame(0.0, pitch, roll)),
+    }
+}
+
+/// The motion fields of an `[[object]]` (docs/formats.md, "Motion"); None when it has none.
+fn build_motion(prefix: &str, o: &ObjectSpec, yaw_rad: Option<f64>) -> Result<Option<Motion>> {
+    let f = |field: &str| format!("{prefix}.{field}");
+    let conflict = |field: &str, with: &str| {
+        Error::invalid(
+            Problem::Conflict,
+            f(field),
+            "(set)",
+            format!("give either `{field}` or `{with}`, not both"),
+        )
+    };
+    let path =
+        if let Some(track) = &o.track {
+            for (field, set) in [
+                ("speed_kn", o.speed_kn.is_some()),
+                ("course_deg", o.course_deg.is_some()),
+                ("velocity_mps", o.velocity_mps.is_some()),
+                ("turn_rate_deg_per_s", o.turn_rate_deg_per_s.is_some()),
+            ] {
+                if set {
+                    return Err(conflict(field, "track"));
+                }
+            }
+            Some(Trajectory::Track {
+                points: track
+                    .iter()
+                    .map(|p| Waypoint {
+                        time_s: p[0],
+                        east_m: p[1],
+                        north_m: p[2],
+                    })
+                    .collect(),
+            })
+        } else {
+            let velocity_mps = match (o.speed_kn, o.course_deg, o.velocity_mps) {
+                (Some(_), _, Some(_)) => return Err(conflict("speed_kn", "velocity_mps")),
+                (None, Some(_), Some(_)) => return Err(conflict("course_deg", "velocity_mps")),
+                (Some(speed), course, None) => {
+                    let speed = finite(&f("speed_kn"), speed)?;
+                    if speed < 0.0 {
+                        return Err(Error::invalid(
+                            Problem::OutOfRange,
+                            f("speed_kn"),
+                            speed,
+                            "must be 0 or more (give the direction with course_deg)",
+                        ));
+                    }
+                    let course = course.ok_or_else(|| {
+                        Error::missing(
+                            f("course_deg"),
+                            "speed_kn needs course_deg (nautical degrees, 0 = north, 90 = east)",
+                        )
+                    })?;
+                    let c = finite(&f("course_deg"), course)?.to_radians();
+                    let s = speed * KNOT_M_PER_S;
+                    Some(DVec3::new(s * c.sin(), s * c.cos(), 0.0))
+                }
+                (None, Some(_), None) => {
+                    return Err(Error::missing(f("speed_kn"), "course_deg needs speed_kn"))
+                }
+                (None, None, Some(v)) => Some(finite_vec(&f("velocity_mps"), v)?),
+                (None, None, None) => None,
+            };
+            let turn = o
+                .turn_rate_deg_per_s
+                .map(|w| finite(&f("turn_rate_deg_per_s"), w))
+                .transpose()?;
+            match (velocity_mps, turn) {
+                (None, Some(_)) => return Err(Error::missing(
+                    f("speed_kn"),
+                    "turn_rate_deg_per_s needs a speed (speed_kn and course_deg, or velocity_mps)",
+                )),
+                (Some(v), w) => Some(Trajectory::Steady {
+                    velocity_mps: v,
+                    turn_rate_rad_per_s: w.unwrap_or(0.0).to_radians(),
+                }),
+                (None, None) => None,
+            }
+        };
+    let amplitudes = [
+        o.heave_amplitude_m,
+        o.roll_amplitude_deg,
+        o.pitch_amplitude_deg,
+    ];
+    let wave = if amplitudes.iter().any(Option::is_some) {
+        let period_s = o.motion_period_s.ok_or_else(|| {
+            Error::missing(
+                f("motion_period_s"),
+                "wave-induced motion (heave, roll, pitch amplitudes) needs motion_period_s",
+            )
+        })?;
+        Some(WaveMotion {
+            heave_amplitude_m: o.heave_amplitude_m.unwrap_or(0.0),
+            roll_amplitude_rad: o.roll_amplitude_deg.unwrap_or(0.0).to_radians(),
+            pitch_amplitude_rad: o.pitch_amplitude_deg.unwrap_or(0.0).to_radians(),
+            period_s,
+            phase_rad: o.motion_phase_deg.unwrap_or(0.0).to_radians(),
+        })
+    } else {
+        for (field, set) in [
+            ("motion_period_s", o.motion_period_s.is_some()),
+            ("motion_phase_deg", o.motion_phase_deg.is_some()),
+        ] {
+            if set {
+                return Err(Error::invalid(
+                    Problem::Conflict,
+                    f(field),
+                    "(set)",
+                    "needs a wave-induced motion: heave_amplitude_m, roll_amplitude_deg or pitch_amplitude_deg",
+                ));
+            }
+        }
+        None
+    };
+    if path.is_none() && wave.is_none() {
+        return Ok(None);
+    }
+    let moves = path.is_some();
+    let path = path.unwrap_or(Trajectory::Steady {
+        velocity_mps: DVec3::ZERO,
+        turn_rate_rad_per_s: 0.0,
+    });
+    let heading = match yaw_rad {
+        Some(y) => HeadingRule::Fixed(y),
+        None if moves => HeadingRule::AlongCourse,
+        None => HeadingRule::Fixed(0.0),
+    };
+    Motion::new(prefix, path, heading, wave).map(Some)
 }

@@ -7,6 +7,8 @@ use super::output::{json_bytes, npy_f32_bytes, png_bytes, write_set};
 use super::ppi::{colour_image, gray_image, PpiSettings};
 use super::{Frame, FrameStats};
 use crate::error::Result;
+use crate::model::motion::{KNOT_M_PER_S, STILL_SPEED_M_PER_S};
+use crate::model::revolution::ShipState;
 use crate::model::Radar;
 use serde::Serialize;
 use std::path::Path;
@@ -15,6 +17,9 @@ use std::path::Path;
 struct TruthFile<'a> {
     scene: String,
     seed: u64,
+    frame: u64,
+    frame_start_time_s: f64,
+    own_ship: Option<OwnShipTruth>,
     spokes: usize,
     range_bins: usize,
     range_bin_m: f64,
@@ -32,6 +37,34 @@ struct TraceCounts {
     rays_cast: u64,
     contributions: usize,
     echo_groups: usize,
+}
+
+/// The own ship at the start of the frame.
+#[derive(Serialize)]
+struct OwnShipTruth {
+    antenna_position_m: [f64; 3],
+    velocity_mps: [f64; 3],
+    speed_kn: f64,
+    course_deg: Option<f64>,
+    heading_deg: f64,
+}
+
+impl OwnShipTruth {
+    fn of(s: &ShipState) -> OwnShipTruth {
+        let v = s.velocity_mps;
+        let speed = v.x.hypot(v.y);
+        OwnShipTruth {
+            antenna_position_m: s.antenna_position_m.to_array(),
+            velocity_mps: v.to_array(),
+            speed_kn: speed / KNOT_M_PER_S,
+            course_deg: (speed > STILL_SPEED_M_PER_S).then(|| {
+                v.x.atan2(v.y)
+                    .rem_euclid(std::f64::consts::TAU)
+                    .to_degrees()
+            }),
+            heading_deg: s.heading_rad.to_degrees(),
+        }
+    }
 }
 
 impl TraceCounts {
@@ -86,12 +119,18 @@ pub fn write_frame_files(
     let truth = TruthFile {
         scene: scene_name.to_string(),
         seed,
+        frame: frame.frame,
+        frame_start_time_s: frame.start_time_s,
+        own_ship: frame.own_ship.as_ref().map(OwnShipTruth::of),
         spokes: frame.spokes,
         range_bins: frame.range_bins,
         range_bin_m: frame.range_bin_m,
         image_size_px: size,
         display_range_m: conv.display_range_m(),
-        radar_position_m: radar.position_m().to_array(),
+        radar_position_m: frame
+            .own_ship
+            .map_or(radar.position_m(), |s| s.antenna_position_m)
+            .to_array(),
         objects: &objects,
         trace: TraceCounts::of(&frame.stats),
     };

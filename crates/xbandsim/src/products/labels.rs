@@ -10,6 +10,8 @@
 
 use crate::constants::{linear_to_db, SPEED_OF_LIGHT_M_PER_S};
 use crate::geometry::{Bvh, Ray};
+use crate::model::motion::{heading_of, KNOT_M_PER_S};
+use crate::model::revolution::Revolution;
 use crate::model::{Environment, Polarisation, Radar, ScatteringModel, Scene};
 use crate::scattering::po::TubeBudget;
 use crate::scattering::{azimuth_elevation_rad, ScatterSet};
@@ -91,11 +93,47 @@ pub struct EchoLosses {
     pub eclipse: Option<f64>,
 }
 
+/// Radial speeds below this, either way, class an object as stationary: 3 knots, about
+/// the radial speed below which marine radars' target analysers leave a target uncoloured
+/// (docs/formats.md, "truth.json").
+pub const RADIAL_CLASS_THRESHOLD_MPS: f64 = 3.0 * KNOT_M_PER_S;
+
+/// Which way an object moves along the line of sight, against
+/// [`RADIAL_CLASS_THRESHOLD_MPS`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RadialMotion {
+    /// Closing faster than the threshold.
+    Approaching,
+    /// Opening faster than the threshold.
+    Receding,
+    /// Slower than the threshold either way.
+    Stationary,
+}
+
+impl RadialMotion {
+    /// The class of a range rate, m/s (negative: closing).
+    pub fn of(radial_velocity_mps: f64) -> RadialMotion {
+        if radial_velocity_mps <= -RADIAL_CLASS_THRESHOLD_MPS {
+            RadialMotion::Approaching
+        } else if radial_velocity_mps >= RADIAL_CLASS_THRESHOLD_MPS {
+            RadialMotion::Receding
+        } else {
+            RadialMotion::Stationary
+        }
+    }
+}
+
 /// Ground truth of one object in one frame.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ObjectTruth {
     /// Index in the scene.
     pub id: u32,
+    /// Track identity, the same in every frame of a run (the object's index in the scene).
+    pub track_id: u32,
+    /// Time the beam's axis crossed the object's reference point, s from the start of the
+    /// run; the object's position, velocity and the geometry below are those of that time.
+    pub beam_time_s: f64,
     /// Name.
     pub name: String,
     /// Class label.
@@ -104,6 +142,23 @@ pub struct ObjectTruth {
     pub shape: String,
     /// Position, ENU m.
     pub position_m: [f64; 3],
+    /// Velocity over ground, ENU m/s.
+    pub velocity_mps: [f64; 3],
+    /// Speed over ground, knots.
+    pub speed_kn: f64,
+    /// Course over ground, nautical degrees; null when it is not moving horizontally.
+    pub course_deg: Option<f64>,
+    /// Heading of its bow (its +y axis), nautical degrees; null when the bow points
+    /// straight up or down.
+    pub heading_deg: Option<f64>,
+    /// Range rate relative to the antenna (the own ship's velocity taken off), m/s:
+    /// positive opening, negative closing.
+    pub radial_velocity_mps: f64,
+    /// Two-way Doppler shift of its reference point, `−2·radial_velocity/λ`, Hz (positive
+    /// approaching).
+    pub doppler_hz: f64,
+    /// Approaching, receding or stationary at [`RADIAL_CLASS_THRESHOLD_MPS`].
+    pub radial_motion: RadialMotion,
     /// Slant range from the antenna phase centre, m.
     pub range_m: f64,
     /// Horizontal range, m.
@@ -248,8 +303,9 @@ fn line_of_sight_blocked(bvh: &Bvh, radar_m: DVec3, p: DVec3, object: u32) -> bo
     .is_some_and(|h| h.object != object)
 }
 
-/// Builds the truth of every object from a traced scene state.
-pub fn object_truth(scene: &Scene, set: &ScatterSet, bvh: &Bvh) -> Vec<ObjectTruth> {
+/// Builds the truth of every object from a revolution's traced scene state.
+pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec<ObjectTruth> {
+    let scene: &Scene = revolution.scene();
     let radar = scene.radar();
     let ant = &radar.antenna();
     let n_objects = scene.objects().len();
@@ -275,6 +331,13 @@ pub fn object_truth(scene: &Scene, set: &ScatterSet, bvh: &Bvh) -> Vec<ObjectTru
         .map(|(i, o)| {
             let rel = o.position_m() - radar.position_m();
             let range_m = rel.length();
+            let state = &revolution.objects()[i];
+            let k = &state.kinematics;
+            let radial_velocity_mps = if range_m > 0.0 {
+                (k.velocity_mps - state.antenna_velocity_mps).dot(rel / range_m)
+            } else {
+                0.0
+            };
             let ground_range_m = rel.x.hypot(rel.y);
             let (az, el) = azimuth_elevation_rad(rel);
             // RCS and gain exist only where the model is calibrated and a free-space path
@@ -356,10 +419,19 @@ pub fn object_truth(scene: &Scene, set: &ScatterSet, bvh: &Bvh) -> Vec<ObjectTru
                 echo_region.and_then(|e| e.polar_box(bin_m, radar.num_range_bins(), spokes));
             ObjectTruth {
                 id: i as u32,
+                track_id: i as u32,
+                beam_time_s: state.beam_time_s,
                 name: o.name().to_string(),
                 class: o.class().to_string(),
                 shape: o.shape_name().to_string(),
-                position_m: o.position_m().to_array(),
+                position_m: k.position_m.to_array(),
+                velocity_mps: k.velocity_mps.to_array(),
+                speed_kn: k.speed_mps() / KNOT_M_PER_S,
+                course_deg: k.course_rad().map(f64::to_degrees),
+                heading_deg: heading_of(k.rotation).map(f64::to_degrees),
+                radial_velocity_mps,
+                doppler_hz: -2.0 * radial_velocity_mps / radar.wavelength_m(),
+                radial_motion: RadialMotion::of(radial_velocity_mps),
                 range_m,
                 ground_range_m,
                 azimuth_deg: az.to_degrees(),

@@ -9,6 +9,7 @@ pub mod labels;
 pub mod output;
 pub mod ppi;
 
+use crate::model::revolution::ShipState;
 use labels::ObjectTruth;
 
 /// Timings and counts of one frame.
@@ -29,6 +30,12 @@ pub struct FrameStats {
 /// One rendered revolution.
 #[derive(Debug, Clone)]
 pub struct Frame {
+    /// Revolution number (0 for the first).
+    pub frame: u64,
+    /// Time the revolution starts (the antenna through north), s from the start of the run.
+    pub start_time_s: f64,
+    /// The own ship at the start of the revolution (None without `[own_ship]`).
+    pub own_ship: Option<ShipState>,
     /// Spokes (rows of `polar_db`).
     pub spokes: usize,
     /// Range bins (columns).

@@ -115,6 +115,8 @@ pub struct SceneSpec {
     /// Which scattering model and how many rays.
     #[serde(default)]
     pub scattering: ScatteringSpec,
+    /// The ship the radar rides on (none: the radar stands still).
+    pub own_ship: Option<OwnShipSpec>,
     /// The objects in the scene (`[[object]]` tables).
     #[serde(default, rename = "object")]
     pub objects: Vec<ObjectSpec>,
@@ -316,4 +318,40 @@ pub struct ObjectSpec {
     pub mesh_units: Option<MeshUnit>,
     /// mesh: extra scale factor applied after the unit (default 1).
     pub mesh_scale: Option<f64>,
+    /// Speed over ground, knots (with `course_deg`).
+    pub speed_kn: Option<f64>,
+    /// Course over ground, nautical degrees (0 = north, 90 = east); the heading follows it
+    /// unless `yaw_deg` is given.
+    pub course_deg: Option<f64>,
+    /// Velocity `[east, north, up]`, m/s (instead of `speed_kn` + `course_deg`).
+    pub velocity_mps: Option<[f64; 3]>,
+    /// Constant rate of turn, degrees per second (positive to starboard: clockwise from
+    /// above); needs a speed.
+    pub turn_rate_deg_per_s: Option<f64>,
+    /// Piecewise-linear track `[[t_s, east_m, north_m], ...]` (at least two waypoints, in
+    /// strictly increasing time); the heading follows the track unless `yaw_deg` is given.
+    pub track: Option<Vec<[f64; 3]>>,
+    /// Wave-induced heave amplitude, m (needs `motion_period_s`).
+    pub heave_amplitude_m: Option<f64>,
+    /// Wave-induced roll amplitude, degrees (needs `motion_period_s`).
+    pub roll_amplitude_deg: Option<f64>,
+    /// Wave-induced pitch amplitude, degrees (needs `motion_period_s`).
+    pub pitch_amplitude_deg: Option<f64>,
+    /// Period of the wave-induced motion, s.
+    pub motion_period_s: Option<f64>,
+    /// Phase of the wave-induced motion at t = 0, degrees (default 0).
+    pub motion_phase_deg: Option<f64>,
+}
+
+/// `[own_ship]`: the ship the radar rides on. The antenna (`radar.position_m` at t = 0)
+/// moves with it.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct OwnShipSpec {
+    /// Speed over ground, knots (default 0).
+    pub speed_kn: Option<f64>,
+    /// Course over ground, nautical degrees (default 0).
+    pub course_deg: Option<f64>,
+    /// Heading of the bow, nautical degrees (default: the course).
+    pub heading_deg: Option<f64>,
 }

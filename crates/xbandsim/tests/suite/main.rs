@@ -11,6 +11,7 @@ mod environment;
 mod geometry;
 mod labels;
 mod meshes;
+mod motion;
 mod multipath;
 mod rcs;
 mod scene_errors;

@@ -345,6 +345,17 @@ fn random_specs_never_panic() {
         "object[0].width_m",
         "object[0].height_m",
         "object[0].edge_m",
+        "object[0].speed_kn",
+        "object[0].course_deg",
+        "object[0].turn_rate_deg_per_s",
+        "object[0].heave_amplitude_m",
+        "object[0].roll_amplitude_deg",
+        "object[0].pitch_amplitude_deg",
+        "object[0].motion_period_s",
+        "object[0].motion_phase_deg",
+        "own_ship.speed_kn",
+        "own_ship.course_deg",
+        "own_ship.heading_deg",
     ];
     const COUNTS: &[&str] = &[
         "radar.spokes",

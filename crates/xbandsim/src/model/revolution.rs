@@ -1,0 +1,166 @@
+//! Model: one revolution of the antenna as the spoke-mode scan sees it. The antenna turns
+//! clockwise from north at Ω = 2π/T, so it points at nautical bearing β at
+//! `t = t_start + β/Ω`; each object is placed where it is when the beam crosses it, found by
+//! solving `Ω·(t − t_start) = β(t)` with β(t) the object's bearing from the (moving) antenna
+//! (docs/physics.md, "Motion"). The scene seen by the one trace of the revolution holds every
+//! object at its own beam-crossing time, displaced so that its position relative to the
+//! antenna is the one at that time, with the antenna where it is at the start of the
+//! revolution.
+
+use super::motion::Kinematics;
+use super::{Scene, SceneObject};
+use glam::DVec3;
+use std::f64::consts::{PI, TAU};
+use std::sync::Arc;
+
+/// Where the own ship (the antenna) is at one time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShipState {
+    /// Antenna phase centre, ENU m.
+    pub antenna_position_m: DVec3,
+    /// Velocity over ground, ENU m/s.
+    pub velocity_mps: DVec3,
+    /// Heading, rad (nautical).
+    pub heading_rad: f64,
+}
+
+/// An object when the beam crosses it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ObjectState {
+    /// Time the beam's axis crossed its reference point, s from the start of the run.
+    pub beam_time_s: f64,
+    /// Its position, velocity, heading and rotation then (true, ENU).
+    pub kinematics: Kinematics,
+    /// The antenna's phase centre then, ENU m.
+    pub antenna_position_m: DVec3,
+    /// The antenna's velocity then, ENU m/s.
+    pub antenna_velocity_mps: DVec3,
+}
+
+/// One revolution: its start time, the still scene its trace sees, and every object's state.
+#[derive(Debug, Clone)]
+pub struct Revolution {
+    start_time_s: f64,
+    scene: Arc<Scene>,
+    objects: Vec<ObjectState>,
+    own_ship: Option<ShipState>,
+}
+
+impl Revolution {
+    /// The revolution of `scene` that starts at `start_time_s`. A still scene is used as it is.
+    pub fn of(scene: &Arc<Scene>, start_time_s: f64) -> Revolution {
+        let period_s = scene.radar().scan().period_s();
+        let radar_at = |t: f64| {
+            scene.radar().position_m()
+                + scene
+                    .own_ship()
+                    .map_or(DVec3::ZERO, |s| s.displacement_m(t))
+        };
+        let radar_velocity = scene.own_ship().map_or(DVec3::ZERO, |s| s.velocity_mps());
+        let objects: Vec<ObjectState> = scene
+            .objects()
+            .iter()
+            .map(|o| {
+                let beam_time_s = beam_crossing_time_s(start_time_s, period_s, |t| {
+                    o.kinematics(t).position_m - radar_at(t)
+                });
+                ObjectState {
+                    beam_time_s,
+                    kinematics: o.kinematics(beam_time_s),
+                    antenna_position_m: radar_at(beam_time_s),
+                    antenna_velocity_mps: radar_velocity,
+                }
+            })
+            .collect();
+        let own_ship = scene.own_ship().map(|s| ShipState {
+            antenna_position_m: radar_at(start_time_s),
+            velocity_mps: s.velocity_mps(),
+            heading_rad: s.heading_rad(),
+        });
+        let seen = if scene.is_still() {
+            Arc::clone(scene)
+        } else {
+            let start_radar = radar_at(start_time_s);
+            let posed: Vec<SceneObject> = scene
+                .objects()
+                .iter()
+                .zip(&objects)
+                .map(|(o, s)| o.posed_at(s.beam_time_s, start_radar - s.antenna_position_m))
+                .collect();
+            Arc::new(Scene {
+                radar: scene.radar().moved_to(start_radar),
+                environment: scene.environment().clone(),
+                scattering: scene.scattering().clone(),
+                objects: posed,
+                own_ship: None,
+            })
+        };
+        Revolution {
+            start_time_s,
+            scene: seen,
+            objects,
+            own_ship,
+        }
+    }
+
+    /// Start of the revolution, s.
+    pub fn start_time_s(&self) -> f64 {
+        self.start_time_s
+    }
+
+    /// The still scene the revolution's trace sees.
+    pub fn scene(&self) -> &Arc<Scene> {
+        &self.scene
+    }
+
+    /// Every object's state when the beam crosses it, in scene order.
+    pub fn objects(&self) -> &[ObjectState] {
+        &self.objects
+    }
+
+    /// The own ship at the start of the revolution (None without `[own_ship]`).
+    pub fn own_ship(&self) -> Option<&ShipState> {
+        self.own_ship.as_ref()
+    }
+}
+
+/// The time in `[start, start + period]` at which a beam turning clockwise from north at
+/// start, at 2π/period, crosses the bearing of `relative_position(t)` (target minus antenna,
+/// ENU). Solved by bisection on `g(t) = Ω·(t − start) − β(t)`, β unwrapped from its value at
+/// the start (g(start) = −β(start) ≤ 0). When the object runs ahead of the beam across north
+/// (g(end) < 0) the beam meets it at the end of the revolution, which is returned. A still
+/// geometry gives `start + β/Ω` exactly.
+pub fn beam_crossing_time_s(
+    start_s: f64,
+    period_s: f64,
+    relative_position: impl Fn(f64) -> DVec3,
+) -> f64 {
+    let omega = TAU / period_s;
+    let bearing = |t: f64| {
+        let r = relative_position(t);
+        r.x.atan2(r.y).rem_euclid(TAU)
+    };
+    let b0 = bearing(start_s);
+    let first = start_s + b0 / omega;
+    if relative_position(first) == relative_position(start_s) {
+        return first;
+    }
+    let g = |t: f64| {
+        let d = (bearing(t) - b0 + PI).rem_euclid(TAU) - PI;
+        omega * (t - start_s) - (b0 + d)
+    };
+    let end_s = start_s + period_s;
+    if g(end_s) < 0.0 {
+        return end_s;
+    }
+    let (mut lo, mut hi) = (start_s, end_s);
+    for _ in 0..64 {
+        let mid = 0.5 * (lo + hi);
+        if g(mid) < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}

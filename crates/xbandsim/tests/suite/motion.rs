@@ -1,0 +1,289 @@
+//! Motion: kinematics against closed forms, the motion labels, moving frames through the
+//! engine, and bad motion inputs (docs/physics.md, "Motion"; docs/formats.md, "Motion").
+
+use crate::common::{radar_block_no_noise, scene};
+use glam::DVec3;
+use std::f64::consts::TAU;
+use std::sync::Arc;
+use xbandsim::model::motion::KNOT_M_PER_S;
+use xbandsim::model::revolution::beam_crossing_time_s;
+use xbandsim::products::labels::{RadialMotion, RADIAL_CLASS_THRESHOLD_MPS};
+use xbandsim::Simulation;
+
+const HEAD: &str = "[radar]\nspokes = 90\nmax_range_m = 1500.0\n[environment]\nclutter = false\nmultipath = false\nnoise = false\n";
+
+fn object(extra: &str) -> String {
+    format!("{HEAD}[[object]]\nname = \"a\"\nshape = \"sphere\"\nradius_m = 1.0\n{extra}\n")
+}
+
+/// Steady course: p(t) = p0 + v·t with v from speed (knots) and nautical course.
+#[test]
+fn steady_course_moves_in_a_straight_line() {
+    let s = scene(&object(
+        "position_m = [100.0, 200.0, 2.0]\nspeed_kn = 20.0\ncourse_deg = 135.0",
+    ));
+    let o = &s.objects()[0];
+    let v = 20.0 * 1852.0 / 3600.0;
+    let dir = DVec3::new(135f64.to_radians().sin(), 135f64.to_radians().cos(), 0.0);
+    for t in [0.0, 1.5, 7.25, 100.0] {
+        let k = o.kinematics(t);
+        let expected = DVec3::new(100.0, 200.0, 2.0) + dir * v * t;
+        assert!((k.position_m - expected).length() < 1e-9, "t = {t}");
+        assert!((k.velocity_mps - dir * v).length() < 1e-12);
+        assert!(
+            (k.heading_rad.to_degrees() - 135.0).abs() < 1e-9,
+            "heading follows course"
+        );
+        assert!((k.course_rad().unwrap().to_degrees() - 135.0).abs() < 1e-9);
+    }
+}
+
+/// Constant-rate turn: the position stays on the circle of radius s/ω centred to starboard,
+/// the course advances by ω·t, and the velocity is the position's time derivative (central
+/// differences).
+#[test]
+fn constant_rate_turn_follows_the_circle() {
+    let s = scene(&object(
+        "position_m = [0.0, 500.0, 2.0]\nspeed_kn = 10.0\ncourse_deg = 90.0\nturn_rate_deg_per_s = 2.0",
+    ));
+    let o = &s.objects()[0];
+    let speed = 10.0 * KNOT_M_PER_S;
+    let w = 2f64.to_radians();
+    let radius = speed / w;
+    // Heading east, turning to starboard: the centre is south of the start.
+    let centre = DVec3::new(0.0, 500.0 - radius, 2.0);
+    for t in [0.0, 3.0, 45.0, 90.0, 180.0, 400.0] {
+        let k = o.kinematics(t);
+        assert!(
+            ((k.position_m - centre).length() - radius).abs() < 1e-9,
+            "t = {t}"
+        );
+        let course = (90.0 + 2.0 * t).rem_euclid(360.0);
+        let heading = k.heading_rad.to_degrees();
+        let d = (heading - course + 180.0).rem_euclid(360.0) - 180.0;
+        assert!(
+            d.abs() < 1e-9,
+            "t = {t}: heading {heading}, course {course}"
+        );
+        let h = 1e-4;
+        let numeric = (o.kinematics(t + h).position_m - o.kinematics(t - h).position_m) / (2.0 * h);
+        assert!((numeric - k.velocity_mps).length() < 1e-6, "t = {t}");
+        assert!((k.speed_mps() - speed).abs() < 1e-12);
+    }
+    // After half a circle (90 s at 2°/s) it is diametrically opposite the start.
+    let half = o.kinematics(90.0).position_m;
+    assert!((half - (2.0 * centre - DVec3::new(0.0, 500.0, 2.0))).length() < 1e-9);
+}
+
+/// Track: linear between waypoints, at rest before the first and after the last, heading
+/// along the leg (a pause keeps the previous leg's course).
+#[test]
+fn track_interpolates_its_waypoints() {
+    let s = scene(&object(
+        "track = [[0.0, 0.0, 300.0], [10.0, 100.0, 300.0], [20.0, 100.0, 300.0], [30.0, 100.0, 200.0]]\nposition_m = [0.0, 300.0, 3.0]",
+    ));
+    let o = &s.objects()[0];
+    let k = o.kinematics(4.0);
+    assert!((k.position_m - DVec3::new(40.0, 300.0, 3.0)).length() < 1e-12);
+    assert!((k.velocity_mps - DVec3::new(10.0, 0.0, 0.0)).length() < 1e-12);
+    assert!((k.heading_rad.to_degrees() - 90.0).abs() < 1e-9);
+    // The pause: no velocity, no course, heading kept from the leg before.
+    let k = o.kinematics(15.0);
+    assert_eq!(k.velocity_mps, DVec3::ZERO);
+    assert!(k.course_rad().is_none());
+    assert!((k.heading_rad.to_degrees() - 90.0).abs() < 1e-9);
+    let k = o.kinematics(25.0);
+    assert!((k.position_m - DVec3::new(100.0, 250.0, 3.0)).length() < 1e-12);
+    assert!((k.heading_rad.to_degrees() - 180.0).abs() < 1e-9);
+    // Before the first and after the last waypoint it rests there.
+    assert_eq!(o.kinematics(-5.0).position_m, DVec3::new(0.0, 300.0, 3.0));
+    assert_eq!(o.kinematics(99.0).position_m, DVec3::new(100.0, 200.0, 3.0));
+    assert_eq!(o.kinematics(99.0).velocity_mps, DVec3::ZERO);
+    // Without position_m the track starts at height 0.
+    let t = scene(&format!("{HEAD}[[object]]\nname = \"b\"\nshape = \"point\"\nrcs_m2 = 1.0\ntrack = [[0.0, 10.0, 300.0], [5.0, 10.0, 350.0]]\n"));
+    assert_eq!(t.objects()[0].position_m(), DVec3::new(10.0, 300.0, 0.0));
+}
+
+/// Wave-induced motion: heave z0 + A·sin(2πt/T + φ) with its derivative as the vertical
+/// velocity; the mast (the object's +z) leans from the vertical by θ with
+/// cos θ = cos(roll)·cos(pitch), roll = A_r·sin(2πt/T + φ), pitch = A_p·cos(2πt/T + φ).
+#[test]
+fn wave_motion_heaves_rolls_and_pitches() {
+    let s = scene(&object(
+        "position_m = [0.0, 400.0, 2.0]\nheave_amplitude_m = 0.5\nroll_amplitude_deg = 10.0\npitch_amplitude_deg = 4.0\nmotion_period_s = 6.0\nmotion_phase_deg = 30.0",
+    ));
+    let o = &s.objects()[0];
+    for t in [0.0, 0.7, 2.0, 4.4] {
+        let phase = TAU * t / 6.0 + 30f64.to_radians();
+        let k = o.kinematics(t);
+        assert!((k.position_m.z - (2.0 + 0.5 * phase.sin())).abs() < 1e-12);
+        assert!((k.velocity_mps.z - 0.5 * TAU / 6.0 * phase.cos()).abs() < 1e-12);
+        assert_eq!(k.position_m.truncate(), glam::DVec2::new(0.0, 400.0));
+        let roll = 10f64.to_radians() * phase.sin();
+        let pitch = 4f64.to_radians() * phase.cos();
+        let up = k.rotation * DVec3::Z;
+        assert!((up.z - roll.cos() * pitch.cos()).abs() < 1e-12, "t = {t}");
+        // Only wave motion: the heading stays at yaw_deg (default 0) and nothing drifts.
+        assert!(k.heading_rad.abs() < 1e-12 || (k.heading_rad - TAU).abs() < 1e-12);
+    }
+}
+
+/// The beam crosses a still object at start + β/Ω exactly, and a moving one when the
+/// antenna's azimuth equals its bearing at that time.
+#[test]
+fn beam_crossing_time_solves_the_scan_equation() {
+    let period = 2.5;
+    let still = DVec3::new(300.0, -300.0, 0.0); // bearing 135°
+    let t = beam_crossing_time_s(10.0, period, |_| still);
+    assert_eq!(t, 10.0 + 0.375 * period);
+    // A fast target crossing the beam's path tangentially.
+    let moving = |t: f64| DVec3::new(200.0 + 30.0 * t, 100.0 - 10.0 * t, 0.0);
+    let t = beam_crossing_time_s(0.0, period, moving);
+    let p = moving(t);
+    let bearing = p.x.atan2(p.y).rem_euclid(TAU);
+    assert!((bearing - TAU * t / period).abs() < 1e-9, "t = {t}");
+    assert!((0.0..period).contains(&t));
+}
+
+/// The labels of a moving frame: velocity, speed, course, heading, range rate against the
+/// own ship, Doppler −2·ṙ/λ and the approaching/receding class at 3 kn.
+#[test]
+fn truth_carries_the_motion() {
+    let text = format!(
+        "{}[own_ship]\nspeed_kn = 10.0\ncourse_deg = 0.0\nheading_deg = 5.0\n[[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 10.0\nposition_m = [0.0, 800.0, 4.0]\nvelocity_mps = [3.0, -4.0, 0.0]\nyaw_deg = 200.0\n",
+        radar_block_no_noise("spokes = 90\nmax_range_m = 1500.0")
+    );
+    let sim = Simulation::new(scene(&text));
+    let frame = sim.render_frame(1, 2);
+    let lambda = sim.scene().radar().wavelength_m();
+    let own = frame.own_ship.expect("own ship state");
+    assert!((own.antenna_position_m.y - 10.0 * KNOT_M_PER_S * 5.0).abs() < 1e-9);
+    let o = &frame.truth[0];
+    assert_eq!(o.track_id, 0);
+    let t = o.beam_time_s;
+    assert!((5.0..7.5).contains(&t), "beam time {t} in revolution 2");
+    let p = DVec3::new(3.0 * t, 800.0 - 4.0 * t, 4.0);
+    assert!((DVec3::from_array(o.position_m) - p).length() < 1e-9);
+    assert_eq!(o.velocity_mps, [3.0, -4.0, 0.0]);
+    assert!((o.speed_kn - 5.0 / KNOT_M_PER_S).abs() < 1e-9);
+    assert!((o.course_deg.unwrap() - 3f64.atan2(-4.0).to_degrees().rem_euclid(360.0)).abs() < 1e-9);
+    assert!(
+        (o.heading_deg.unwrap() - 200.0).abs() < 1e-9,
+        "yaw_deg fixes the heading"
+    );
+    // Range rate: relative velocity along the line of sight from the antenna at time t.
+    let antenna = DVec3::new(0.0, 10.0 * KNOT_M_PER_S * t, 4.0);
+    let los = (p - antenna).normalize();
+    let rel_v = DVec3::new(3.0, -4.0 - 10.0 * KNOT_M_PER_S, 0.0);
+    assert!((o.radial_velocity_mps - rel_v.dot(los)).abs() < 1e-9);
+    assert!((o.range_m - (p - antenna).length()).abs() < 1e-9);
+    assert!((o.doppler_hz + 2.0 * o.radial_velocity_mps / lambda).abs() < 1e-9);
+    assert_eq!(o.radial_motion, RadialMotion::Approaching);
+    // The class threshold: 3 kn either way.
+    assert!((RADIAL_CLASS_THRESHOLD_MPS - 3.0 * 1852.0 / 3600.0).abs() < 1e-15);
+    assert_eq!(RadialMotion::of(-1.6), RadialMotion::Approaching);
+    assert_eq!(RadialMotion::of(1.6), RadialMotion::Receding);
+    assert_eq!(RadialMotion::of(1.5), RadialMotion::Stationary);
+    assert_eq!(RadialMotion::of(-1.5), RadialMotion::Stationary);
+}
+
+/// A still scene's truth has zero velocity, no course, the heading of yaw_deg, and a beam
+/// time of frame start + bearing/Ω.
+#[test]
+fn still_objects_are_labelled_still() {
+    let s = scene(&object("position_m = [300.0, 0.0, 2.0]\nyaw_deg = 75.0"));
+    assert!(s.is_still());
+    let sim = Simulation::new(s);
+    // Frame 0 first: frame 3 reuses its trace but has its own beam times.
+    assert!((sim.render_frame(0, 0).truth[0].beam_time_s - 0.25 * 2.5).abs() < 1e-12);
+    let frame = sim.render_frame(0, 3);
+    let o = &frame.truth[0];
+    assert_eq!(o.velocity_mps, [0.0; 3]);
+    assert_eq!(o.speed_kn, 0.0);
+    assert_eq!(o.course_deg, None);
+    assert!((o.heading_deg.unwrap() - 75.0).abs() < 1e-9);
+    assert_eq!(o.radial_velocity_mps, 0.0);
+    assert_eq!(o.radial_motion, RadialMotion::Stationary);
+    assert_eq!(frame.start_time_s, 7.5);
+    assert!((o.beam_time_s - (7.5 + 0.25 * 2.5)).abs() < 1e-12);
+}
+
+/// A moving scene is traced once per revolution (cached by start time); rendering frames in
+/// any order gives the same bytes as a fresh simulation, and two runs give the same bytes.
+#[test]
+fn moving_frames_are_traced_per_revolution_and_deterministic() {
+    let text = format!(
+        "{}[[object]]\nname = \"p\"\nshape = \"trihedral\"\nedge_m = 0.5\nposition_m = [200.0, 600.0, 2.0]\nspeed_kn = 15.0\ncourse_deg = 250.0\n",
+        HEAD.replace("noise = false\n", "")
+    );
+    let sim = Simulation::new(scene(&text));
+    assert!(!sim.scene().is_still());
+    let a = sim.traced(0.0);
+    let b = sim.traced(2.5);
+    assert!(!Arc::ptr_eq(&a, &b));
+    assert!(Arc::ptr_eq(&a, &sim.traced(0.0)));
+    let f2 = sim.render_frame(7, 2);
+    let f0 = sim.render_frame(7, 0);
+    let fresh = Simulation::new(scene(&text));
+    assert_eq!(fresh.render_frame(7, 0).polar_db, f0.polar_db);
+    let again = fresh.render_frame(7, 2);
+    assert_eq!(again.polar_db, f2.polar_db);
+    assert_eq!(again.truth, f2.truth);
+    assert_ne!(f0.truth[0].position_m, f2.truth[0].position_m);
+}
+
+fn error_of(text: &str) -> String {
+    match xbandsim::model::Scene::from_toml_str(text, "scene.toml") {
+        Ok(_) => panic!("accepted:\n{text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// Bad motion inputs are clear errors naming the field.
+#[test]
+fn bad_motion_is_refused_by_field() {
+    let at = "position_m = [0.0, 300.0, 2.0]\n";
+    let cases: &[(&str, &[&str])] = &[
+        ("track = [[0.0, 1.0, 300.0]]", &["object \"a\".track", "at least two waypoints"]),
+        (
+            "track = [[0.0, 0.0, 300.0], [10.0, 5.0, 300.0], [5.0, 9.0, 300.0]]",
+            &["object \"a\".track[2]", "increasing time", "t = 5 s"],
+        ),
+        ("track = [[0.0, 0.0, 300.0], [0.0, 5.0, 300.0]]", &["track[1]", "increasing time"]),
+        ("track = [[0.0, nan, 300.0], [1.0, 5.0, 300.0]]", &["track[0]", "finite"]),
+        (&format!("{at}speed_kn = nan\ncourse_deg = 10.0"), &["object \"a\".speed_kn", "finite"]),
+        (&format!("{at}speed_kn = -3.0\ncourse_deg = 10.0"), &["speed_kn", "0 or more"]),
+        (&format!("{at}speed_kn = 3.0"), &["course_deg", "speed_kn needs course_deg"]),
+        (&format!("{at}course_deg = 3.0"), &["speed_kn"]),
+        (&format!("{at}speed_kn = 3.0\ncourse_deg = 1.0\nvelocity_mps = [1.0, 0.0, 0.0]"), &["speed_kn", "velocity_mps", "not both"]),
+        (&format!("{at}velocity_mps = [1.0, inf, 0.0]"), &["velocity_mps", "finite"]),
+        (&format!("{at}turn_rate_deg_per_s = 2.0"), &["speed_kn", "turn_rate_deg_per_s needs a speed"]),
+        (&format!("{at}speed_kn = 0.0\ncourse_deg = 0.0\nturn_rate_deg_per_s = 2.0"), &["turn_rate_deg_per_s", "horizontal speed"]),
+        (&format!("{at}speed_kn = 1.0\ncourse_deg = 0.0\ntrack = [[0.0, 0.0, 300.0], [1.0, 0.0, 301.0]]"), &["speed_kn", "track", "not both"]),
+        ("position_m = [50.0, 300.0, 2.0]\ntrack = [[0.0, 0.0, 300.0], [1.0, 0.0, 301.0]]", &["position_m", "track puts the object"]),
+        (&format!("{at}heave_amplitude_m = 1.0"), &["motion_period_s", "needs motion_period_s"]),
+        (&format!("{at}roll_amplitude_deg = 5.0\nmotion_period_s = 0.0"), &["motion_period_s", "above zero"]),
+        (&format!("{at}roll_amplitude_deg = 95.0\nmotion_period_s = 6.0"), &["roll_amplitude_deg", "from 0 to 60"]),
+        (&format!("{at}heave_amplitude_m = -1.0\nmotion_period_s = 6.0"), &["heave_amplitude_m"]),
+        (&format!("{at}motion_period_s = 6.0"), &["motion_period_s", "needs a wave-induced motion"]),
+    ];
+    for (extra, needles) in cases {
+        let msg = error_of(&object(extra));
+        for n in *needles {
+            assert!(
+                msg.contains(n),
+                "{extra}: error {msg:?} does not mention {n:?}"
+            );
+        }
+    }
+    for (own, needle) in [
+        ("speed_kn = -1.0", "own_ship.speed_kn"),
+        ("speed_kn = nan", "own_ship.speed_kn"),
+        ("course_deg = inf", "own_ship.course_deg"),
+        ("heading_deg = nan", "own_ship.heading_deg"),
+        ("speed = 3.0", "speed"),
+    ] {
+        let msg = error_of(&format!("{HEAD}[own_ship]\n{own}\n"));
+        assert!(msg.contains(needle), "{own}: {msg}");
+    }
+}
