@@ -4,7 +4,8 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use xbandsim::engine::Simulation;
+use xbandsim::engine::{Outputs, Simulation};
+use xbandsim::model::ProcessingMode;
 use xbandsim::products::frame_files::write_frame_files;
 use xbandsim::products::labels::ObjectTruth;
 use xbandsim::scene::LoadedSpec;
@@ -45,6 +46,10 @@ pub struct RenderArgs {
     /// OUT/frame_0001/, ... (without it: one revolution, its files straight in OUT).
     #[arg(long, value_name = "N")]
     pub frames: Option<u64>,
+    /// Also write each frame's range-Doppler-azimuth cube, doppler_cube.npy (needs
+    /// [processing] mode = "pulse").
+    #[arg(long)]
+    pub datacube: bool,
     /// Override any scene field: FIELD=VALUE with FIELD a dotted path and VALUE a TOML value,
     /// e.g. --set radar.pulse_width_us=2 --set object[0].yaw_deg=45 (repeatable).
     #[arg(long, value_name = "FIELD=VALUE")]
@@ -118,6 +123,12 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     let spec = load_spec(&a.scene, &overrides(a)?)?;
     let scene = spec.build()?;
     let display = spec.ppi_settings()?;
+    if a.datacube && scene.processing().mode() != ProcessingMode::Pulse {
+        bail!("--datacube needs processing.mode = \"pulse\" (the scene fires one pulse per spoke; add [processing] mode = \"pulse\" or --set processing.mode=pulse)");
+    }
+    let outputs = Outputs {
+        doppler_cube: a.datacube,
+    };
     let sim = Simulation::new(scene);
     let radar = sim.scene().radar();
     let scene_name = a.scene.display().to_string();
@@ -129,7 +140,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         } else {
             indicatif::ProgressBar::hidden()
         };
-        let frame = sim.render_frame_progress(a.seed, 0, &|| progress.inc(1));
+        let frame = sim.render_frame_outputs(a.seed, 0, outputs, &|| progress.inc(1));
         progress.finish_and_clear();
         warn_ray_caps(&frame.truth);
         write_frame_files(radar, &display, &frame, &a.out, &scene_name, a.seed)
@@ -153,7 +164,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     let progress = crate::progress::bar(count, "render: frames");
     let (mut trace_s, mut synthesis_s) = (0.0, 0.0);
     for k in 0..count {
-        let frame = sim.render_frame_progress(a.seed, k, &|| {});
+        let frame = sim.render_frame_outputs(a.seed, k, outputs, &|| {});
         if k == 0 {
             warn_ray_caps(&frame.truth);
         }

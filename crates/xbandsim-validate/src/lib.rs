@@ -7,6 +7,7 @@
 //! one module each; docs/validation.md lists their sources.
 
 pub mod antenna;
+pub mod doppler;
 pub mod environment;
 pub mod harness;
 pub mod motion;
@@ -16,6 +17,7 @@ pub mod signal_chain;
 
 // The measuring helpers, for the library's tests that measure the same way.
 pub use antenna::*;
+pub use doppler::*;
 pub use environment::*;
 pub use harness::*;
 pub use motion::*;
@@ -132,5 +134,6 @@ pub fn run_all_with(on_check: &mut dyn FnMut(&CheckResult)) -> Vec<CheckResult> 
     antenna::checks(&mut out);
     rcs::checks(&mut out);
     motion::checks(&mut out);
+    doppler::checks(&mut out);
     out.done
 }

@@ -215,8 +215,70 @@ impl EchoGroups {
         min_amplitude: f32,
         impulse_response: &mut [Complex32],
     ) -> Option<usize> {
+        self.accumulate_groups(
+            &self.groups,
+            antenna,
+            beam_az_rad,
+            min_amplitude,
+            impulse_response,
+        )
+        .0
+    }
+
+    /// The groups of object `object` (contiguous: groups are sorted by object first).
+    pub fn groups_of(&self, object: u32) -> &[EchoGroup] {
+        let lo = self.groups.partition_point(|g| g.object < object);
+        let hi = self.groups.partition_point(|g| g.object <= object);
+        &self.groups[lo..hi]
+    }
+
+    /// As [`EchoGroups::accumulate`] for the groups of the objects `include` accepts, taken
+    /// a run of equal objects at a time. Returns the earliest sample written and the
+    /// largest weighted group peak.
+    pub fn accumulate_where(
+        &self,
+        antenna: &Antenna,
+        beam_az_rad: f64,
+        min_amplitude: f32,
+        impulse_response: &mut [Complex32],
+        include: impl Fn(u32) -> bool,
+    ) -> (Option<usize>, f32) {
+        let (mut earliest, mut peak): (Option<usize>, f32) = (None, 0.0);
+        let mut start = 0;
+        while start < self.groups.len() {
+            let object = self.groups[start].object;
+            let end = start + self.groups[start..].partition_point(|g| g.object == object);
+            if include(object) {
+                let (e, p) = self.accumulate_groups(
+                    &self.groups[start..end],
+                    antenna,
+                    beam_az_rad,
+                    min_amplitude,
+                    impulse_response,
+                );
+                if let Some(e) = e {
+                    earliest = Some(earliest.map_or(e, |x| x.min(e)));
+                }
+                peak = peak.max(p);
+            }
+            start = end;
+        }
+        (earliest, peak)
+    }
+
+    /// Adds `groups` (a slice of this set's) weighted by the azimuth pattern; returns the
+    /// earliest sample written and the largest weighted group peak.
+    pub fn accumulate_groups(
+        &self,
+        groups: &[EchoGroup],
+        antenna: &Antenna,
+        beam_az_rad: f64,
+        min_amplitude: f32,
+        impulse_response: &mut [Complex32],
+    ) -> (Option<usize>, f32) {
         let mut earliest: Option<usize> = None;
-        for g in &self.groups {
+        let mut largest = 0f32;
+        for g in groups {
             let w = (antenna.azimuth_pattern(g.az_tx_rad - beam_az_rad)
                 * antenna.azimuth_pattern(g.az_rx_rad - beam_az_rad))
             .sqrt() as f32;
@@ -234,9 +296,10 @@ impl EchoGroups {
             {
                 *d += s * w;
             }
+            largest = largest.max(w * g.peak);
             earliest = Some(earliest.map_or(g.first_sample, |e: usize| e.min(g.first_sample)));
         }
-        earliest
+        (earliest, largest)
     }
 
     /// Number of stored impulse-response samples.

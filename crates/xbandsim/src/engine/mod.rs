@@ -7,9 +7,11 @@
 //! frozen-scan schedule: one pulse per spoke and one scene state per revolution, every object
 //! where the beam crosses it ([`crate::model::Revolution`]).
 
+mod pulse;
 mod schedule;
 mod trace_cache;
 
+pub use pulse::{Mover, MOVING_ECHO_FOLD_ERROR};
 pub use schedule::{Dwell, Pulse, Schedule};
 pub use trace_cache::{TraceCache, Traced};
 
@@ -18,7 +20,7 @@ use crate::environment::clutter_map::ClutterMap;
 use crate::error::{Error, Problem, Result};
 use crate::geometry::Bvh;
 use crate::model::revolution::Revolution;
-use crate::model::{Radar, Scene};
+use crate::model::{ProcessingMode, Radar, Scene};
 use crate::processing::PulseCompressor;
 use crate::products::labels::{object_truth, ObjectTruth};
 use crate::products::{Frame, FrameStats};
@@ -44,6 +46,14 @@ pub struct Simulation {
     receiver: Receiver,
     kernel: FractionalDelayKernel,
     cache: TraceCache,
+    doppler: Option<pulse::DopplerPlan>,
+}
+
+/// Optional products of a frame.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Outputs {
+    /// The range-Doppler cube (pulse mode).
+    pub doppler_cube: bool,
 }
 
 /// The raw signals of one pulse, in units of the noise rms voltage `√(k·T0·F·fs)`.
@@ -71,6 +81,10 @@ impl Simulation {
             scene.radar().receiver_blanking(),
             compressor.pulse_len(),
         );
+        let processing = scene.processing();
+        let doppler = (processing.mode() == ProcessingMode::Pulse).then(|| {
+            pulse::DopplerPlan::new(processing.doppler_pulses(), processing.doppler_window())
+        });
         Simulation {
             scene: Arc::new(scene),
             bvh: Arc::new(bvh),
@@ -78,6 +92,7 @@ impl Simulation {
             receiver,
             kernel: FractionalDelayKernel::new(),
             cache: TraceCache::default(),
+            doppler,
         }
     }
 
@@ -386,8 +401,33 @@ impl Simulation {
         frame: u64,
         spoke_done: &(dyn Fn() + Sync),
     ) -> Frame {
-        let schedule = Schedule::frozen_scan(self.scene.radar(), frame);
-        self.run_checked(&schedule, seed, spoke_done)
+        self.render_frame_outputs(seed, frame, Outputs::default(), spoke_done)
+    }
+
+    /// Renders revolution `frame` with the scan of `[processing] mode` and the optional
+    /// `outputs` (a Doppler cube needs pulse mode), calling `spoke_done` after every spoke.
+    pub fn render_frame_outputs(
+        &self,
+        seed: u64,
+        frame: u64,
+        outputs: Outputs,
+        spoke_done: &(dyn Fn() + Sync),
+    ) -> Frame {
+        let schedule =
+            Schedule::for_mode(self.scene.radar(), self.scene.processing().mode(), frame);
+        self.run_checked(&schedule, seed, outputs, spoke_done)
+    }
+
+    /// Seconds before a revolution's start from which its beam crossings are sought: half a
+    /// spoke in pulse mode (spoke 0's first pulses come before north), none in spoke mode.
+    fn revolution_lead_s(&self) -> f64 {
+        match self.scene.processing().mode() {
+            ProcessingMode::Spoke => 0.0,
+            ProcessingMode::Pulse => {
+                let scan = self.scene.radar().scan();
+                0.5 * scan.period_s() / scan.spokes() as f64
+            }
+        }
     }
 
     /// The traced state of the revolution that starts at `start_time_s` and its echo groups,
@@ -398,8 +438,9 @@ impl Simulation {
 
     fn traced_now(&self, start_time_s: f64) -> (Arc<Traced>, bool) {
         let still = self.scene.is_still();
+        let lead_s = self.revolution_lead_s();
         self.cache.get_or_trace(start_time_s, still, || {
-            let revolution = Revolution::of(&self.scene, start_time_s);
+            let revolution = Revolution::with_lead(&self.scene, start_time_s, lead_s);
             let bvh = if still {
                 Arc::clone(&self.bvh)
             } else {
@@ -427,7 +468,7 @@ impl Simulation {
         dwell_done: &(dyn Fn() + Sync),
     ) -> Result<Frame> {
         self.check_schedule(schedule)?;
-        Ok(self.run_checked(schedule, seed, dwell_done))
+        Ok(self.run_checked(schedule, seed, Outputs::default(), dwell_done))
     }
 
     fn check_schedule(&self, schedule: &Schedule) -> Result<()> {
@@ -446,7 +487,13 @@ impl Simulation {
         Ok(())
     }
 
-    fn run_checked(&self, schedule: &Schedule, seed: u64, dwell_done: &(dyn Fn() + Sync)) -> Frame {
+    fn run_checked(
+        &self,
+        schedule: &Schedule,
+        seed: u64,
+        outputs: Outputs,
+        dwell_done: &(dyn Fn() + Sync),
+    ) -> Frame {
         let t0 = Instant::now();
         let (traced, fresh) = self.traced_now(schedule.scene_time_s());
         let trace_s = if fresh {
@@ -459,14 +506,37 @@ impl Simulation {
         // crosses each object (in the labels) are the revolution's own.
         let own_revolution;
         let revolution = if self.scene.is_still() {
-            own_revolution = Revolution::of(&self.scene, schedule.scene_time_s());
+            own_revolution = Revolution::with_lead(
+                &self.scene,
+                schedule.scene_time_s(),
+                self.revolution_lead_s(),
+            );
             &own_revolution
         } else {
             &traced.revolution
         };
         let clutter = self.clutter_map_from(revolution.scene().radar(), seed, schedule.frame());
-        let polar_db =
-            self.synthesize_checked(&traced.groups, clutter.as_ref(), seed, schedule, dwell_done);
+        let (polar_db, doppler_cube) = match self.scene.processing().mode() {
+            ProcessingMode::Spoke => (
+                self.synthesize_checked(
+                    &traced.groups,
+                    clutter.as_ref(),
+                    seed,
+                    schedule,
+                    dwell_done,
+                ),
+                None,
+            ),
+            ProcessingMode::Pulse => self.synthesize_pulses(
+                &traced.groups,
+                clutter.as_ref(),
+                &self.movers(revolution),
+                seed,
+                schedule,
+                outputs.doppler_cube,
+                dwell_done,
+            ),
+        };
         let synthesis_s = t1.elapsed().as_secs_f64();
         let truth = object_truth(revolution, &traced.set, &traced.bvh);
         let radar = self.scene.radar();
@@ -478,6 +548,7 @@ impl Simulation {
             range_bins: self.compressor.num_bins(),
             range_bin_m: radar.range_bin_m(),
             polar_db,
+            doppler_cube,
             truth,
             stats: FrameStats {
                 rays_cast: traced.set.rays_cast,

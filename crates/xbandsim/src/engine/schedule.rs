@@ -68,6 +68,54 @@ impl Schedule {
         }
     }
 
+    /// The pulse-by-pulse scan of revolution `frame`: pulse n fired at
+    /// `t = frame·T + n/prf` (n < `floor(prf·T)`, T = 60/rpm) with the antenna at
+    /// `2π·n/(prf·T)`, integrated into the spoke nearest that azimuth; the pulses of each
+    /// dwell in time order. The scene state is the revolution's (every object traced where
+    /// the beam crosses it; the engine advances moving echoes to each pulse's time).
+    pub fn pulse_scan(radar: &Radar, frame: u64) -> Schedule {
+        let scan = radar.scan();
+        let spokes = scan.spokes();
+        let start_s = frame as f64 * scan.period_s();
+        let mut dwells: Vec<Dwell> = (0..spokes)
+            .map(|k| Dwell {
+                spoke: k,
+                pulses: Vec::new(),
+            })
+            .collect();
+        let total = scan.pulses_per_revolution();
+        for n in 0..total {
+            dwells[scan.spoke_of_pulse(n)].pulses.push(Pulse {
+                number: n as u64,
+                time_s: start_s + scan.pulse_time_s(n),
+                azimuth_rad: scan.pulse_azimuth_rad(n),
+            });
+        }
+        // Spoke 0's dwell straddles north: its pulses from the end of the revolution come
+        // first in azimuth (just before north), then those from its start; keep them in
+        // azimuth order around the spoke.
+        let (late, early): (Vec<Pulse>, Vec<Pulse>) = dwells[0]
+            .pulses
+            .iter()
+            .partition(|p| p.azimuth_rad > std::f64::consts::PI);
+        dwells[0].pulses = late.into_iter().chain(early).collect();
+        Schedule {
+            spokes,
+            frame,
+            scene_time_s: start_s,
+            dwells,
+        }
+    }
+
+    /// The schedule the scene's `[processing] mode` asks for: [`Schedule::frozen_scan`]
+    /// (spoke) or [`Schedule::pulse_scan`] (pulse).
+    pub fn for_mode(radar: &Radar, mode: crate::model::ProcessingMode, frame: u64) -> Schedule {
+        match mode {
+            crate::model::ProcessingMode::Spoke => Schedule::frozen_scan(radar, frame),
+            crate::model::ProcessingMode::Pulse => Schedule::pulse_scan(radar, frame),
+        }
+    }
+
     /// A schedule of one's own for `radar`: every spoke filled by exactly one dwell (in any
     /// order), every dwell with at least one pulse, pulse numbers unique, times and azimuths
     /// finite. The pulses see the scene state of the revolution starting at `scene_time_s`.

@@ -7,6 +7,7 @@
 pub(crate) mod checks;
 mod environment;
 pub mod motion;
+pub mod processing;
 mod radar;
 pub mod revolution;
 mod scattering;
@@ -14,6 +15,7 @@ mod world;
 
 pub use environment::{Environment, SeaClutter};
 pub use motion::{Kinematics, Motion, OwnShip};
+pub use processing::{Integration, Processing, ProcessingMode};
 pub use radar::{Polarisation, Radar, Scan, MAX_POLAR_CELLS, MAX_SPOKES};
 pub use revolution::Revolution;
 pub use scattering::{ScatteringConfig, ScatteringModel};
@@ -33,6 +35,7 @@ pub struct Scene {
     scattering: ScatteringConfig,
     objects: Vec<SceneObject>,
     own_ship: Option<OwnShip>,
+    processing: Processing,
 }
 
 impl Scene {
@@ -80,7 +83,14 @@ impl Scene {
             scattering,
             objects,
             own_ship: None,
+            processing: Processing::default(),
         })
+    }
+
+    /// The scene processed with `processing`.
+    pub fn with_processing(mut self, processing: Processing) -> Scene {
+        self.processing = processing;
+        self
     }
 
     /// The scene with the radar riding on `own_ship`.
@@ -119,7 +129,9 @@ impl Scene {
             .enumerate()
             .map(|(i, o)| world::build_object(i, o, base_dir))
             .collect::<Result<Vec<_>>>()?;
-        let scene = Scene::new(radar, environment, scattering, objects)?;
+        let processing = processing::build_processing(&spec.processing, &radar)?;
+        let scene =
+            Scene::new(radar, environment, scattering, objects)?.with_processing(processing);
         Ok(match &spec.own_ship {
             None => scene,
             Some(s) => {
@@ -151,6 +163,11 @@ impl Scene {
     /// The objects, in scene-file order (their index is their truth id).
     pub fn objects(&self) -> &[SceneObject] {
         &self.objects
+    }
+
+    /// The processing settings.
+    pub fn processing(&self) -> &Processing {
+        &self.processing
     }
 
     /// The ship the radar rides on (None: the radar stands still).

@@ -85,6 +85,28 @@ impl Scan {
     pub fn spoke_azimuth_rad(&self, k: usize) -> f64 {
         std::f64::consts::TAU * k as f64 / self.spokes as f64
     }
+
+    /// Pulses fired in one revolution at the PRF, `floor(prf·60/rpm)` (pulse mode).
+    pub fn pulses_per_revolution(&self) -> usize {
+        (self.prf_hz * self.period_s() + 1e-9).floor() as usize
+    }
+
+    /// Time of pulse `n` after the start of its revolution, `n/prf` s.
+    pub fn pulse_time_s(&self, n: usize) -> f64 {
+        n as f64 / self.prf_hz
+    }
+
+    /// Antenna azimuth when pulse `n` is fired, `2π·n/(prf·T)` rad.
+    pub fn pulse_azimuth_rad(&self, n: usize) -> f64 {
+        std::f64::consts::TAU * self.pulse_time_s(n) / self.period_s()
+    }
+
+    /// The spoke whose azimuth is nearest pulse `n`'s (the record row the pulse is
+    /// integrated into).
+    pub fn spoke_of_pulse(&self, n: usize) -> usize {
+        let s = self.pulse_azimuth_rad(n) / std::f64::consts::TAU * self.spokes as f64;
+        (s.round() as usize) % self.spokes
+    }
 }
 
 impl Radar {

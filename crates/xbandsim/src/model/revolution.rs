@@ -49,6 +49,13 @@ pub struct Revolution {
 impl Revolution {
     /// The revolution of `scene` that starts at `start_time_s`. A still scene is used as it is.
     pub fn of(scene: &Arc<Scene>, start_time_s: f64) -> Revolution {
+        Revolution::with_lead(scene, start_time_s, 0.0)
+    }
+
+    /// As [`Revolution::of`], with the beam crossings sought from `lead_s` before the start
+    /// (the antenna `Ω·lead_s` short of north) to one period later: pulse mode's spoke 0
+    /// takes its first pulses half a spoke before north.
+    pub fn with_lead(scene: &Arc<Scene>, start_time_s: f64, lead_s: f64) -> Revolution {
         let period_s = scene.radar().scan().period_s();
         let radar_at = |t: f64| {
             scene.radar().position_m()
@@ -61,9 +68,23 @@ impl Revolution {
             .objects()
             .iter()
             .map(|o| {
-                let beam_time_s = beam_crossing_time_s(start_time_s, period_s, |t| {
-                    o.kinematics(t).position_m - radar_at(t)
-                });
+                let lead_rad = TAU * lead_s / period_s;
+                let (sin_lead, cos_lead) = lead_rad.sin_cos();
+                let beam_time_s = if lead_s == 0.0 {
+                    beam_crossing_time_s(start_time_s, period_s, |t| {
+                        o.kinematics(t).position_m - radar_at(t)
+                    })
+                } else {
+                    // Bearings measured from the antenna's azimuth at start − lead.
+                    beam_crossing_time_s(start_time_s - lead_s, period_s, |t| {
+                        let r = o.kinematics(t).position_m - radar_at(t);
+                        DVec3::new(
+                            r.x * cos_lead + r.y * sin_lead,
+                            r.y * cos_lead - r.x * sin_lead,
+                            r.z,
+                        )
+                    })
+                };
                 ObjectState {
                     beam_time_s,
                     kinematics: o.kinematics(beam_time_s),
@@ -93,6 +114,7 @@ impl Revolution {
                 scattering: scene.scattering().clone(),
                 objects: posed,
                 own_ship: None,
+                processing: scene.processing().clone(),
             })
         };
         Revolution {

@@ -50,6 +50,18 @@ pub struct PulseCompressor {
     combined_spectrum: Vec<Complex32>,
     /// Peak gain of the filter on a unit echo, `Σw/√Σw²`.
     peak_gain: f64,
+    /// The transmitted chirp's samples (for Doppler-shifted copies).
+    chirp_samples: Vec<Complex64>,
+}
+
+/// The spectra of a Doppler-shifted echo `s(t)·exp(j2π·f_D·t)` (docs/physics.md §10): its
+/// chirp spectrum `FFT(s_D)/n` (exact path) and `FFT(s_D)·conj(FFT(h))/n` (fused path).
+#[derive(Debug, Clone)]
+pub struct DopplerSpectra {
+    /// `FFT(s_D)/n`.
+    pub chirp: Vec<Complex32>,
+    /// `FFT(s_D)·conj(FFT(h))/n`.
+    pub combined: Vec<Complex32>,
 }
 
 impl std::fmt::Debug for PulseCompressor {
@@ -68,6 +80,11 @@ pub struct SpokeScratch {
     pub buffer: Vec<Complex32>,
     /// Noise buffer (FFT length).
     pub noise: Vec<Complex32>,
+    /// Impulse response of one moving object (FFT length), for
+    /// [`PulseCompressor::add_moving_echo`].
+    pub moving: Vec<Complex32>,
+    /// Sum of the moving echoes' spectra (FFT length).
+    moving_spectrum: Vec<Complex32>,
     fft_scratch: Vec<Complex32>,
 }
 
@@ -77,6 +94,8 @@ impl SpokeScratch {
     pub fn fill(&mut self, value: Complex32) {
         self.buffer.fill(value);
         self.noise.fill(value);
+        self.moving.fill(value);
+        self.moving_spectrum.fill(value);
         self.fft_scratch.fill(value);
     }
 }
@@ -130,6 +149,94 @@ impl PulseCompressor {
             filter_spectrum,
             combined_spectrum,
             peak_gain: sum_w / sum_w2.sqrt(),
+            chirp_samples: s,
+        }
+    }
+
+    /// The spectra of the chirp shifted by `doppler_hz` within the pulse, sampled at
+    /// `sample_rate_hz`: `s_D[n] = s[n]·exp(j2π·f_D·n/fs)`. The matched filter stays the
+    /// unshifted chirp's, so the compressed peak moves by the LFM range–Doppler coupling.
+    pub fn doppler_spectra(&self, doppler_hz: f64, sample_rate_hz: f64) -> DopplerSpectra {
+        let n = self.fft_len;
+        let mut buf = vec![Complex64::new(0.0, 0.0); n];
+        for (i, (b, x)) in buf.iter_mut().zip(&self.chirp_samples).enumerate() {
+            let phase = std::f64::consts::TAU * doppler_hz * i as f64 / sample_rate_hz;
+            *b = x * Complex64::from_polar(1.0, phase);
+        }
+        FftPlanner::<f64>::new()
+            .plan_fft_forward(n)
+            .process(&mut buf);
+        let inv_n = 1.0 / n as f64;
+        let chirp: Vec<Complex32> = buf
+            .iter()
+            .map(|x| {
+                let y = x * inv_n;
+                Complex32::new(y.re as f32, y.im as f32)
+            })
+            .collect();
+        // filter_spectrum = conj(FFT h)/n, so FFT(s_D)·conj(FFT h)/n = FFT(s_D)·filter.
+        let combined = buf
+            .iter()
+            .zip(&self.filter_spectrum)
+            .map(|(x, h)| {
+                let y = x * Complex64::new(h.re as f64, h.im as f64);
+                Complex32::new(y.re as f32, y.im as f32)
+            })
+            .collect();
+        DopplerSpectra { chirp, combined }
+    }
+
+    /// Clears the sum of moving echoes before a pulse's first [`Self::add_moving_echo`].
+    pub fn clear_moving(&self, scratch: &mut SpokeScratch) {
+        scratch.moving_spectrum.fill(Complex32::new(0.0, 0.0));
+    }
+
+    /// Adds the echo of one moving object to the pulse: its impulse response in
+    /// `scratch.moving` (FFT length, zero beyond the record; overwritten) is transformed,
+    /// delayed by `delay_samples` (a phase ramp `exp(−j2π·k·δ/n)` over signed frequency
+    /// bins k: exact for a band-limited echo), multiplied by `factor` (the carrier phase
+    /// advance) and by its Doppler-shifted chirp spectrum — `spectra.combined` for the fused
+    /// path, `spectra.chirp` when the pulse takes the exact path (`fused == false`, see
+    /// [`Self::process_with_moving`]).
+    pub fn add_moving_echo(
+        &self,
+        scratch: &mut SpokeScratch,
+        spectra: &DopplerSpectra,
+        factor: Complex64,
+        delay_samples: f64,
+        fused: bool,
+    ) {
+        let SpokeScratch {
+            moving,
+            moving_spectrum,
+            fft_scratch,
+            ..
+        } = scratch;
+        self.forward.process_with_scratch(moving, fft_scratch);
+        let n = self.fft_len;
+        let spectrum = if fused {
+            &spectra.combined
+        } else {
+            &spectra.chirp
+        };
+        let step = Complex64::from_polar(1.0, -std::f64::consts::TAU * delay_samples / n as f64);
+        // Non-negative frequencies k = 0 .. ceil(n/2), then negative ones k − n.
+        let half = n.div_ceil(2);
+        let mut ramp = factor;
+        for k in 0..half {
+            let m = ramp * Complex64::new(spectrum[k].re as f64, spectrum[k].im as f64);
+            moving_spectrum[k] += moving[k] * Complex32::new(m.re as f32, m.im as f32);
+            ramp *= step;
+        }
+        let mut ramp = factor
+            * Complex64::from_polar(
+                1.0,
+                std::f64::consts::TAU * delay_samples * (n - half) as f64 / n as f64,
+            );
+        for k in half..n {
+            let m = ramp * Complex64::new(spectrum[k].re as f64, spectrum[k].im as f64);
+            moving_spectrum[k] += moving[k] * Complex32::new(m.re as f32, m.im as f32);
+            ramp *= step;
         }
     }
 
@@ -167,6 +274,8 @@ impl PulseCompressor {
         SpokeScratch {
             buffer: vec![Complex32::new(0.0, 0.0); self.fft_len],
             noise: vec![Complex32::new(0.0, 0.0); self.fft_len],
+            moving: vec![Complex32::new(0.0, 0.0); self.fft_len],
+            moving_spectrum: vec![Complex32::new(0.0, 0.0); self.fft_len],
             fft_scratch: vec![Complex32::new(0.0, 0.0); n],
         }
     }
@@ -184,10 +293,26 @@ impl PulseCompressor {
         blank: bool,
         echo_in_blanking: bool,
     ) {
+        self.process_with_moving(scratch, with_noise, blank, echo_in_blanking, false);
+    }
+
+    /// As [`Self::process`], adding the moving echoes summed by [`Self::add_moving_echo`]
+    /// when `with_moving` (added in the fused path's domain unless `blank && echo_in_blanking`,
+    /// which takes the exact path).
+    pub fn process_with_moving(
+        &self,
+        scratch: &mut SpokeScratch,
+        with_noise: bool,
+        blank: bool,
+        echo_in_blanking: bool,
+        with_moving: bool,
+    ) {
         let SpokeScratch {
             buffer,
             noise,
+            moving_spectrum,
             fft_scratch,
+            ..
         } = scratch;
         if blank && with_noise {
             noise[..self.pulse_len.min(self.fft_len)].fill(Complex32::new(0.0, 0.0));
@@ -196,6 +321,11 @@ impl PulseCompressor {
         if blank && echo_in_blanking {
             for (b, s) in buffer.iter_mut().zip(&self.chirp_spectrum) {
                 *b *= s;
+            }
+            if with_moving {
+                for (b, m) in buffer.iter_mut().zip(moving_spectrum.iter()) {
+                    *b += m;
+                }
             }
             self.inverse.process_with_scratch(buffer, fft_scratch);
             buffer[..self.pulse_len].fill(Complex32::new(0.0, 0.0));
@@ -211,6 +341,11 @@ impl PulseCompressor {
         } else {
             for (b, c) in buffer.iter_mut().zip(&self.combined_spectrum) {
                 *b *= c;
+            }
+            if with_moving {
+                for (b, m) in buffer.iter_mut().zip(moving_spectrum.iter()) {
+                    *b += m;
+                }
             }
             if with_noise {
                 self.forward.process_with_scratch(noise, fft_scratch);

@@ -3,4 +3,6 @@
 
 mod matched_filter;
 
-pub use matched_filter::{direct_correlation, fast_fft_len, PulseCompressor, SpokeScratch};
+pub use matched_filter::{
+    direct_correlation, fast_fft_len, DopplerSpectra, PulseCompressor, SpokeScratch,
+};

@@ -1,5 +1,5 @@
 //! The files of one rendered frame, written as a set: `polar.npy`, `ppi.png`, `ppi_gray.png`
-//! and `truth.json` (docs/formats.md). The truth file holds no timings, so the same scene and
+//! and `truth.json`, and `doppler_cube.npy` when the frame has one (docs/formats.md). The truth file holds no timings, so the same scene and
 //! seed give byte-identical files.
 
 use super::labels::ObjectTruth;
@@ -20,6 +20,7 @@ struct TruthFile<'a> {
     frame: u64,
     frame_start_time_s: f64,
     own_ship: Option<OwnShipTruth>,
+    doppler_cube: Option<CubeAxes>,
     spokes: usize,
     range_bins: usize,
     range_bin_m: f64,
@@ -37,6 +38,14 @@ struct TraceCounts {
     rays_cast: u64,
     contributions: usize,
     echo_groups: usize,
+}
+
+/// The axes of doppler_cube.npy.
+#[derive(Serialize)]
+struct CubeAxes {
+    shape: [usize; 3],
+    doppler_bin_hz: f64,
+    zero_doppler_bin: usize,
 }
 
 /// The own ship at the start of the frame.
@@ -122,6 +131,11 @@ pub fn write_frame_files(
         frame: frame.frame,
         frame_start_time_s: frame.start_time_s,
         own_ship: frame.own_ship.as_ref().map(OwnShipTruth::of),
+        doppler_cube: frame.doppler_cube.as_ref().map(|c| CubeAxes {
+            shape: [c.spokes, c.doppler_bins, c.range_bins],
+            doppler_bin_hz: c.doppler_bin_hz,
+            zero_doppler_bin: c.doppler_bins / 2,
+        }),
         spokes: frame.spokes,
         range_bins: frame.range_bins,
         range_bin_m: frame.range_bin_m,
@@ -135,14 +149,18 @@ pub fn write_frame_files(
         trace: TraceCounts::of(&frame.stats),
     };
     let truth = json_bytes(&out.join("truth.json"), &truth)?;
-    write_set(
-        out,
-        &[
-            ("polar.npy", polar),
-            ("ppi.png", colour),
-            ("ppi_gray.png", gray),
-            ("truth.json", truth),
-        ],
-    )?;
+    let mut files = vec![
+        ("polar.npy", polar),
+        ("ppi.png", colour),
+        ("ppi_gray.png", gray),
+        ("truth.json", truth),
+    ];
+    if let Some(c) = &frame.doppler_cube {
+        files.push((
+            "doppler_cube.npy",
+            npy_f32_bytes(&[c.spokes, c.doppler_bins, c.range_bins], &c.values_db),
+        ));
+    }
+    write_set(out, &files)?;
     Ok(())
 }

@@ -27,6 +27,37 @@ pub struct FrameStats {
     pub synthesis_s: f64,
 }
 
+/// The range-Doppler-azimuth cube of a pulse-mode revolution: for each spoke, the Doppler
+/// spectrum of its first `doppler_pulses` pulses in every range bin (docs/formats.md,
+/// "doppler_cube.npy").
+#[derive(Debug, Clone, PartialEq)]
+pub struct DopplerCube {
+    /// Spokes (first axis).
+    pub spokes: usize,
+    /// Doppler bins (second axis): bin d at `(d − floor(doppler_bins/2))·doppler_bin_hz`.
+    pub doppler_bins: usize,
+    /// Range bins (third axis), as the polar record's.
+    pub range_bins: usize,
+    /// Doppler bin spacing `PRF/M`, Hz.
+    pub doppler_bin_hz: f64,
+    /// `|Y|²/Σw²` over the mean noise power, dB, spokes × Doppler × range, row-major.
+    pub values_db: Vec<f32>,
+}
+
+impl DopplerCube {
+    /// Doppler frequency of bin `d`, Hz.
+    pub fn doppler_hz(&self, d: usize) -> f64 {
+        (d as f64 - (self.doppler_bins / 2) as f64) * self.doppler_bin_hz
+    }
+
+    /// The Doppler spectrum (dB) of spoke `k` at range bin `j`.
+    pub fn spectrum(&self, k: usize, j: usize) -> Vec<f32> {
+        (0..self.doppler_bins)
+            .map(|d| self.values_db[(k * self.doppler_bins + d) * self.range_bins + j])
+            .collect()
+    }
+}
+
 /// One rendered revolution.
 #[derive(Debug, Clone)]
 pub struct Frame {
@@ -44,6 +75,8 @@ pub struct Frame {
     pub range_bin_m: f64,
     /// Matched-filter output power over mean noise power, dB, spokes × bins row-major.
     pub polar_db: Vec<f32>,
+    /// The range-Doppler cube (pulse mode, when asked for).
+    pub doppler_cube: Option<DopplerCube>,
     /// Per-object ground truth (PPI pixel boxes are added by the PPI product for a given
     /// image: `products::ppi::PpiGeometry::label`).
     pub truth: Vec<ObjectTruth>,

@@ -8,6 +8,6 @@ mod spec;
 
 pub use load::{locate, LoadedSpec};
 pub use spec::{
-    ClutterDistributionName, DisplaySpec, EnvironmentSpec, ObjectSpec, OwnShipSpec, RadarPreset,
-    RadarSpec, RainCellSpec, ScatteringSpec, SceneSpec, ShapeName, WindowName,
+    ClutterDistributionName, DisplaySpec, EnvironmentSpec, ObjectSpec, OwnShipSpec, ProcessingSpec,
+    RadarPreset, RadarSpec, RainCellSpec, ScatteringSpec, SceneSpec, ShapeName, WindowName,
 };

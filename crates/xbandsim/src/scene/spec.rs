@@ -4,7 +4,7 @@
 
 use crate::environment::clutter::Sigma0Model;
 use crate::geometry::MeshUnit;
-use crate::model::{Polarisation, ScatteringModel};
+use crate::model::{Integration, Polarisation, ProcessingMode, ScatteringModel};
 use crate::products::ppi::Colormap;
 use crate::propagation::SeaRoughness;
 use schemars::JsonSchema;
@@ -117,6 +117,9 @@ pub struct SceneSpec {
     pub scattering: ScatteringSpec,
     /// The ship the radar rides on (none: the radar stands still).
     pub own_ship: Option<OwnShipSpec>,
+    /// How pulses are fired and processed.
+    #[serde(default)]
+    pub processing: ProcessingSpec,
     /// The objects in the scene (`[[object]]` tables).
     #[serde(default, rename = "object")]
     pub objects: Vec<ObjectSpec>,
@@ -341,6 +344,21 @@ pub struct ObjectSpec {
     pub motion_period_s: Option<f64>,
     /// Phase of the wave-induced motion at t = 0, degrees (default 0).
     pub motion_phase_deg: Option<f64>,
+}
+
+/// `[processing]`.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ProcessingSpec {
+    /// "spoke" (default: one pulse per spoke, the fast path) or "pulse" (every pulse at the
+    /// PRF, each seeing the scene at its own time).
+    pub mode: Option<ProcessingMode>,
+    /// How a spoke's pulses are combined: "noncoherent" (default), "coherent" or "none".
+    pub integration: Option<Integration>,
+    /// Pulses per Doppler CPI (pulse mode; default: the fewest pulses a spoke gets).
+    pub doppler_pulses: Option<usize>,
+    /// Window across the CPI: "hamming" (default), "none" or "taylor" (n̄ = 4, −35 dB).
+    pub doppler_window: Option<WindowName>,
 }
 
 /// `[own_ship]`: the ship the radar rides on. The antenna (`radar.position_m` at t = 0)

@@ -13,6 +13,7 @@ mod labels;
 mod meshes;
 mod motion;
 mod multipath;
+mod pulse;
 mod rcs;
 mod scene_errors;
 mod signal_chain;

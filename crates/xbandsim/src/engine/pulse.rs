@@ -1,0 +1,413 @@
+//! Stage: engine, pulse mode (docs/physics.md §10). Every pulse of a revolution is fired at
+//! its own time and azimuth. The scene is traced once per revolution with each object where
+//! the beam crosses it (time t_b); for each pulse at time t a moving object's echo is advanced
+//! from that trace by its range rate ṙ: delay `2ṙ·(t − t_b)/c` (a phase ramp over the
+//! frequency bins, exact for a band-limited echo), carrier phase `exp(−j4π·Δr/λ)` with
+//! `Δr = ṙ·Δt + ½·r̈·Δt²`, `r̈ = (|v|² − ṙ²)/R` (straight relative motion), `Δt = t − t_b`,
+//! and bearing `β̇·(t − t_b)` (the antenna pattern weights it at its moved bearing),
+//! and its chirp is Doppler-shifted within the pulse (`s(t)·exp(j2π·f_D·t)`, which gives the
+//! LFM range–Doppler coupling). A dwell's pulses are integrated into its spoke
+//! (noncoherent, coherent or none), and its first `doppler_pulses` pulses give the spoke's
+//! slab of the range-Doppler cube.
+
+use super::{Simulation, MIN_GROUP_AMPLITUDE, POLAR_FLOOR_DB};
+use crate::constants::SPEED_OF_LIGHT_M_PER_S;
+use crate::echo::EchoGroups;
+use crate::environment::clutter_map::ClutterMap;
+use crate::model::revolution::Revolution;
+use crate::model::Integration;
+use crate::processing::{DopplerSpectra, SpokeScratch};
+use crate::products::DopplerCube;
+use crate::rng::{RngKey, Stream};
+use num_complex::{Complex32, Complex64};
+use rayon::prelude::*;
+use rustfft::{Fft, FftPlanner};
+use std::sync::Arc;
+
+use super::schedule::{Pulse, Schedule};
+
+/// A moving object's echo in pulse mode: when it was traced and how fast its range changes.
+#[derive(Debug, Clone)]
+pub struct Mover {
+    /// The object.
+    pub object: u32,
+    /// Time of its trace (the beam crossing), s.
+    pub beam_time_s: f64,
+    /// Range rate relative to the antenna, m/s.
+    pub range_rate_mps: f64,
+    /// Second derivative of its range for straight relative motion, `(|v|² − ṙ²)/R`, m/s².
+    pub range_acceleration_mps2: f64,
+    /// Rate of change of its bearing from the antenna, rad/s (clockwise positive).
+    pub bearing_rate_rad_per_s: f64,
+    /// Its Doppler shift `−2ṙ/λ`, Hz.
+    pub doppler_hz: f64,
+    /// Its Doppler-shifted chirp spectra.
+    pub spectra: DopplerSpectra,
+}
+
+/// Below this error amplitude (noise-rms units, −60 dB) a moving echo is added with its
+/// carrier phase only, into the pulse's common impulse response: the error of leaving out
+/// its sub-sample delay walk and intra-pulse Doppler is at most `peak·(π|δ| + 2π|f_D|·T)`.
+pub const MOVING_ECHO_FOLD_ERROR: f32 = 1e-3;
+
+/// The Doppler FFT of pulse mode, planned once.
+pub(crate) struct DopplerPlan {
+    pub(crate) fft: Arc<dyn Fft<f32>>,
+    pub(crate) window: Vec<f32>,
+    pub(crate) window_power: f32,
+}
+
+impl DopplerPlan {
+    pub(crate) fn new(pulses: usize, window: crate::waveform::Window) -> DopplerPlan {
+        let w: Vec<f32> = window
+            .coefficients(pulses)
+            .iter()
+            .map(|&x| x as f32)
+            .collect();
+        let window_power = w.iter().map(|x| x * x).sum();
+        DopplerPlan {
+            fft: FftPlanner::<f32>::new().plan_fft_forward(pulses),
+            window: w,
+            window_power,
+        }
+    }
+}
+
+/// Per-worker buffers of pulse mode.
+struct PulseScratch {
+    spoke: SpokeScratch,
+    coherent: Vec<Complex32>,
+    cpi: Vec<Complex32>,
+    doppler: Vec<Complex32>,
+    doppler_fft: Vec<Complex32>,
+}
+
+impl Simulation {
+    /// The moving echoes of a revolution: every object whose range rate relative to the
+    /// antenna is not zero, with its Doppler-shifted chirp spectra.
+    pub fn movers(&self, revolution: &Revolution) -> Vec<Mover> {
+        let scene = revolution.scene();
+        let radar = scene.radar();
+        scene
+            .objects()
+            .iter()
+            .zip(revolution.objects())
+            .enumerate()
+            .filter_map(|(i, (o, state))| {
+                let rel = o.position_m() - radar.position_m();
+                let range = rel.length();
+                if range <= 0.0 {
+                    return None;
+                }
+                let v = state.kinematics.velocity_mps - state.antenna_velocity_mps;
+                let rate = v.dot(rel / range);
+                let ground2 = rel.x * rel.x + rel.y * rel.y;
+                let bearing_rate = if ground2 > 0.0 {
+                    (rel.y * v.x - rel.x * v.y) / ground2
+                } else {
+                    0.0
+                };
+                (rate != 0.0 || bearing_rate != 0.0).then(|| {
+                    let doppler_hz = -2.0 * rate / radar.wavelength_m();
+                    Mover {
+                        object: i as u32,
+                        beam_time_s: state.beam_time_s,
+                        range_rate_mps: rate,
+                        range_acceleration_mps2: (v.length_squared() - rate * rate) / range,
+                        bearing_rate_rad_per_s: bearing_rate,
+                        doppler_hz,
+                        spectra: self
+                            .compressor
+                            .doppler_spectra(doppler_hz, radar.sample_rate_hz()),
+                    }
+                })
+            })
+            .collect()
+    }
+
+    /// Compressed output of one pulse with moving echoes advanced to the pulse's time, into
+    /// `scratch.buffer[..bins]` (noise-rms units).
+    #[allow(clippy::too_many_arguments)]
+    pub fn compress_moving_pulse(
+        &self,
+        clutter: Option<&ClutterMap>,
+        groups: &EchoGroups,
+        movers: &[Mover],
+        spoke: usize,
+        pulse: &Pulse,
+        seed: u64,
+        frame: u64,
+        scratch: &mut SpokeScratch,
+    ) {
+        let radar = self.scene.radar();
+        let antenna = radar.antenna();
+        let record = self.compressor.record_len();
+        let fs = radar.sample_rate_hz();
+        let pulse_s = self.compressor.pulse_len() as f64 / fs;
+        let az = pulse.azimuth_rad;
+        scratch.buffer.fill(Complex32::new(0.0, 0.0));
+        let is_mover = |o: u32| movers.iter().any(|m| m.object == o);
+        let (mut earliest, _) = groups.accumulate_where(
+            antenna,
+            az,
+            MIN_GROUP_AMPLITUDE,
+            &mut scratch.buffer[..record],
+            |o| !is_mover(o),
+        );
+        if let Some(c) = clutter {
+            c.add_to_spoke(
+                spoke,
+                RngKey::new(seed, frame, pulse.number, Stream::ClutterSpeckle),
+                &mut scratch.buffer[..record],
+            );
+        }
+        // Each mover's delay walk, carrier phase and the beam's azimuth relative to its
+        // moved bearing at this pulse.
+        let advance = |m: &Mover| {
+            let dt = pulse.time_s - m.beam_time_s;
+            let dr = m.range_rate_mps * dt + 0.5 * m.range_acceleration_mps2 * dt * dt;
+            let delay = 2.0 * dr / SPEED_OF_LIGHT_M_PER_S * fs;
+            let phase = Complex64::from_polar(
+                1.0,
+                -2.0 * std::f64::consts::TAU * dr / radar.wavelength_m(),
+            );
+            (delay, phase, az - m.bearing_rate_rad_per_s * dt)
+        };
+        // Pass 1: weak movers are folded in with their phase; strong ones are marked.
+        let mut strong = 0u64;
+        for (i, m) in movers.iter().enumerate() {
+            let (delay, phase, beam_az) = advance(m);
+            scratch.moving.fill(Complex32::new(0.0, 0.0));
+            let (e, peak) = groups.accumulate_groups(
+                groups.groups_of(m.object),
+                antenna,
+                beam_az,
+                MIN_GROUP_AMPLITUDE,
+                &mut scratch.moving[..record],
+            );
+            let Some(e) = e else { continue };
+            let error = peak
+                * (std::f64::consts::PI * delay.abs()
+                    + std::f64::consts::TAU * m.doppler_hz.abs() * pulse_s)
+                    as f32;
+            if error < MOVING_ECHO_FOLD_ERROR || i >= 64 {
+                let f = Complex32::new(phase.re as f32, phase.im as f32);
+                for (b, x) in scratch.buffer[..record]
+                    .iter_mut()
+                    .zip(&scratch.moving[..record])
+                {
+                    *b += x * f;
+                }
+                earliest = Some(earliest.map_or(e, |x| x.min(e)));
+            } else {
+                strong |= 1 << i;
+                // The walk may bring it up to a sample earlier.
+                let e = (e as f64 + delay.min(0.0)).floor().max(0.0) as usize;
+                earliest = Some(earliest.map_or(e, |x| x.min(e)));
+            }
+        }
+        let rx = &self.receiver;
+        let in_blanking = rx.echo_in_blanking(clutter.is_some(), earliest);
+        let fused = !(rx.blanking() && in_blanking);
+        // Pass 2: strong movers through their own spectra.
+        if strong != 0 {
+            self.compressor.clear_moving(scratch);
+            for (i, m) in movers.iter().enumerate() {
+                if strong & (1 << i) == 0 {
+                    continue;
+                }
+                let (delay, phase, beam_az) = advance(m);
+                scratch.moving.fill(Complex32::new(0.0, 0.0));
+                groups.accumulate_groups(
+                    groups.groups_of(m.object),
+                    antenna,
+                    beam_az,
+                    MIN_GROUP_AMPLITUDE,
+                    &mut scratch.moving[..record],
+                );
+                self.compressor
+                    .add_moving_echo(scratch, &m.spectra, phase, delay, fused);
+            }
+        }
+        if rx.noise() {
+            rx.fill_noise(seed, frame, pulse.number, &mut scratch.noise[..record]);
+            scratch.noise[record..].fill(Complex32::new(0.0, 0.0));
+        }
+        self.compressor.process_with_moving(
+            scratch,
+            rx.noise(),
+            rx.blanking(),
+            in_blanking,
+            strong != 0,
+        );
+    }
+
+    /// Pulse mode: every dwell's pulses compressed with their moving echoes, integrated into
+    /// the spoke as `[processing] integration` says, and (when `cube`) the Doppler spectrum of
+    /// each spoke's first `doppler_pulses` pulses. Returns the polar record and the cube.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn synthesize_pulses(
+        &self,
+        groups: &EchoGroups,
+        clutter: Option<&ClutterMap>,
+        movers: &[Mover],
+        seed: u64,
+        schedule: &Schedule,
+        cube: bool,
+        dwell_done: &(dyn Fn() + Sync),
+    ) -> (Vec<f32>, Option<DopplerCube>) {
+        let radar = self.scene.radar();
+        let spokes = radar.spokes();
+        let bins = self.compressor.num_bins();
+        let processing = self.scene.processing();
+        let integration = processing.integration();
+        let plan = self
+            .doppler
+            .as_ref()
+            .filter(|_| cube)
+            .map(|p| (p, p.window.len()));
+        let cpi_len = plan.map_or(0, |(_, m)| m);
+        let mut dwell_of_spoke = vec![0usize; spokes];
+        for (i, d) in schedule.dwells().iter().enumerate() {
+            dwell_of_spoke[d.spoke] = i;
+        }
+        let mut polar = vec![0f32; spokes * bins];
+        let mut cube_values = vec![0f32; if cube { spokes * cpi_len * bins } else { 0 }];
+        let mut slabs: Vec<Option<&mut [f32]>> = if cpi_len > 0 {
+            cube_values.chunks_mut(cpi_len * bins).map(Some).collect()
+        } else {
+            (0..spokes).map(|_| None).collect()
+        };
+        polar
+            .par_chunks_mut(bins)
+            .zip(slabs.par_iter_mut())
+            .enumerate()
+            .for_each_init(
+                || PulseScratch {
+                    spoke: self.compressor.scratch(),
+                    coherent: vec![Complex32::new(0.0, 0.0); bins],
+                    cpi: vec![Complex32::new(0.0, 0.0); cpi_len * bins],
+                    doppler: vec![Complex32::new(0.0, 0.0); cpi_len],
+                    doppler_fft: vec![
+                        Complex32::new(0.0, 0.0);
+                        plan.map_or(0, |(p, _)| p.fft.get_inplace_scratch_len())
+                    ],
+                },
+                |s, (k, (row, slab))| {
+                    let dwell = &schedule.dwells()[dwell_of_spoke[k]];
+                    let spoke_az = radar.scan().spoke_azimuth_rad(k);
+                    let nearest = dwell
+                        .pulses
+                        .iter()
+                        .enumerate()
+                        .min_by(|(_, a), (_, b)| {
+                            let d = |p: &Pulse| {
+                                ((p.azimuth_rad - spoke_az + std::f64::consts::PI)
+                                    .rem_euclid(std::f64::consts::TAU)
+                                    - std::f64::consts::PI)
+                                    .abs()
+                            };
+                            d(a).total_cmp(&d(b))
+                        })
+                        .map_or(0, |(i, _)| i);
+                    row.fill(0.0);
+                    s.coherent.fill(Complex32::new(0.0, 0.0));
+                    for (m, pulse) in dwell.pulses.iter().enumerate() {
+                        self.compress_moving_pulse(
+                            clutter,
+                            groups,
+                            movers,
+                            k,
+                            pulse,
+                            seed,
+                            schedule.frame(),
+                            &mut s.spoke,
+                        );
+                        let y = &s.spoke.buffer[..bins];
+                        match integration {
+                            Integration::Noncoherent => {
+                                for (o, v) in row.iter_mut().zip(y) {
+                                    *o += v.norm_sqr();
+                                }
+                            }
+                            Integration::Coherent => {
+                                for (o, v) in s.coherent.iter_mut().zip(y) {
+                                    *o += v;
+                                }
+                            }
+                            Integration::None => {
+                                if m == nearest {
+                                    for (o, v) in row.iter_mut().zip(y) {
+                                        *o = v.norm_sqr();
+                                    }
+                                }
+                            }
+                        }
+                        if m < cpi_len {
+                            s.cpi[m * bins..(m + 1) * bins].copy_from_slice(y);
+                        }
+                    }
+                    let count = dwell.pulses.len() as f32;
+                    match integration {
+                        Integration::Noncoherent => row.iter_mut().for_each(|o| *o /= count),
+                        Integration::Coherent => {
+                            for (o, v) in row.iter_mut().zip(&s.coherent) {
+                                *o = v.norm_sqr() / count;
+                            }
+                        }
+                        Integration::None => {}
+                    }
+                    for o in row.iter_mut() {
+                        *o = (10.0 * o.log10()).max(POLAR_FLOOR_DB);
+                    }
+                    if let (Some((p, m_len)), Some(slab)) = (plan, slab.as_deref_mut()) {
+                        doppler_slab(
+                            p,
+                            m_len,
+                            bins,
+                            &mut s.cpi,
+                            &mut s.doppler,
+                            &mut s.doppler_fft,
+                            slab,
+                        );
+                    }
+                    dwell_done();
+                },
+            );
+        let cube = (cpi_len > 0).then(|| DopplerCube {
+            spokes,
+            doppler_bins: cpi_len,
+            range_bins: bins,
+            doppler_bin_hz: radar.prf_hz() / cpi_len as f64,
+            values_db: cube_values,
+        });
+        (polar, cube)
+    }
+}
+
+/// The Doppler spectrum of one spoke's CPI (`cpi`: M pulses × bins, compressed outputs) into
+/// `slab` (M Doppler bins × range bins, dB over the noise): per range bin the windowed FFT
+/// over the pulses, `|Y|²/Σw²` (noise stays at 0 dB), zero Doppler in the middle row
+/// `floor(M/2)` and bin d at `(d − floor(M/2))·PRF/M`.
+fn doppler_slab(
+    plan: &DopplerPlan,
+    pulses: usize,
+    bins: usize,
+    cpi: &mut [Complex32],
+    column: &mut [Complex32],
+    fft_scratch: &mut [Complex32],
+    slab: &mut [f32],
+) {
+    let centre = pulses / 2;
+    let inv_power = 1.0 / plan.window_power;
+    for j in 0..bins {
+        for (m, c) in column.iter_mut().enumerate() {
+            *c = cpi[m * bins + j] * plan.window[m];
+        }
+        plan.fft.process_with_scratch(column, fft_scratch);
+        for (k, c) in column.iter().enumerate() {
+            let d = (k + centre) % pulses;
+            slab[d * bins + j] = (10.0 * (c.norm_sqr() * inv_power).log10()).max(POLAR_FLOOR_DB);
+        }
+    }
+}
