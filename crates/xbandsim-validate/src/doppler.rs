@@ -172,6 +172,84 @@ fn dwell_pattern(sim: &Simulation, spoke_k: usize, az_rad: f64) -> Vec<f64> {
         .collect()
 }
 
+/// Sea clutter's Doppler spectrum looking upwind (sea state 4, HH, Rayleigh, no noise; 3 rpm
+/// so that a 128-pulse CPI resolves it): (measured centroid Hz, width Hz; expected centroid Hz,
+/// width Hz). Measured: the power-weighted mean and standard deviation of the Doppler axis over
+/// the cube's spectra averaged over 3 spokes × 200 range cells. Expected: the same moments of
+/// the expected periodogram `E|Y_d|² = Σ_{m,m'} w_m·w_m'·R((m − m')·PRI)·e^{−j2πd(m−m')/M}` of
+/// a Gaussian spectrum, `R(τ) = exp(j2π·f̄·τ − 2π²σ_f²τ²)`, f̄ = 2·v̄/λ, σ_f = 2σ_v/λ.
+pub fn sea_clutter_doppler_moments() -> ((f64, f64), (f64, f64)) {
+    let text = "[environment]
+multipath = false
+noise = false
+sea_state = 4
+wind_direction_deg = 88.0
+clutter_distribution = \"rayleigh\"
+[radar]
+position_m = [0.0, 0.0, 10.0]
+spokes = 90
+rotation_rpm = 3.0
+prf_hz = 1000.0
+max_range_m = 450.0
+[processing]
+mode = \"pulse\"
+doppler_pulses = 128
+";
+    let (sim, frame) = render_pulse(text);
+    let cube = frame.doppler_cube.as_ref().unwrap();
+    let m = cube.doppler_bins;
+    let mut mean_spectrum = vec![0f64; m];
+    for k in 21..=23 {
+        for j in 100..300 {
+            for (acc, v) in mean_spectrum.iter_mut().zip(cube.spectrum(k, j)) {
+                *acc += 10f64.powf(v as f64 / 10.0);
+            }
+        }
+    }
+    let moments = |p: &[f64]| {
+        let total: f64 = p.iter().sum();
+        let c: f64 = p
+            .iter()
+            .enumerate()
+            .map(|(d, v)| cube.doppler_hz(d) * v)
+            .sum::<f64>()
+            / total;
+        let var: f64 = p
+            .iter()
+            .enumerate()
+            .map(|(d, v)| (cube.doppler_hz(d) - c).powi(2) * v)
+            .sum::<f64>()
+            / total;
+        (c, var.sqrt())
+    };
+    let doppler = sim.scene().environment().clutter_doppler();
+    let lambda = sim.scene().radar().wavelength_m();
+    let (f_mean, f_sigma) = (
+        2.0 * doppler.sea_velocity_mps / lambda,
+        2.0 * doppler.sea_spread_mps / lambda,
+    );
+    let pri = 1.0 / 1000.0;
+    let w = sim.scene().processing().doppler_window().coefficients(m);
+    let expected: Vec<f64> = (0..m)
+        .map(|d| {
+            let f_d = cube.doppler_hz(d);
+            let mut acc = num_complex::Complex64::new(0.0, 0.0);
+            for a in 0..m {
+                for b in 0..m {
+                    let tau = (a as f64 - b as f64) * pri;
+                    let r = num_complex::Complex64::from_polar(
+                        (-2.0 * std::f64::consts::PI.powi(2) * f_sigma * f_sigma * tau * tau).exp(),
+                        std::f64::consts::TAU * (f_mean - f_d) * tau,
+                    );
+                    acc += r * w[a] * w[b];
+                }
+            }
+            acc.re
+        })
+        .collect();
+    (moments(&mean_spectrum), moments(&expected))
+}
+
 /// The checks of this area, in the order `xbandsim validate` prints them.
 pub(crate) fn checks(out: &mut Checks) {
     const RICHARDS: &str = "Richards, Fundamentals of Radar Signal Processing, 2nd ed., 2014, §2.7 (f_D = 2v/λ), §5.2 (Doppler sampling, blind speeds), §4.6 (LFM range–Doppler coupling)";
@@ -299,6 +377,24 @@ pub(crate) fn checks(out: &mut Checks) {
         "dB",
         Tolerance::Absolute(0.02),
         SKOLNIK,
+    ));
+    const WTW: &str = "Gaussian clutter spectrum with mean 2v̄/λ and spread 2σ_v/λ (Ward, Tough & Watts, Sea Clutter, 2nd ed., 2013, §2.6), windowed periodogram (Harris 1978)";
+    let ((c_meas, w_meas), (c_exp, w_exp)) = sea_clutter_doppler_moments();
+    out.push(check(
+        "sea clutter looking upwind (sea state 4, HH): Doppler centroid 2·v̄/λ through the window",
+        c_exp,
+        c_meas,
+        "Hz",
+        Tolerance::Absolute(3.0),
+        WTW,
+    ));
+    out.push(check(
+        "sea clutter looking upwind: Doppler spectrum width, 2σ_v/λ through the window",
+        w_exp,
+        w_meas,
+        "Hz",
+        Tolerance::Relative(0.03),
+        WTW,
     ));
     let peak_db = spoke(&pulse_frame, k)[j] as f64;
     let worst = (k - 4..=k + 4)

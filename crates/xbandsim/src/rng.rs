@@ -30,6 +30,9 @@ pub enum Stream {
     /// The sea-clutter texture field (one per seed: it drifts from frame to frame rather than
     /// being drawn anew, so it ignores the frame and the pulse).
     ClutterTexture,
+    /// The Doppler-coloured sea-clutter and rain speckle of one dwell in pulse mode (its
+    /// `pulse` word is the dwell's spoke).
+    ClutterDwell,
 }
 
 /// The key of one random stream.
@@ -63,12 +66,14 @@ impl RngKey {
     }
 
     /// The (frame word, stream word) hashed with the seed. Receiver noise: (frame, pulse);
-    /// clutter speckle: (frame, 2^40 + pulse); the clutter texture: (2^64 − 1, 2^40 − 1).
+    /// clutter speckle: (frame, 2^40 + pulse); the clutter texture: (2^64 − 1, 2^40 − 1);
+    /// a pulse-mode dwell's clutter: (frame, 2^41 + spoke).
     fn words(&self) -> (u64, u64) {
         match self.stream {
             Stream::ReceiverNoise => (self.frame, self.pulse),
             Stream::ClutterSpeckle => (self.frame, CLUTTER_WORD + self.pulse),
             Stream::ClutterTexture => (u64::MAX, CLUTTER_WORD - 1),
+            Stream::ClutterDwell => (self.frame, 2 * CLUTTER_WORD + self.pulse),
         }
     }
 
@@ -99,7 +104,11 @@ mod tests {
         for seed in 0..3 {
             for frame in 0..3 {
                 for pulse in 0..50 {
-                    for stream in [Stream::ReceiverNoise, Stream::ClutterSpeckle] {
+                    for stream in [
+                        Stream::ReceiverNoise,
+                        Stream::ClutterSpeckle,
+                        Stream::ClutterDwell,
+                    ] {
                         let k = RngKey::new(seed, frame, pulse, stream);
                         assert!(seen.insert(k.stream_seed()), "{k:?}");
                         assert_eq!(k.stream_seed(), k.stream_seed());

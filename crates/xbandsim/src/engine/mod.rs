@@ -530,6 +530,9 @@ impl Simulation {
             ProcessingMode::Pulse => self.synthesize_pulses(
                 &traced.groups,
                 clutter.as_ref(),
+                revolution
+                    .own_ship()
+                    .map_or(glam::DVec3::ZERO, |s| s.velocity_mps),
                 &self.movers(revolution),
                 seed,
                 schedule,

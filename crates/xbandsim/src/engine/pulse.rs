@@ -13,12 +13,13 @@
 use super::{Simulation, MIN_GROUP_AMPLITUDE, POLAR_FLOOR_DB};
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
 use crate::echo::EchoGroups;
-use crate::environment::clutter_map::ClutterMap;
+use crate::environment::clutter_map::{ClutterMap, DwellClutterScratch, GaussianDoppler};
 use crate::model::revolution::Revolution;
 use crate::model::Integration;
 use crate::processing::{DopplerSpectra, SpokeScratch};
 use crate::products::DopplerCube;
 use crate::rng::{RngKey, Stream};
+use glam::DVec3;
 use num_complex::{Complex32, Complex64};
 use rayon::prelude::*;
 use rustfft::{Fft, FftPlanner};
@@ -76,6 +77,9 @@ impl DopplerPlan {
 /// Per-worker buffers of pulse mode.
 struct PulseScratch {
     spoke: SpokeScratch,
+    clutter: Vec<Complex32>,
+    clutter_scratch: DwellClutterScratch,
+    times: Vec<f64>,
     coherent: Vec<Complex32>,
     cpi: Vec<Complex32>,
     doppler: Vec<Complex32>,
@@ -83,6 +87,28 @@ struct PulseScratch {
 }
 
 impl Simulation {
+    /// The Doppler spectra of sea clutter and rain seen by a beam at `azimuth_rad` from an
+    /// antenna moving at `own_velocity` (ENU m/s): mean `−2·(V − V_own)·û/λ` with V the
+    /// scatterers' drift downwind, spread `2σ_v/λ`.
+    pub fn clutter_doppler(
+        &self,
+        azimuth_rad: f64,
+        own_velocity: DVec3,
+    ) -> (GaussianDoppler, GaussianDoppler) {
+        let d = self.scene.environment().clutter_doppler();
+        let lambda = self.scene.radar().wavelength_m();
+        let look = DVec3::new(azimuth_rad.sin(), azimuth_rad.cos(), 0.0);
+        let downwind = DVec3::new(d.downwind_rad.sin(), d.downwind_rad.cos(), 0.0);
+        let line = |speed: f64, spread: f64| GaussianDoppler {
+            mean_hz: -2.0 * (downwind * speed - own_velocity).dot(look) / lambda,
+            spread_hz: 2.0 * spread / lambda,
+        };
+        (
+            line(d.sea_velocity_mps, d.sea_spread_mps),
+            line(d.rain_velocity_mps, d.rain_spread_mps),
+        )
+    }
+
     /// The moving echoes of a revolution: every object whose range rate relative to the
     /// antenna is not zero, with its Doppler-shifted chirp spectra.
     pub fn movers(&self, revolution: &Revolution) -> Vec<Mover> {
@@ -125,15 +151,15 @@ impl Simulation {
             .collect()
     }
 
-    /// Compressed output of one pulse with moving echoes advanced to the pulse's time, into
+    /// Compressed output of one pulse with moving echoes advanced to the pulse's time and its
+    /// dwell's clutter record `clutter_echo` (from [`ClutterMap::add_dwell`]), into
     /// `scratch.buffer[..bins]` (noise-rms units).
     #[allow(clippy::too_many_arguments)]
     pub fn compress_moving_pulse(
         &self,
-        clutter: Option<&ClutterMap>,
+        clutter_echo: Option<&[Complex32]>,
         groups: &EchoGroups,
         movers: &[Mover],
-        spoke: usize,
         pulse: &Pulse,
         seed: u64,
         frame: u64,
@@ -154,12 +180,10 @@ impl Simulation {
             &mut scratch.buffer[..record],
             |o| !is_mover(o),
         );
-        if let Some(c) = clutter {
-            c.add_to_spoke(
-                spoke,
-                RngKey::new(seed, frame, pulse.number, Stream::ClutterSpeckle),
-                &mut scratch.buffer[..record],
-            );
+        if let Some(c) = clutter_echo {
+            for (b, x) in scratch.buffer[..record].iter_mut().zip(c) {
+                *b += x;
+            }
         }
         // Each mover's delay walk, carrier phase and the beam's azimuth relative to its
         // moved bearing at this pulse.
@@ -207,7 +231,7 @@ impl Simulation {
             }
         }
         let rx = &self.receiver;
-        let in_blanking = rx.echo_in_blanking(clutter.is_some(), earliest);
+        let in_blanking = rx.echo_in_blanking(clutter_echo.is_some(), earliest);
         let fused = !(rx.blanking() && in_blanking);
         // Pass 2: strong movers through their own spectra.
         if strong != 0 {
@@ -250,6 +274,7 @@ impl Simulation {
         &self,
         groups: &EchoGroups,
         clutter: Option<&ClutterMap>,
+        own_velocity: DVec3,
         movers: &[Mover],
         seed: u64,
         schedule: &Schedule,
@@ -285,6 +310,9 @@ impl Simulation {
             .for_each_init(
                 || PulseScratch {
                     spoke: self.compressor.scratch(),
+                    clutter: Vec::new(),
+                    clutter_scratch: DwellClutterScratch::default(),
+                    times: Vec::new(),
                     coherent: vec![Complex32::new(0.0, 0.0); bins],
                     cpi: vec![Complex32::new(0.0, 0.0); cpi_len * bins],
                     doppler: vec![Complex32::new(0.0, 0.0); cpi_len],
@@ -312,12 +340,30 @@ impl Simulation {
                         .map_or(0, |(i, _)| i);
                     row.fill(0.0);
                     s.coherent.fill(Complex32::new(0.0, 0.0));
+                    let record = self.compressor.record_len();
+                    if let Some(c) = clutter {
+                        s.times.clear();
+                        s.times.extend(dwell.pulses.iter().map(|p| p.time_s));
+                        s.clutter.clear();
+                        s.clutter
+                            .resize(dwell.pulses.len() * record, Complex32::new(0.0, 0.0));
+                        let (sea, rain) = self.clutter_doppler(spoke_az, own_velocity);
+                        c.add_dwell(
+                            k,
+                            &s.times,
+                            sea,
+                            rain,
+                            RngKey::new(seed, schedule.frame(), k as u64, Stream::ClutterDwell),
+                            &mut s.clutter_scratch,
+                            &mut s.clutter,
+                            record,
+                        );
+                    }
                     for (m, pulse) in dwell.pulses.iter().enumerate() {
                         self.compress_moving_pulse(
-                            clutter,
+                            clutter.map(|_| &s.clutter[m * record..(m + 1) * record]),
                             groups,
                             movers,
-                            k,
                             pulse,
                             seed,
                             schedule.frame(),

@@ -28,6 +28,25 @@ pub struct Environment {
     rain: Option<Rain>,
     /// 4/3-earth curvature (horizon, grazing angles).
     earth_curvature: bool,
+    /// How sea clutter and rain move (their Doppler spectra).
+    clutter_doppler: ClutterDoppler,
+}
+
+/// The Doppler spectra of sea clutter and rain (pulse mode; docs/physics.md §10): each a
+/// Gaussian in radial velocity whose mean is the scatterers' drift velocity (downwind) seen
+/// along the beam, and whose standard deviation is the spread.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClutterDoppler {
+    /// Direction the scatterers drift toward (downwind), rad (nautical).
+    pub downwind_rad: f64,
+    /// Mean drift speed of the sea scatterers, m/s.
+    pub sea_velocity_mps: f64,
+    /// Standard deviation of the sea scatterers' radial velocity, m/s.
+    pub sea_spread_mps: f64,
+    /// Drift speed of the rain (it moves with the wind), m/s.
+    pub rain_velocity_mps: f64,
+    /// Standard deviation of the rain's radial velocity, m/s.
+    pub rain_spread_mps: f64,
 }
 
 impl Environment {
@@ -59,6 +78,11 @@ impl Environment {
     /// 4/3-earth curvature (horizon, grazing angles).
     pub fn earth_curvature(&self) -> bool {
         self.earth_curvature
+    }
+
+    /// The Doppler spectra of sea clutter and rain.
+    pub fn clutter_doppler(&self) -> &ClutterDoppler {
+        &self.clutter_doppler
     }
 }
 
@@ -125,7 +149,11 @@ impl Environment {
     }
 }
 
-pub(super) fn build_environment(s: &EnvironmentSpec, carrier_freq_hz: f64) -> Result<Environment> {
+pub(super) fn build_environment(
+    s: &EnvironmentSpec,
+    carrier_freq_hz: f64,
+    horizontal: bool,
+) -> Result<Environment> {
     let in_range = |field: &str, v: f64, lo: f64, hi: f64, what: &str| -> Result<f64> {
         let v = finite(field, v)?;
         if (lo..=hi).contains(&v) {
@@ -296,7 +324,41 @@ pub(super) fn build_environment(s: &EnvironmentSpec, carrier_freq_hz: f64) -> Re
         cells,
         top_m,
     });
+    // Sea clutter's mean Doppler velocity and spread scale with the wind U: about 0.25·U
+    // (HH) or 0.12·U (VV) downwind and a spread of 0.1·U, assumed defaults after the X-band
+    // low-grazing-angle spectra in Ward, Tough & Watts, Sea Clutter, 2nd ed., 2013, §2.6
+    // (HH centroids above VV's, both growing with the wind); rain drifts with the wind with a
+    // 1.5 m/s spread (typical precipitation spectrum widths, Doviak & Zrnić, Doppler Radar
+    // and Weather Observations, 2nd ed., 1993, §5.3).
+    let wind_mps = sea_state_wind_speed_m_per_s(sea_state);
+    let speed = |field: &str, v: Option<f64>, default: f64| {
+        in_range(field, v.unwrap_or(default), 0.0, 100.0, "m/s")
+    };
+    let clutter_doppler = ClutterDoppler {
+        downwind_rad: wind_from_rad + std::f64::consts::PI,
+        sea_velocity_mps: speed(
+            "environment.clutter_doppler_velocity_mps",
+            s.clutter_doppler_velocity_mps,
+            if horizontal { 0.25 } else { 0.12 } * wind_mps,
+        )?,
+        sea_spread_mps: speed(
+            "environment.clutter_doppler_spread_mps",
+            s.clutter_doppler_spread_mps,
+            (0.1 * wind_mps).max(0.1),
+        )?,
+        rain_velocity_mps: speed(
+            "environment.rain_velocity_mps",
+            s.rain_velocity_mps,
+            wind_mps,
+        )?,
+        rain_spread_mps: speed(
+            "environment.rain_doppler_spread_mps",
+            s.rain_doppler_spread_mps,
+            1.5,
+        )?,
+    };
     Ok(Environment {
+        clutter_doppler,
         noise: s.noise.unwrap_or(true),
         sea,
         two_way_attenuation_db_per_km: attenuation,

@@ -13,7 +13,7 @@ pub mod revolution;
 mod scattering;
 mod world;
 
-pub use environment::{Environment, SeaClutter};
+pub use environment::{ClutterDoppler, Environment, SeaClutter};
 pub use motion::{Kinematics, Motion, OwnShip};
 pub use processing::{Integration, Processing, ProcessingMode};
 pub use radar::{Polarisation, Radar, Scan, MAX_POLAR_CELLS, MAX_SPOKES};
@@ -120,8 +120,11 @@ impl Scene {
     /// `[display]` table is not part of the model (see [`crate::products::ppi::PpiSettings`]).
     pub fn from_spec_in(spec: &SceneSpec, base_dir: &Path) -> Result<Scene> {
         let radar = radar::build_radar(&spec.radar, spec.environment.polarisation)?;
-        let environment =
-            environment::build_environment(&spec.environment, radar.carrier_freq_hz())?;
+        let environment = environment::build_environment(
+            &spec.environment,
+            radar.carrier_freq_hz(),
+            radar.polarisation() == Polarisation::Hh,
+        )?;
         let scattering = scattering::build_scattering(&spec.scattering)?;
         let objects = spec
             .objects

@@ -222,6 +222,16 @@ pub struct EnvironmentSpec {
     pub clutter_correlation_m: Option<f64>,
     /// Speed at which the texture drifts downwind, m/s (default 1.14 × the sea state's wind).
     pub clutter_drift_m_per_s: Option<f64>,
+    /// Mean drift speed of sea-clutter scatterers downwind, m/s, for their Doppler (pulse
+    /// mode; default 0.25 × the sea state's wind for HH, 0.12 × for VV).
+    pub clutter_doppler_velocity_mps: Option<f64>,
+    /// Standard deviation of the sea clutter's radial velocity, m/s (default 0.1 × the
+    /// wind, at least 0.1).
+    pub clutter_doppler_spread_mps: Option<f64>,
+    /// Speed at which rain drifts downwind, m/s (default: the sea state's wind).
+    pub rain_velocity_mps: Option<f64>,
+    /// Standard deviation of the rain's radial velocity, m/s (default 1.5).
+    pub rain_doppler_spread_mps: Option<f64>,
     /// Rain on or off (default true; rain needs a rate or cells).
     pub rain: Option<bool>,
     /// Uniform rain rate everywhere, mm/h (default 0).
