@@ -122,6 +122,53 @@ fn frames_writes_consecutive_revolutions() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("--frames 0"));
 }
 
+/// `--datacube` writes doppler_cube.npy in pulse mode, with its axes in truth.json, and is
+/// refused in spoke mode.
+#[test]
+fn datacube_is_written_in_pulse_mode() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = |mode: &str| {
+        vec![
+            "render".to_string(),
+            "scenes/paper.toml".into(),
+            "--datacube".into(),
+            "--spokes".into(),
+            "90".into(),
+            "--set".into(),
+            format!("processing.mode={mode}"),
+            "--out".into(),
+        ]
+    };
+    let out = xbandsim()
+        .args(args("pulse"))
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (shape, data) =
+        xbandsim::products::output::read_npy_f32(&dir.path().join("doppler_cube.npy")).unwrap();
+    // 1200 Hz × 2.5 s = 3000 pulses over 90 spokes: at least 33 a spoke.
+    assert_eq!(shape[0], 90);
+    assert_eq!(shape[1], 33);
+    assert!(data.iter().all(|v| v.is_finite()));
+    let truth: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("truth.json")).unwrap()).unwrap();
+    assert_eq!(truth["doppler_cube"]["zero_doppler_bin"], 16);
+    let out = xbandsim()
+        .args(args("spoke"))
+        .arg(dir.path().join("spoke"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--datacube") && err.contains("pulse"), "{err}");
+    assert!(!dir.path().join("spoke").exists());
+}
+
 #[test]
 fn bad_scene_gives_a_clear_error_and_no_output() {
     let dir = tempfile::tempdir().unwrap();
