@@ -266,6 +266,31 @@ impl EchoGroups {
         (earliest, peak)
     }
 
+    /// The earliest first sample and the sum of the weighted peaks (an upper bound on the
+    /// accumulated impulse response's peak) of the `groups` that
+    /// [`EchoGroups::accumulate_groups`] would add for a beam at `beam_az_rad`; nothing is
+    /// written.
+    pub fn weighted_peak_bound(
+        groups: &[EchoGroup],
+        antenna: &Antenna,
+        beam_az_rad: f64,
+        min_amplitude: f32,
+    ) -> (Option<usize>, f32) {
+        let mut earliest: Option<usize> = None;
+        let mut sum = 0f32;
+        for g in groups {
+            let w = (antenna.azimuth_pattern(g.az_tx_rad - beam_az_rad)
+                * antenna.azimuth_pattern(g.az_rx_rad - beam_az_rad))
+            .sqrt() as f32;
+            if w * g.peak < min_amplitude {
+                continue;
+            }
+            sum += w * g.peak;
+            earliest = Some(earliest.map_or(g.first_sample, |e: usize| e.min(g.first_sample)));
+        }
+        (earliest, sum)
+    }
+
     /// Adds `groups` (a slice of this set's) weighted by the azimuth pattern; returns the
     /// earliest sample written and the largest weighted group peak.
     pub fn accumulate_groups(

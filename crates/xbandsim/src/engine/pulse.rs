@@ -46,9 +46,11 @@ pub struct Mover {
     pub spectra: DopplerSpectra,
 }
 
-/// Below this error amplitude (noise-rms units, −60 dB) a moving echo is added with its
-/// carrier phase only, into the pulse's common impulse response: the error of leaving out
-/// its sub-sample delay walk and intra-pulse Doppler is at most `peak·(π|δ| + 2π|f_D|·T)`.
+/// Below this error amplitude (noise-rms units after compression, −60 dB) a moving echo is
+/// added with its carrier phase only, into the pulse's common impulse response: the error of
+/// leaving out its sub-sample delay walk and intra-pulse Doppler is at most
+/// `Σ peaks · G_mf · (π|δ| + 2π|f_D|·T)`, the sum over the object's weighted groups and
+/// `G_mf = Σw/√Σw²` the matched filter's peak gain.
 pub const MOVING_ECHO_FOLD_ERROR: f32 = 1e-3;
 
 /// The Doppler FFT of pulse mode, planned once.
@@ -187,8 +189,12 @@ impl Simulation {
         }
         // Each mover's delay walk, carrier phase and the beam's azimuth relative to its
         // moved bearing at this pulse.
+        let period_s = radar.scan().period_s();
         let advance = |m: &Mover| {
+            // Within half a revolution of its beam crossing: a revolution's record holds
+            // each object once, where its labels put it (docs/physics.md §10).
             let dt = pulse.time_s - m.beam_time_s;
+            let dt = dt - period_s * (dt / period_s).round();
             let dr = m.range_rate_mps * dt + 0.5 * m.range_acceleration_mps2 * dt * dt;
             let delay = 2.0 * dr / SPEED_OF_LIGHT_M_PER_S * fs;
             let phase = Complex64::from_polar(
@@ -197,50 +203,66 @@ impl Simulation {
             );
             (delay, phase, az - m.bearing_rate_rad_per_s * dt)
         };
-        // Pass 1: weak movers are folded in with their phase; strong ones are marked.
-        let mut strong = 0u64;
-        for (i, m) in movers.iter().enumerate() {
+        // A mover is "strong" when leaving out its delay walk and intra-pulse Doppler could
+        // err by more than MOVING_ECHO_FOLD_ERROR after compression: the bound is the sum of
+        // its weighted group peaks times the filter's peak gain times (π|δ| + 2π|f_D|·T).
+        let peak_gain = self.compressor.peak_gain() as f32;
+        let strong = |m: &Mover, delay: f64, beam_az: f64| {
+            let (e, bound) = EchoGroups::weighted_peak_bound(
+                groups.groups_of(m.object),
+                antenna,
+                beam_az,
+                MIN_GROUP_AMPLITUDE,
+            );
+            let error = bound
+                * peak_gain
+                * (std::f64::consts::PI * delay.abs()
+                    + std::f64::consts::TAU * m.doppler_hz.abs() * pulse_s)
+                    as f32;
+            (e, error >= MOVING_ECHO_FOLD_ERROR)
+        };
+        // Pass 1: weak movers are folded in with their phase; strong ones only move the
+        // earliest sample (their walk may bring them up to a sample earlier).
+        let mut any_strong = false;
+        for m in movers {
             let (delay, phase, beam_az) = advance(m);
+            let (Some(e), is_strong) = strong(m, delay, beam_az) else {
+                continue;
+            };
+            if is_strong {
+                any_strong = true;
+                let e = (e as f64 + delay.min(0.0)).floor().max(0.0) as usize;
+                earliest = Some(earliest.map_or(e, |x| x.min(e)));
+                continue;
+            }
             scratch.moving.fill(Complex32::new(0.0, 0.0));
-            let (e, peak) = groups.accumulate_groups(
+            groups.accumulate_groups(
                 groups.groups_of(m.object),
                 antenna,
                 beam_az,
                 MIN_GROUP_AMPLITUDE,
                 &mut scratch.moving[..record],
             );
-            let Some(e) = e else { continue };
-            let error = peak
-                * (std::f64::consts::PI * delay.abs()
-                    + std::f64::consts::TAU * m.doppler_hz.abs() * pulse_s)
-                    as f32;
-            if error < MOVING_ECHO_FOLD_ERROR || i >= 64 {
-                let f = Complex32::new(phase.re as f32, phase.im as f32);
-                for (b, x) in scratch.buffer[..record]
-                    .iter_mut()
-                    .zip(&scratch.moving[..record])
-                {
-                    *b += x * f;
-                }
-                earliest = Some(earliest.map_or(e, |x| x.min(e)));
-            } else {
-                strong |= 1 << i;
-                // The walk may bring it up to a sample earlier.
-                let e = (e as f64 + delay.min(0.0)).floor().max(0.0) as usize;
-                earliest = Some(earliest.map_or(e, |x| x.min(e)));
+            let f = Complex32::new(phase.re as f32, phase.im as f32);
+            for (b, x) in scratch.buffer[..record]
+                .iter_mut()
+                .zip(&scratch.moving[..record])
+            {
+                *b += x * f;
             }
+            earliest = Some(earliest.map_or(e, |x| x.min(e)));
         }
         let rx = &self.receiver;
         let in_blanking = rx.echo_in_blanking(clutter_echo.is_some(), earliest);
         let fused = !(rx.blanking() && in_blanking);
-        // Pass 2: strong movers through their own spectra.
-        if strong != 0 {
+        // Pass 2: strong movers through their own spectra (the same test decides again).
+        if any_strong {
             self.compressor.clear_moving(scratch);
-            for (i, m) in movers.iter().enumerate() {
-                if strong & (1 << i) == 0 {
+            for m in movers {
+                let (delay, phase, beam_az) = advance(m);
+                if !matches!(strong(m, delay, beam_az), (Some(_), true)) {
                     continue;
                 }
-                let (delay, phase, beam_az) = advance(m);
                 scratch.moving.fill(Complex32::new(0.0, 0.0));
                 groups.accumulate_groups(
                     groups.groups_of(m.object),
@@ -262,7 +284,7 @@ impl Simulation {
             rx.noise(),
             rx.blanking(),
             in_blanking,
-            strong != 0,
+            any_strong,
         );
     }
 

@@ -71,7 +71,8 @@ impl Schedule {
     /// The pulse-by-pulse scan of revolution `frame`: pulse n fired at
     /// `t = frame·T + n/prf` (n < `floor(prf·T)`, T = 60/rpm) with the antenna at
     /// `2π·n/(prf·T)`, integrated into the spoke nearest that azimuth; the pulses of each
-    /// dwell in time order. The scene state is the revolution's (every object traced where
+    /// dwell in time order. Pulses within half a spoke before north belong to spoke 0 and
+    /// are fired one period earlier, at the end of the previous revolution. The scene state is the revolution's (every object traced where
     /// the beam crosses it; the engine advances moving echoes to each pulse's time).
     pub fn pulse_scan(radar: &Radar, frame: u64) -> Schedule {
         let scan = radar.scan();
@@ -91,13 +92,18 @@ impl Schedule {
                 azimuth_rad: scan.pulse_azimuth_rad(n),
             });
         }
-        // Spoke 0's dwell straddles north: its pulses from the end of the revolution come
-        // first in azimuth (just before north), then those from its start; keep them in
-        // azimuth order around the spoke.
-        let (late, early): (Vec<Pulse>, Vec<Pulse>) = dwells[0]
+        // Spoke 0's dwell straddles north: the pulses of the revolution's last half spoke
+        // are fired, in a continuous scan, just before north, at the end of the previous
+        // revolution. They keep their numbers (which key their streams) and are timed one
+        // period earlier, so spoke 0's pulses are evenly spaced and in time order.
+        let period_s = scan.period_s();
+        let (mut late, early): (Vec<Pulse>, Vec<Pulse>) = dwells[0]
             .pulses
             .iter()
             .partition(|p| p.azimuth_rad > std::f64::consts::PI);
+        for p in &mut late {
+            p.time_s -= period_s;
+        }
         dwells[0].pulses = late.into_iter().chain(early).collect();
         Schedule {
             spokes,

@@ -505,8 +505,11 @@ fn build_motion(prefix: &str, o: &ObjectSpec, yaw_rad: Option<f64>) -> Result<Op
         velocity_mps: DVec3::ZERO,
         turn_rate_rad_per_s: 0.0,
     });
+    let still_with_course = o.speed_kn == Some(0.0) && o.course_deg.is_some();
     let heading = match yaw_rad {
         Some(y) => HeadingRule::Fixed(y),
+        // Not moving, but a course given: the bow points along it.
+        None if still_with_course => HeadingRule::Fixed(o.course_deg.unwrap_or(0.0).to_radians()),
         None if moves => HeadingRule::AlongCourse,
         None => HeadingRule::Fixed(0.0),
     };

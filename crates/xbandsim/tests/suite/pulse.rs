@@ -165,3 +165,43 @@ fn processing_settings_are_checked() {
     assert!(msg.contains("integration"), "{msg}");
     assert!(Scene::from_toml_str("[processing]\nmode = \"pulse\"\n", "ok").is_ok());
 }
+
+/// Spoke 0 straddles north: its pulses from before north are fired at the end of the
+/// previous revolution, so its dwell is evenly spaced in time; a target moving just west of
+/// north, seen before north, is drawn once, at its labelled range, on both sides of north
+/// (not again where it will be a revolution later).
+#[test]
+fn spoke_zero_is_continuous_across_north() {
+    let sim = Simulation::new(scene(&MOVING.replace(
+        "position_m = [300.0, 420.0, 2.0]",
+        "position_m = [-1.0, 520.0, 2.0]",
+    )));
+    let radar = sim.scene().radar();
+    let schedule = Schedule::pulse_scan(radar, 3);
+    let d0 = &schedule.dwells()[0];
+    assert!(d0.pulses.len() > 2);
+    for w in d0.pulses.windows(2) {
+        assert!(
+            ((w[1].time_s - w[0].time_s) - 1.0 / 1200.0).abs() < 1e-9,
+            "{w:?}"
+        );
+    }
+    assert!(d0.pulses[0].time_s < 3.0 * 2.5 && d0.pulses.last().unwrap().time_s > 3.0 * 2.5);
+    let frame = sim.render_frame(1, 0);
+    let t = &frame.truth[0];
+    assert!(t.beam_time_s < 0.0, "seen before north: {}", t.beam_time_s);
+    assert!(t.azimuth_deg > 359.0, "bearing {}", t.azimuth_deg);
+    let bins = frame.range_bins;
+    let j_truth = t.range_m / frame.range_bin_m;
+    for k in [359usize, 0, 1] {
+        let row = &frame.polar_db[k * bins..(k + 1) * bins];
+        let (j, _) = row
+            .iter()
+            .enumerate()
+            .fold((0, f32::MIN), |b, (j, &v)| if v > b.1 { (j, v) } else { b });
+        assert!(
+            (j as f64 - j_truth).abs() <= 1.0,
+            "spoke {k}: peak at bin {j}, truth {j_truth}"
+        );
+    }
+}
