@@ -26,6 +26,7 @@ struct TruthFile<'a> {
     range_bin_m: f64,
     image_size_px: u32,
     display_range_m: f64,
+    ppi_up_azimuth_deg: f64,
     radar_position_m: [f64; 3],
     objects: &'a [ObjectTruth],
     /// Deterministic counts only: timings go to the terminal, so that the same seed gives
@@ -96,7 +97,8 @@ pub fn write_frame_files(
     scene_name: &str,
     seed: u64,
 ) -> Result<()> {
-    let conv = display.scan_converter(radar);
+    let up_azimuth_rad = display.up_azimuth_rad(frame.own_ship.as_ref());
+    let conv = display.oriented_scan_converter(radar, up_azimuth_rad);
     let size = conv.size_px();
     let mut objects = frame.truth.clone();
     conv.geometry().label(&mut objects);
@@ -141,6 +143,7 @@ pub fn write_frame_files(
         range_bin_m: frame.range_bin_m,
         image_size_px: size,
         display_range_m: conv.display_range_m(),
+        ppi_up_azimuth_deg: up_azimuth_rad.to_degrees(),
         radar_position_m: frame
             .own_ship
             .map_or(radar.position_m(), |s| s.antenna_position_m)

@@ -1,24 +1,30 @@
 //! Stage: display. Polar (spokes × range bins) to Cartesian PPI scan conversion, colour maps
 //! and range rings.
 //!
-//! The PPI is north-up with the radar at the centre: pixel (col, row) of an image of side
-//! `S` covering ±R is at east `x = (col + ½ − S/2)·2R/S`, north `y = (S/2 − row − ½)·2R/S`;
-//! its azimuth `atan2(x, y)` picks the nearest spoke and its range `√(x²+y²)` is
-//! interpolated linearly between range bins.
+//! The PPI has the radar at the centre and true bearing `u` at the top (`[display]
+//! orientation`: north-up u = 0, head-up u = the own ship's heading, course-up u = its course):
+//! pixel (col, row) of an image of side `S` covering ±R is at screen right
+//! `x = (col + ½ − S/2)·2R/S`, up `y = (S/2 − row − ½)·2R/S`; its true bearing
+//! `atan2(x, y) + u` picks the nearest spoke and its range `√(x²+y²)` is interpolated linearly
+//! between range bins.
 
 use crate::error::{Error, Problem, Result};
 use crate::model::checks::finite;
+use crate::model::revolution::ShipState;
 use crate::model::Radar;
 use crate::products::labels::{EchoRegion, ObjectTruth};
 use crate::scene::DisplaySpec;
 
-/// Geometry of a square north-up PPI image: side in pixels and the range at its edge.
+/// Geometry of a square PPI image: side in pixels, the range at its edge and the true
+/// bearing at its top.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PpiGeometry {
     /// Image side, px.
     pub size_px: u32,
     /// Range from the centre to the image edge, m.
     pub display_range_m: f64,
+    /// True bearing shown straight up, rad (0: north-up).
+    pub up_azimuth_rad: f64,
 }
 
 impl PpiGeometry {
@@ -26,7 +32,11 @@ impl PpiGeometry {
     pub fn pixel_of(&self, east_m: f64, north_m: f64) -> (f64, f64) {
         let s = self.size_px as f64;
         let px_m = 2.0 * self.display_range_m / s;
-        (east_m / px_m + s / 2.0, s / 2.0 - north_m / px_m)
+        // Turn the picture so that bearing `up` points up.
+        let (sin_u, cos_u) = self.up_azimuth_rad.sin_cos();
+        let right = east_m * cos_u - north_m * sin_u;
+        let up = east_m * sin_u + north_m * cos_u;
+        (right / px_m + s / 2.0, s / 2.0 - up / px_m)
     }
 
     /// The pixel box `[x_min, y_min, x_max, y_max]` of an echo region: the polar sector's
@@ -77,19 +87,32 @@ impl PpiGeometry {
 pub struct ScanConverter {
     size_px: u32,
     display_range_m: f64,
+    up_azimuth_rad: f64,
     /// Per pixel: polar index of the lower bin (u32::MAX outside the display) and the weight
     /// of the upper bin.
     lut: Vec<(u32, f32)>,
 }
 
 impl ScanConverter {
-    /// Mapping for a square image of `size_px` covering ±`display_range_m`.
+    /// Mapping for a square north-up image of `size_px` covering ±`display_range_m`.
     pub fn new(
         size_px: u32,
         display_range_m: f64,
         spokes: usize,
         num_bins: usize,
         range_bin_m: f64,
+    ) -> ScanConverter {
+        ScanConverter::oriented(size_px, display_range_m, spokes, num_bins, range_bin_m, 0.0)
+    }
+
+    /// As [`ScanConverter::new`] with true bearing `up_azimuth_rad` at the top.
+    pub fn oriented(
+        size_px: u32,
+        display_range_m: f64,
+        spokes: usize,
+        num_bins: usize,
+        range_bin_m: f64,
+        up_azimuth_rad: f64,
     ) -> ScanConverter {
         let s = size_px as usize;
         let px_m = 2.0 * display_range_m / size_px as f64;
@@ -104,7 +127,11 @@ impl ScanConverter {
                     lut.push((u32::MAX, 0.0));
                     continue;
                 }
-                let az = x.atan2(y).rem_euclid(std::f64::consts::TAU);
+                let az = if up_azimuth_rad == 0.0 {
+                    x.atan2(y).rem_euclid(std::f64::consts::TAU)
+                } else {
+                    (x.atan2(y) + up_azimuth_rad).rem_euclid(std::f64::consts::TAU)
+                };
                 let spoke = ((az / spoke_rad).round() as usize) % spokes;
                 let fb = r / range_bin_m;
                 let b0 = fb.floor() as usize;
@@ -118,6 +145,7 @@ impl ScanConverter {
         ScanConverter {
             size_px,
             display_range_m,
+            up_azimuth_rad,
             lut,
         }
     }
@@ -151,6 +179,7 @@ impl ScanConverter {
         PpiGeometry {
             size_px: self.size_px,
             display_range_m: self.display_range_m,
+            up_azimuth_rad: self.up_azimuth_rad,
         }
     }
 }
@@ -250,6 +279,30 @@ pub fn colour_image(
     rgb
 }
 
+/// `display.orientation`: which true bearing the PPI shows straight up.
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Default,
+    serde::Deserialize,
+    serde::Serialize,
+    schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Orientation {
+    /// North at the top.
+    #[default]
+    NorthUp,
+    /// The own ship's heading at the top (needs `[own_ship]`).
+    HeadUp,
+    /// The own ship's course over ground at the top (its heading while it stands still;
+    /// needs `[own_ship]`).
+    CourseUp,
+}
+
 /// Colour map for `ppi.png`.
 #[derive(
     Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize, serde::Serialize, schemars::JsonSchema,
@@ -278,6 +331,8 @@ pub struct PpiSettings {
     pub min_db: f64,
     /// Top of the colour scale, dB over noise.
     pub max_db: f64,
+    /// Which bearing is at the top.
+    pub orientation: Orientation,
 }
 
 impl PpiSettings {
@@ -321,25 +376,53 @@ impl PpiSettings {
             colormap,
             min_db,
             max_db,
+            orientation: s.orientation.unwrap_or_default(),
         })
     }
 
-    /// Scan converter from `radar`'s polar record to this image, covering its max range.
+    /// The true bearing at the top of a frame's image with the own ship in `own_ship` (its
+    /// state at the frame's start), rad: 0 north-up; the heading (head-up); the course over
+    /// ground, or the heading while it stands still (course-up). Without an own ship, 0.
+    pub fn up_azimuth_rad(&self, own_ship: Option<&ShipState>) -> f64 {
+        let Some(s) = own_ship else { return 0.0 };
+        match self.orientation {
+            Orientation::NorthUp => 0.0,
+            Orientation::HeadUp => s.heading_rad,
+            Orientation::CourseUp => {
+                let v = s.velocity_mps;
+                if v.x.hypot(v.y) > crate::model::motion::STILL_SPEED_M_PER_S {
+                    v.x.atan2(v.y).rem_euclid(std::f64::consts::TAU)
+                } else {
+                    s.heading_rad
+                }
+            }
+        }
+    }
+
+    /// Scan converter from `radar`'s polar record to this image, covering its max range,
+    /// north-up.
     pub fn scan_converter(&self, radar: &Radar) -> ScanConverter {
-        ScanConverter::new(
+        self.oriented_scan_converter(radar, 0.0)
+    }
+
+    /// As [`PpiSettings::scan_converter`] with true bearing `up_azimuth_rad` at the top.
+    pub fn oriented_scan_converter(&self, radar: &Radar, up_azimuth_rad: f64) -> ScanConverter {
+        ScanConverter::oriented(
             self.image_size_px,
             radar.max_range_m(),
             radar.spokes(),
             radar.num_range_bins(),
             radar.range_bin_m(),
+            up_azimuth_rad,
         )
     }
 
-    /// The image geometry for `radar`: this side, covering its max range.
+    /// The image geometry for `radar`: this side, covering its max range, north-up.
     pub fn geometry(&self, radar: &Radar) -> PpiGeometry {
         PpiGeometry {
             size_px: self.image_size_px,
             display_range_m: radar.max_range_m(),
+            up_azimuth_rad: 0.0,
         }
     }
 }

@@ -11,7 +11,7 @@
 use super::SceneSpec;
 use crate::error::{Error, Location, Result};
 use crate::model::Scene;
-use crate::products::ppi::PpiSettings;
+use crate::products::ppi::{Orientation, PpiSettings};
 use std::path::{Path, PathBuf};
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
@@ -116,7 +116,17 @@ impl LoadedSpec {
     /// Validates the `[display]` table into the PPI product's settings (errors located like
     /// [`LoadedSpec::build`]'s).
     pub fn ppi_settings(&self) -> Result<PpiSettings> {
-        PpiSettings::from_spec(&self.spec.display).map_err(|e| self.locate_error(e))
+        let settings =
+            PpiSettings::from_spec(&self.spec.display).map_err(|e| self.locate_error(e))?;
+        if settings.orientation != Orientation::NorthUp && self.spec.own_ship.is_none() {
+            return Err(self.locate_error(crate::error::Error::invalid(
+                crate::error::Problem::Conflict,
+                "display.orientation",
+                format!("{:?}", settings.orientation),
+                "head-up and course-up turn the picture with the own ship: they need an [own_ship] table",
+            )));
+        }
+        Ok(settings)
     }
 
     /// Attaches where the field of a field error was given: `--set`, or the file's line and

@@ -5,7 +5,7 @@
 use crate::environment::clutter::Sigma0Model;
 use crate::geometry::MeshUnit;
 use crate::model::{Integration, Polarisation, ProcessingMode, ScatteringModel};
-use crate::products::ppi::Colormap;
+use crate::products::ppi::{Colormap, Orientation};
 use crate::propagation::SeaRoughness;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -271,6 +271,8 @@ pub struct DisplaySpec {
     pub min_db: Option<f64>,
     /// Power mapped to the top of the colour scale, dB over noise (default 60).
     pub max_db: Option<f64>,
+    /// "north-up" (default), "head-up" or "course-up" (the last two need `[own_ship]`).
+    pub orientation: Option<Orientation>,
 }
 
 /// `[scattering]`.

@@ -287,3 +287,66 @@ fn bad_motion_is_refused_by_field() {
         assert!(msg.contains(needle), "{own}: {msg}");
     }
 }
+
+/// Head-up: the own ship's heading points up; a target dead ahead shows straight above the
+/// centre, in the picture and in its pixel box. Course-up follows the course. Head-up without
+/// an own ship is refused.
+#[test]
+fn head_up_and_course_up_turn_the_picture() {
+    use xbandsim::products::ppi::Orientation;
+    use xbandsim::scene::LoadedSpec;
+    let text = format!(
+        "{}[own_ship]\nspeed_kn = 4.0\ncourse_deg = 45.0\nheading_deg = 90.0\n[display]\norientation = \"head-up\"\nimage_size_px = 256\n[[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 100.0\nposition_m = [600.0, 0.0, 4.0]\n",
+        radar_block_no_noise("spokes = 360\nmax_range_m = 1000.0")
+    );
+    let spec = LoadedSpec::from_toml(&text, "t", std::path::Path::new(".")).unwrap();
+    let settings = spec.ppi_settings().unwrap();
+    assert_eq!(settings.orientation, Orientation::HeadUp);
+    let sim = Simulation::new(spec.build().unwrap());
+    let frame = sim.render_frame(0, 0);
+    let up = settings.up_azimuth_rad(frame.own_ship.as_ref());
+    assert!((up.to_degrees() - 90.0).abs() < 1e-9);
+    let conv = settings.oriented_scan_converter(sim.scene().radar(), up);
+    let mut image = vec![0f32; 256 * 256];
+    conv.convert(&frame.polar_db, f32::NAN, &mut image);
+    let (best, _) = image
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.is_finite())
+        .fold((0, f32::MIN), |b, (i, &v)| if v > b.1 { (i, v) } else { b });
+    let (col, row) = (best % 256, best / 256);
+    // Dead ahead (true bearing ≈ 90° from the antenna), straight up from the centre.
+    let t = &frame.truth[0];
+    let px_m = 2000.0 / 256.0;
+    assert!((col as f64 + 0.5 - 128.0).abs() <= 2.0, "col {col}");
+    assert!(
+        ((128.0 - row as f64 - 0.5) - t.ground_range_m / px_m).abs() <= 2.0,
+        "row {row}"
+    );
+    let mut truth = frame.truth.clone();
+    conv.geometry().label(&mut truth);
+    let b = truth[0].ppi_box_px.unwrap();
+    assert!(b[0] <= col as f64 && col as f64 <= b[2] && b[1] <= row as f64 && row as f64 <= b[3]);
+    // Course-up: the course (45°) is up.
+    let course = text.replace("head-up", "course-up");
+    let spec = LoadedSpec::from_toml(&course, "t", std::path::Path::new(".")).unwrap();
+    let up = spec
+        .ppi_settings()
+        .unwrap()
+        .up_azimuth_rad(frame.own_ship.as_ref());
+    assert!((up.to_degrees() - 45.0).abs() < 1e-9);
+    // Head-up needs an own ship.
+    let lone = text.replace(
+        "[own_ship]\nspeed_kn = 4.0\ncourse_deg = 45.0\nheading_deg = 90.0\n",
+        "",
+    );
+    let err = LoadedSpec::from_toml(&lone, "t", std::path::Path::new("."))
+        .unwrap()
+        .build()
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("display.orientation") && err.contains("own_ship"),
+        "{err}"
+    );
+}
