@@ -233,8 +233,7 @@ impl EchoGroups {
     }
 
     /// As [`EchoGroups::accumulate`] for the groups of the objects `include` accepts, taken
-    /// a run of equal objects at a time. Returns the earliest sample written and the
-    /// largest weighted group peak.
+    /// a run of equal objects at a time. Returns the earliest sample written.
     pub fn accumulate_where(
         &self,
         antenna: &Antenna,
@@ -242,14 +241,14 @@ impl EchoGroups {
         min_amplitude: f32,
         impulse_response: &mut [Complex32],
         include: impl Fn(u32) -> bool,
-    ) -> (Option<usize>, f32) {
-        let (mut earliest, mut peak): (Option<usize>, f32) = (None, 0.0);
+    ) -> Option<usize> {
+        let mut earliest: Option<usize> = None;
         let mut start = 0;
         while start < self.groups.len() {
             let object = self.groups[start].object;
             let end = start + self.groups[start..].partition_point(|g| g.object == object);
             if include(object) {
-                let (e, p) = self.accumulate_groups(
+                let (e, _) = self.accumulate_groups(
                     &self.groups[start..end],
                     antenna,
                     beam_az_rad,
@@ -259,11 +258,10 @@ impl EchoGroups {
                 if let Some(e) = e {
                     earliest = Some(earliest.map_or(e, |x| x.min(e)));
                 }
-                peak = peak.max(p);
             }
             start = end;
         }
-        (earliest, peak)
+        earliest
     }
 
     /// The earliest first sample and the sum of the weighted peaks (an upper bound on the
@@ -279,9 +277,7 @@ impl EchoGroups {
         let mut earliest: Option<usize> = None;
         let mut sum = 0f32;
         for g in groups {
-            let w = (antenna.azimuth_pattern(g.az_tx_rad - beam_az_rad)
-                * antenna.azimuth_pattern(g.az_rx_rad - beam_az_rad))
-            .sqrt() as f32;
+            let w = azimuth_weight(g, antenna, beam_az_rad);
             if w * g.peak < min_amplitude {
                 continue;
             }
@@ -292,7 +288,8 @@ impl EchoGroups {
     }
 
     /// Adds `groups` (a slice of this set's) weighted by the azimuth pattern; returns the
-    /// earliest sample written and the largest weighted group peak.
+    /// earliest sample written and the sum of the weighted group peaks, the same bound
+    /// [`EchoGroups::weighted_peak_bound`] gives.
     pub fn accumulate_groups(
         &self,
         groups: &[EchoGroup],
@@ -302,14 +299,13 @@ impl EchoGroups {
         impulse_response: &mut [Complex32],
     ) -> (Option<usize>, f32) {
         let mut earliest: Option<usize> = None;
-        let mut largest = 0f32;
+        let mut sum = 0f32;
         for g in groups {
-            let w = (antenna.azimuth_pattern(g.az_tx_rad - beam_az_rad)
-                * antenna.azimuth_pattern(g.az_rx_rad - beam_az_rad))
-            .sqrt() as f32;
+            let w = azimuth_weight(g, antenna, beam_az_rad);
             if w * g.peak < min_amplitude {
                 continue;
             }
+            sum += w * g.peak;
             let end = (g.first_sample + g.len).min(impulse_response.len());
             if g.first_sample >= end {
                 continue;
@@ -321,16 +317,24 @@ impl EchoGroups {
             {
                 *d += s * w;
             }
-            largest = largest.max(w * g.peak);
             earliest = Some(earliest.map_or(g.first_sample, |e: usize| e.min(g.first_sample)));
         }
-        (earliest, largest)
+        (earliest, sum)
     }
 
     /// Number of stored impulse-response samples.
     pub fn arena_len(&self) -> usize {
         self.arena.len()
     }
+}
+
+/// Two-way azimuth voltage weight `√(Gn(az_tx − beam)·Gn(az_rx − beam))` of a group for a
+/// beam at `beam_az_rad`.
+#[inline]
+fn azimuth_weight(g: &EchoGroup, antenna: &Antenna, beam_az_rad: f64) -> f32 {
+    (antenna.azimuth_pattern(g.az_tx_rad - beam_az_rad)
+        * antenna.azimuth_pattern(g.az_rx_rad - beam_az_rad))
+    .sqrt() as f32
 }
 
 /// Sample index of a two-way path, `ℓ/c·fs`.

@@ -127,7 +127,7 @@ impl Simulation {
                 if range <= 0.0 {
                     return None;
                 }
-                let v = state.kinematics.velocity_mps - state.antenna_velocity_mps;
+                let v = state.relative_velocity_mps();
                 let rate = v.dot(rel / range);
                 let ground2 = rel.x * rel.x + rel.y * rel.y;
                 let bearing_rate = if ground2 > 0.0 {
@@ -175,7 +175,7 @@ impl Simulation {
         let az = pulse.azimuth_rad;
         scratch.buffer.fill(Complex32::new(0.0, 0.0));
         let is_mover = |o: u32| movers.iter().any(|m| m.object == o);
-        let (mut earliest, _) = groups.accumulate_where(
+        let mut earliest = groups.accumulate_where(
             antenna,
             az,
             MIN_GROUP_AMPLITUDE,
@@ -207,42 +207,34 @@ impl Simulation {
         // err by more than MOVING_ECHO_FOLD_ERROR after compression: the bound is the sum of
         // its weighted group peaks times the filter's peak gain times (π|δ| + 2π|f_D|·T).
         let peak_gain = self.compressor.peak_gain() as f32;
-        let strong = |m: &Mover, delay: f64, beam_az: f64| {
-            let (e, bound) = EchoGroups::weighted_peak_bound(
-                groups.groups_of(m.object),
-                antenna,
-                beam_az,
-                MIN_GROUP_AMPLITUDE,
-            );
-            let error = bound
+        let is_strong = |m: &Mover, delay: f64, bound: f32| {
+            bound
                 * peak_gain
                 * (std::f64::consts::PI * delay.abs()
-                    + std::f64::consts::TAU * m.doppler_hz.abs() * pulse_s)
-                    as f32;
-            (e, error >= MOVING_ECHO_FOLD_ERROR)
+                    + std::f64::consts::TAU * m.doppler_hz.abs() * pulse_s) as f32
+                >= MOVING_ECHO_FOLD_ERROR
         };
         // Pass 1: weak movers are folded in with their phase; strong ones only move the
         // earliest sample (their walk may bring them up to a sample earlier).
         let mut any_strong = false;
         for m in movers {
             let (delay, phase, beam_az) = advance(m);
-            let (Some(e), is_strong) = strong(m, delay, beam_az) else {
-                continue;
-            };
-            if is_strong {
-                any_strong = true;
-                let e = (e as f64 + delay.min(0.0)).floor().max(0.0) as usize;
-                earliest = Some(earliest.map_or(e, |x| x.min(e)));
-                continue;
-            }
-            scratch.moving.fill(Complex32::new(0.0, 0.0));
-            groups.accumulate_groups(
+            scratch.moving[..record].fill(Complex32::new(0.0, 0.0));
+            let (Some(e), bound) = groups.accumulate_groups(
                 groups.groups_of(m.object),
                 antenna,
                 beam_az,
                 MIN_GROUP_AMPLITUDE,
                 &mut scratch.moving[..record],
-            );
+            ) else {
+                continue;
+            };
+            if is_strong(m, delay, bound) {
+                any_strong = true;
+                let e = (e as f64 + delay.min(0.0)).floor().max(0.0) as usize;
+                earliest = Some(earliest.map_or(e, |x| x.min(e)));
+                continue;
+            }
             let f = Complex32::new(phase.re as f32, phase.im as f32);
             for (b, x) in scratch.buffer[..record]
                 .iter_mut()
@@ -255,14 +247,21 @@ impl Simulation {
         let rx = &self.receiver;
         let in_blanking = rx.echo_in_blanking(clutter_echo.is_some(), earliest);
         let fused = !(rx.blanking() && in_blanking);
-        // Pass 2: strong movers through their own spectra (the same test decides again).
+        // Pass 2: strong movers through their own spectra (the same bound decides again).
         if any_strong {
             self.compressor.clear_moving(scratch);
             for m in movers {
                 let (delay, phase, beam_az) = advance(m);
-                if !matches!(strong(m, delay, beam_az), (Some(_), true)) {
+                let (e, bound) = EchoGroups::weighted_peak_bound(
+                    groups.groups_of(m.object),
+                    antenna,
+                    beam_az,
+                    MIN_GROUP_AMPLITUDE,
+                );
+                if e.is_none() || !is_strong(m, delay, bound) {
                     continue;
                 }
+                // The whole buffer: it goes through an FFT.
                 scratch.moving.fill(Complex32::new(0.0, 0.0));
                 groups.accumulate_groups(
                     groups.groups_of(m.object),

@@ -108,13 +108,15 @@ impl Kinematics {
 
     /// Course over ground, rad in [0, 2π) (nautical); None when not moving horizontally.
     pub fn course_rad(&self) -> Option<f64> {
-        (self.speed_mps() > STILL_SPEED_M_PER_S).then(|| {
-            self.velocity_mps
-                .x
-                .atan2(self.velocity_mps.y)
-                .rem_euclid(TAU)
-        })
+        course_of(self.velocity_mps)
     }
+}
+
+/// The course over ground of a velocity (ENU m/s), rad in [0, 2π) (nautical); None when its
+/// horizontal speed is below [`STILL_SPEED_M_PER_S`].
+pub fn course_of(velocity_mps: DVec3) -> Option<f64> {
+    (velocity_mps.x.hypot(velocity_mps.y) > STILL_SPEED_M_PER_S)
+        .then(|| velocity_mps.x.atan2(velocity_mps.y).rem_euclid(TAU))
 }
 
 fn invalid(field: &str, value: impl std::fmt::Display, why: impl Into<String>) -> Error {

@@ -37,6 +37,21 @@ pub struct ObjectState {
     pub antenna_velocity_mps: DVec3,
 }
 
+impl ShipState {
+    /// Course over ground, rad (nautical); None while the ship stands still.
+    pub fn course_rad(&self) -> Option<f64> {
+        super::motion::course_of(self.velocity_mps)
+    }
+}
+
+impl ObjectState {
+    /// Its velocity relative to the antenna, ENU m/s: what its range rate and Doppler come
+    /// from.
+    pub fn relative_velocity_mps(&self) -> DVec3 {
+        self.kinematics.velocity_mps - self.antenna_velocity_mps
+    }
+}
+
 /// One revolution: its start time, the still scene its trace sees, and every object's state.
 #[derive(Debug, Clone)]
 pub struct Revolution {
@@ -64,12 +79,11 @@ impl Revolution {
                     .map_or(DVec3::ZERO, |s| s.displacement_m(t))
         };
         let radar_velocity = scene.own_ship().map_or(DVec3::ZERO, |s| s.velocity_mps());
+        let (sin_lead, cos_lead) = (TAU * lead_s / period_s).sin_cos();
         let objects: Vec<ObjectState> = scene
             .objects()
             .iter()
             .map(|o| {
-                let lead_rad = TAU * lead_s / period_s;
-                let (sin_lead, cos_lead) = lead_rad.sin_cos();
                 let beam_time_s = if lead_s == 0.0 {
                     beam_crossing_time_s(start_time_s, period_s, |t| {
                         o.kinematics(t).position_m - radar_at(t)

@@ -7,7 +7,7 @@ use super::output::{json_bytes, npy_f32_bytes, png_bytes, write_set};
 use super::ppi::{colour_image, gray_image, PpiSettings};
 use super::{Frame, FrameStats};
 use crate::error::Result;
-use crate::model::motion::{KNOT_M_PER_S, STILL_SPEED_M_PER_S};
+use crate::model::motion::KNOT_M_PER_S;
 use crate::model::revolution::ShipState;
 use crate::model::Radar;
 use serde::Serialize;
@@ -62,16 +62,11 @@ struct OwnShipTruth {
 impl OwnShipTruth {
     fn of(s: &ShipState) -> OwnShipTruth {
         let v = s.velocity_mps;
-        let speed = v.x.hypot(v.y);
         OwnShipTruth {
             antenna_position_m: s.antenna_position_m.to_array(),
             velocity_mps: v.to_array(),
-            speed_kn: speed / KNOT_M_PER_S,
-            course_deg: (speed > STILL_SPEED_M_PER_S).then(|| {
-                v.x.atan2(v.y)
-                    .rem_euclid(std::f64::consts::TAU)
-                    .to_degrees()
-            }),
+            speed_kn: v.x.hypot(v.y) / KNOT_M_PER_S,
+            course_deg: s.course_rad().map(f64::to_degrees),
             heading_deg: s.heading_rad.to_degrees(),
         }
     }

@@ -334,7 +334,7 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
             let state = &revolution.objects()[i];
             let k = &state.kinematics;
             let radial_velocity_mps = if range_m > 0.0 {
-                (k.velocity_mps - state.antenna_velocity_mps).dot(rel / range_m)
+                state.relative_velocity_mps().dot(rel / range_m)
             } else {
                 0.0
             };

@@ -388,14 +388,7 @@ impl PpiSettings {
         match self.orientation {
             Orientation::NorthUp => 0.0,
             Orientation::HeadUp => s.heading_rad,
-            Orientation::CourseUp => {
-                let v = s.velocity_mps;
-                if v.x.hypot(v.y) > crate::model::motion::STILL_SPEED_M_PER_S {
-                    v.x.atan2(v.y).rem_euclid(std::f64::consts::TAU)
-                } else {
-                    s.heading_rad
-                }
-            }
+            Orientation::CourseUp => s.course_rad().unwrap_or(s.heading_rad),
         }
     }
 
