@@ -267,9 +267,13 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         std::hint::black_box(pulse_sim.render_frame_outputs(
             1,
             next,
-            xbandsim::engine::Outputs { doppler_cube: true },
+            xbandsim::engine::Outputs {
+                doppler_cube: true,
+                iq: false,
+            },
             &|| {},
-        ));
+        ))
+        .expect("the bench's pulse-mode scene gives a cube");
     });
     put(
         &format!(

@@ -50,6 +50,11 @@ pub struct RenderArgs {
     /// [processing] mode = "pulse").
     #[arg(long)]
     pub datacube: bool,
+    /// Also write each frame's raw received I/Q of every pulse before the matched filter,
+    /// iq.npy (complex64, pulses x samples) with iq_pulses.npy (time, azimuth, spoke per
+    /// pulse): for short runs (a pulse-mode revolution is pulses x samples x 8 bytes).
+    #[arg(long)]
+    pub iq: bool,
     /// Override any scene field: FIELD=VALUE with FIELD a dotted path and VALUE a TOML value,
     /// e.g. --set radar.pulse_width_us=2 --set object[0].yaw_deg=45 (repeatable).
     #[arg(long, value_name = "FIELD=VALUE")]
@@ -128,8 +133,10 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     }
     let outputs = Outputs {
         doppler_cube: a.datacube,
+        iq: a.iq,
     };
     let sim = Simulation::new(scene);
+    sim.check_outputs(outputs)?;
     let radar = sim.scene().radar();
     let scene_name = a.scene.display().to_string();
     let Some(count) = a.frames else {
@@ -140,7 +147,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         } else {
             indicatif::ProgressBar::hidden()
         };
-        let frame = sim.render_frame_outputs(a.seed, 0, outputs, &|| progress.inc(1));
+        let frame = sim.render_frame_outputs(a.seed, 0, outputs, &|| progress.inc(1))?;
         progress.finish_and_clear();
         warn_ray_caps(&frame.truth);
         write_frame_files(radar, &display, &frame, &a.out, &scene_name, a.seed)
@@ -164,7 +171,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     let progress = crate::progress::bar(count, "render: frames");
     let (mut trace_s, mut synthesis_s) = (0.0, 0.0);
     for k in 0..count {
-        let frame = sim.render_frame_outputs(a.seed, k, outputs, &|| {});
+        let frame = sim.render_frame_outputs(a.seed, k, outputs, &|| {})?;
         if k == 0 {
             warn_ray_caps(&frame.truth);
         }

@@ -169,6 +169,72 @@ fn datacube_is_written_in_pulse_mode() {
     assert!(!dir.path().join("spoke").exists());
 }
 
+/// `--iq` writes iq.npy (complex64, pulses × samples) and iq_pulses.npy (float64, pulses × 3)
+/// with their axes in truth.json; oversized captures are refused before anything is written.
+#[test]
+fn raw_iq_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = xbandsim()
+        .args([
+            "render",
+            "scenes/paper.toml",
+            "--iq",
+            "--spokes",
+            "90",
+            "--set",
+            "radar.max_range_m=600",
+            "--out",
+        ])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let truth: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("truth.json")).unwrap()).unwrap();
+    let samples = truth["iq"]["shape"][1].as_u64().unwrap() as usize;
+    assert_eq!(truth["iq"]["shape"][0], 90);
+    // 600 m at 1.499 m a bin: 401 bins, plus the 1 µs pulse's 100 samples less one.
+    assert_eq!(samples, 401 + 100 - 1);
+    let iq = std::fs::read(dir.path().join("iq.npy")).unwrap();
+    let header = String::from_utf8_lossy(&iq[10..128]).to_string();
+    assert!(
+        header.contains("'<c8'") && header.contains("(90, 500)"),
+        "{header}"
+    );
+    let header_len = u16::from_le_bytes([iq[8], iq[9]]) as usize;
+    assert_eq!(iq.len(), 10 + header_len + 90 * samples * 8);
+    let pulses = std::fs::read(dir.path().join("iq_pulses.npy")).unwrap();
+    let header = String::from_utf8_lossy(&pulses[10..128]).to_string();
+    assert!(
+        header.contains("'<f8'") && header.contains("(90, 3)"),
+        "{header}"
+    );
+    let out = xbandsim()
+        .args([
+            "render",
+            "scenes/paper.toml",
+            "--iq",
+            "--set",
+            "processing.mode=pulse",
+            "--set",
+            "radar.max_range_m=60000",
+            "--set",
+            "radar.prf_hz=2000",
+            "--out",
+        ])
+        .arg(dir.path().join("big"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--iq") && err.contains("short runs"), "{err}");
+    assert!(!dir.path().join("big").exists());
+}
+
 #[test]
 fn bad_scene_gives_a_clear_error_and_no_output() {
     let dir = tempfile::tempdir().unwrap();

@@ -27,7 +27,17 @@ fn point_at(range_m: f64, az_deg: f64, radial_mps: f64) -> String {
 pub fn render_pulse(text: &str) -> (Simulation, Frame) {
     let scene = Scene::from_toml_str(text, "validation").expect("validation scene is valid");
     let sim = Simulation::new(scene);
-    let frame = sim.render_frame_outputs(1, 0, Outputs { doppler_cube: true }, &|| {});
+    let frame = sim
+        .render_frame_outputs(
+            1,
+            0,
+            Outputs {
+                doppler_cube: true,
+                iq: false,
+            },
+            &|| {},
+        )
+        .expect("pulse mode gives a cube");
     (sim, frame)
 }
 
@@ -170,6 +180,49 @@ fn dwell_pattern(sim: &Simulation, spoke_k: usize, az_rad: f64) -> Vec<f64> {
             .powi(2)
         })
         .collect()
+}
+
+/// A target closing at `factor·λ·PRF/2` (PRF 1 kHz, `stagger` radar line) on bearing 45°,
+/// coherently integrated: its peak over the same target still, dB, measured and expected
+/// `|Σ√g_m·e^{jφ_m}|²/|Σ√g_m|²` (`φ_m = 4π·v·t_m/λ` at the dwell's pulse times). The target
+/// starts where it reaches 600 m when the beam crosses it, so both are at the same range.
+pub fn stagger_coherent_response_db(stagger: &str, factor: f64) -> (f64, f64) {
+    let lambda = SPEED_OF_LIGHT_M_PER_S / 9.41e9;
+    let prf = 1000.0;
+    let v = -factor * lambda * prf / 2.0;
+    let beam_time_s = 45.0 / 360.0 * 60.0 / 24.0;
+    let radar = format!(
+        "max_range_m = 1200.0
+{stagger}"
+    );
+    let coherent = "integration = \"coherent\"";
+    let (sim, moving) = render_pulse(&format!(
+        "{}{}",
+        pulse_head(prf, &radar, coherent),
+        point_at(600.0 - v * beam_time_s, 45.0, v)
+    ));
+    let (_, still) = render_pulse(&format!(
+        "{}{}",
+        pulse_head(prf, &radar, coherent),
+        point_at(600.0, 45.0, 0.0)
+    ));
+    let (k, j) = target_cell(&still);
+    let (km, jm) = target_cell(&moving);
+    let measured = (spoke(&moving, km)[jm] - spoke(&still, k)[j]) as f64;
+    let scan = sim.scene().radar();
+    let schedule = Schedule::pulse_scan(scan, 0);
+    let dwell = schedule.dwells().iter().find(|d| d.spoke == k).unwrap();
+    let g = dwell_pattern(&sim, k, 45f64.to_radians());
+    let mut sum = num_complex::Complex64::new(0.0, 0.0);
+    for (p, gm) in dwell.pulses.iter().zip(&g) {
+        let phase = -2.0 * std::f64::consts::TAU * v * p.time_s / lambda;
+        sum += num_complex::Complex64::from_polar(gm.sqrt(), phase);
+    }
+    let still_sum: f64 = g.iter().map(|x| x.sqrt()).sum();
+    (
+        measured,
+        linear_to_db(sum.norm_sqr() / (still_sum * still_sum)),
+    )
 }
 
 /// Sea clutter's Doppler spectrum looking upwind (sea state 4, HH, Rayleigh, no noise; 3 rpm
@@ -378,6 +431,24 @@ pub(crate) fn checks(out: &mut Checks) {
         Tolerance::Absolute(0.02),
         SKOLNIK,
     ));
+    // Blind speeds with and without a staggered PRF: coherent integration of a target at
+    // the speed v against the same target still, |Σ√g_m·e^{jφ_m}|²/|Σ√g_m|² with
+    // φ_m = 4π·v·t_m/λ over the dwell's pulse times t_m.
+    for (stagger, factor, name) in [
+        ("", 1.0, "no stagger, at the blind speed λ·PRF/2 = 15.9 m/s: blind (the same response as a still target)"),
+        ("prf_stagger = [2.0, 3.0]", 1.0, "PRF stagger 2:3, at λ·PRF/2 = 15.9 m/s: no longer blind"),
+        ("prf_stagger = [2.0, 3.0]", 2.5, "PRF stagger 2:3, at 2.5·λ·PRF/2 = 39.8 m/s, where both intervals are whole Doppler periods: blind"),
+    ] {
+        let (measured, expected) = stagger_coherent_response_db(stagger, factor);
+        out.push(check(
+            &format!("coherent response of a closing target over a still one: {name}"),
+            expected,
+            measured,
+            "dB",
+            Tolerance::Absolute(0.05),
+            RICHARDS,
+        ));
+    }
     const WTW: &str = "Gaussian clutter spectrum with mean 2v̄/λ and spread 2σ_v/λ (Ward, Tough & Watts, Sea Clutter, 2nd ed., 2013, §2.6), windowed periodogram (Harris 1978)";
     let ((c_meas, w_meas), (c_exp, w_exp)) = sea_clutter_doppler_moments();
     out.push(check(

@@ -7,6 +7,7 @@
 //! one module each; docs/validation.md lists their sources.
 
 pub mod antenna;
+pub mod combined;
 pub mod doppler;
 pub mod environment;
 pub mod harness;
@@ -135,5 +136,6 @@ pub fn run_all_with(on_check: &mut dyn FnMut(&CheckResult)) -> Vec<CheckResult> 
     rcs::checks(&mut out);
     motion::checks(&mut out);
     doppler::checks(&mut out);
+    combined::checks(&mut out);
     out.done
 }

@@ -25,6 +25,7 @@ pub struct Receiver {
     noise: bool,
     blanking: bool,
     pulse_len: usize,
+    noise_stream: Stream,
 }
 
 impl Receiver {
@@ -34,6 +35,16 @@ impl Receiver {
             noise,
             blanking,
             pulse_len,
+            noise_stream: Stream::ReceiverNoise,
+        }
+    }
+
+    /// The same receiver drawing its noise from `stream` (the short-pulse channel of combined
+    /// pulse mode has its own, [`Stream::ShortPulseNoise`]).
+    pub fn with_noise_stream(self, stream: Stream) -> Receiver {
+        Receiver {
+            noise_stream: stream,
+            ..self
         }
     }
 
@@ -55,9 +66,9 @@ impl Receiver {
     }
 
     /// Fills `out` with pulse `pulse`'s unit-power noise of frame `frame` (stream
-    /// `ReceiverNoise`).
+    /// `ReceiverNoise` unless [`Receiver::with_noise_stream`] chose another).
     pub fn fill_noise(&self, seed: u64, frame: u64, pulse: u64, out: &mut [Complex32]) {
-        let mut rng = RngKey::new(seed, frame, pulse, Stream::ReceiverNoise).rng();
+        let mut rng = RngKey::new(seed, frame, pulse, self.noise_stream).rng();
         fill_unit_noise(&mut rng, out);
     }
 

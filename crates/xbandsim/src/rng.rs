@@ -33,6 +33,8 @@ pub enum Stream {
     /// The Doppler-coloured sea-clutter and rain speckle of one dwell in pulse mode (its
     /// `pulse` word is the dwell's spoke).
     ClutterDwell,
+    /// The receiver's thermal noise of one pulse's short-pulse channel (combined pulse mode).
+    ShortPulseNoise,
 }
 
 /// The key of one random stream.
@@ -67,13 +69,15 @@ impl RngKey {
 
     /// The (frame word, stream word) hashed with the seed. Receiver noise: (frame, pulse);
     /// clutter speckle: (frame, 2^40 + pulse); the clutter texture: (2^64 − 1, 2^40 − 1);
-    /// a pulse-mode dwell's clutter: (frame, 2^41 + spoke).
+    /// a pulse-mode dwell's clutter: (frame, 2^41 + spoke); the short-pulse channel's noise:
+    /// (frame, 3·2^40 + pulse).
     fn words(&self) -> (u64, u64) {
         match self.stream {
             Stream::ReceiverNoise => (self.frame, self.pulse),
             Stream::ClutterSpeckle => (self.frame, CLUTTER_WORD + self.pulse),
             Stream::ClutterTexture => (u64::MAX, CLUTTER_WORD - 1),
             Stream::ClutterDwell => (self.frame, 2 * CLUTTER_WORD + self.pulse),
+            Stream::ShortPulseNoise => (self.frame, 3 * CLUTTER_WORD + self.pulse),
         }
     }
 
@@ -108,6 +112,7 @@ mod tests {
                         Stream::ReceiverNoise,
                         Stream::ClutterSpeckle,
                         Stream::ClutterDwell,
+                        Stream::ShortPulseNoise,
                     ] {
                         let k = RngKey::new(seed, frame, pulse, stream);
                         assert!(seen.insert(k.stream_seed()), "{k:?}");

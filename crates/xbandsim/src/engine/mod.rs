@@ -7,10 +7,12 @@
 //! frozen-scan schedule: one pulse per spoke and one scene state per revolution, every object
 //! where the beam crosses it ([`crate::model::Revolution`]).
 
+mod iq;
 mod pulse;
 mod schedule;
 mod trace_cache;
 
+pub use iq::MAX_IQ_BYTES;
 pub use pulse::{Mover, MOVING_ECHO_FOLD_ERROR};
 pub use schedule::{Dwell, Pulse, Schedule};
 pub use trace_cache::{TraceCache, Traced};
@@ -47,6 +49,18 @@ pub struct Simulation {
     kernel: FractionalDelayKernel,
     cache: TraceCache,
     doppler: Option<pulse::DopplerPlan>,
+    short: Option<ShortChannel>,
+}
+
+/// The short pulse's receive channel in combined pulse mode (docs/physics.md §11): its own
+/// matched filter over the bins inside the long pulse's eclipse, its own noise, and the
+/// amplitude scale that gives its output the long pulse's calibration.
+struct ShortChannel {
+    compressor: PulseCompressor,
+    receiver: Receiver,
+    /// `G_long/G_short`, the matched filters' peak gains `Σw/√Σw²`: a point echo's compressed
+    /// peak is the same on either side of the join.
+    scale: f32,
 }
 
 /// Optional products of a frame.
@@ -54,6 +68,8 @@ pub struct Simulation {
 pub struct Outputs {
     /// The range-Doppler cube (pulse mode).
     pub doppler_cube: bool,
+    /// The raw received I/Q of every pulse ([`crate::products::PulseIq`]).
+    pub iq: bool,
 }
 
 /// The raw signals of one pulse, in units of the noise rms voltage `√(k·T0·F·fs)`.
@@ -85,6 +101,20 @@ impl Simulation {
         let doppler = (processing.mode() == ProcessingMode::Pulse).then(|| {
             pulse::DopplerPlan::new(processing.doppler_pulses(), processing.doppler_window())
         });
+        let short = scene.radar().short_pulse().map(|p| {
+            let bins = scene.radar().join_bin().min(compressor.num_bins());
+            let c = PulseCompressor::new(&p.chirp, p.window, bins);
+            ShortChannel {
+                receiver: Receiver::new(
+                    scene.environment().noise(),
+                    scene.radar().receiver_blanking(),
+                    c.pulse_len(),
+                )
+                .with_noise_stream(Stream::ShortPulseNoise),
+                scale: (compressor.peak_gain() / c.peak_gain()) as f32,
+                compressor: c,
+            }
+        });
         Simulation {
             scene: Arc::new(scene),
             bvh: Arc::new(bvh),
@@ -93,6 +123,83 @@ impl Simulation {
             kernel: FractionalDelayKernel::new(),
             cache: TraceCache::default(),
             doppler,
+            short,
+        }
+    }
+
+    /// Fresh buffers for one worker: the pulse compressor's, with the short-pulse channel's
+    /// in combined pulse mode.
+    pub fn scratch(&self) -> crate::processing::SpokeScratch {
+        let mut s = self.compressor.scratch();
+        s.short = self
+            .short
+            .as_ref()
+            .map(|c| Box::new(c.compressor.scratch()));
+        s
+    }
+
+    /// Combined pulse mode: hands the pulse's impulse response (`scratch.buffer`, before any
+    /// compression) to the short-pulse channel.
+    fn begin_short(&self, scratch: &mut crate::processing::SpokeScratch) {
+        let Some(ch) = &self.short else { return };
+        let record = ch.compressor.record_len();
+        // A scratch from PulseCompressor::scratch gets the channel's buffers on first use.
+        let short = scratch
+            .short
+            .get_or_insert_with(|| Box::new(ch.compressor.scratch()));
+        short.buffer[..record].copy_from_slice(&scratch.buffer[..record]);
+        short.buffer[record..].fill(Complex32::new(0.0, 0.0));
+    }
+
+    /// Combined pulse mode: adds `factor × echo` (an impulse response, at least the short
+    /// record long) to the short-pulse channel's input.
+    fn add_to_short(
+        &self,
+        short: Option<&mut crate::processing::SpokeScratch>,
+        echo: &[Complex32],
+        factor: Complex32,
+    ) {
+        let (Some(ch), Some(short)) = (&self.short, short) else {
+            return;
+        };
+        let record = ch.compressor.record_len();
+        for (b, x) in short.buffer[..record].iter_mut().zip(&echo[..record]) {
+            *b += x * factor;
+        }
+    }
+
+    /// Combined pulse mode: compresses the short pulse's record (its own noise stream and
+    /// blanking) and writes its bins, scaled to the long pulse's calibration, over the
+    /// first [`Radar::join_bin`] bins of the long output in `scratch.buffer`.
+    fn finish_short(
+        &self,
+        scratch: &mut crate::processing::SpokeScratch,
+        seed: u64,
+        frame: u64,
+        pulse: u64,
+        clutter: bool,
+        earliest: Option<usize>,
+    ) {
+        let Some(ch) = &self.short else { return };
+        // begin_short gave the scratch its short-pulse buffers.
+        let Some(short) = scratch.short.as_deref_mut() else {
+            return;
+        };
+        let record = ch.compressor.record_len();
+        let rx = &ch.receiver;
+        if rx.noise() {
+            rx.fill_noise(seed, frame, pulse, &mut short.noise[..record]);
+            short.noise[record..].fill(Complex32::new(0.0, 0.0));
+        }
+        ch.compressor.process(
+            short,
+            rx.noise(),
+            rx.blanking(),
+            rx.echo_in_blanking(clutter, earliest),
+        );
+        let join = ch.compressor.num_bins();
+        for (o, y) in scratch.buffer[..join].iter_mut().zip(&short.buffer[..join]) {
+            *o = y * ch.scale;
         }
     }
 
@@ -210,6 +317,7 @@ impl Simulation {
             RngKey::new(seed, frame, pulse.number, Stream::ClutterSpeckle),
             &mut scratch.buffer[..record],
         );
+        self.begin_short(scratch);
         let rx = &self.receiver;
         if rx.noise() {
             rx.fill_noise(seed, frame, pulse.number, &mut scratch.noise[..record]);
@@ -220,6 +328,14 @@ impl Simulation {
             rx.noise(),
             rx.blanking(),
             rx.echo_in_blanking(clutter.is_some(), earliest),
+        );
+        self.finish_short(
+            scratch,
+            seed,
+            frame,
+            pulse.number,
+            clutter.is_some(),
+            earliest,
         );
     }
 
@@ -326,34 +442,65 @@ impl Simulation {
         schedule: &Schedule,
         dwell_done: &(dyn Fn() + Sync),
     ) -> Vec<f32> {
+        self.synthesize_capture(groups, clutter, seed, schedule, None, dwell_done)
+    }
+
+    /// [`Simulation::synthesize_checked`], keeping every pulse's received record in `iq`.
+    fn synthesize_capture(
+        &self,
+        groups: &EchoGroups,
+        clutter: Option<&ClutterMap>,
+        seed: u64,
+        schedule: &Schedule,
+        iq: Option<&mut iq::IqCapture>,
+        dwell_done: &(dyn Fn() + Sync),
+    ) -> Vec<f32> {
         let spokes = self.scene.radar().spokes();
         let bins = self.compressor.num_bins();
+        let record = self.compressor.record_len();
         // Schedule::new and frozen_scan guarantee one dwell per spoke.
         let mut dwell_of_spoke = vec![0usize; spokes];
         for (i, d) in schedule.dwells().iter().enumerate() {
             dwell_of_spoke[d.spoke] = i;
         }
         let mut polar = vec![0f32; spokes * bins];
-        polar.par_chunks_mut(bins).enumerate().for_each_init(
-            || self.compressor.scratch(),
-            |scratch, (k, row)| {
-                let dwell = &schedule.dwells()[dwell_of_spoke[k]];
-                row.fill(0.0);
-                for pulse in &dwell.pulses {
-                    self.compress_pulse(clutter, groups, k, pulse, seed, schedule.frame(), scratch);
-                    for (o, y) in row.iter_mut().zip(&scratch.buffer[..bins]) {
-                        *o += y.norm_sqr();
+        let mut iq_slabs = iq.map_or_else(|| (0..spokes).map(|_| None).collect(), |c| c.slabs());
+        polar
+            .par_chunks_mut(bins)
+            .zip(iq_slabs.par_iter_mut())
+            .enumerate()
+            .for_each_init(
+                || self.scratch(),
+                |scratch, (k, (row, iq_slab))| {
+                    let dwell = &schedule.dwells()[dwell_of_spoke[k]];
+                    row.fill(0.0);
+                    scratch.capture_received = iq_slab.is_some();
+                    for (m, pulse) in dwell.pulses.iter().enumerate() {
+                        self.compress_pulse(
+                            clutter,
+                            groups,
+                            k,
+                            pulse,
+                            seed,
+                            schedule.frame(),
+                            scratch,
+                        );
+                        if let Some(slab) = iq_slab.as_deref_mut() {
+                            slab[m * record..(m + 1) * record].copy_from_slice(&scratch.received);
+                        }
+                        for (o, y) in row.iter_mut().zip(&scratch.buffer[..bins]) {
+                            *o += y.norm_sqr();
+                        }
                     }
-                }
-                // Non-coherent integration: the mean power of the dwell's pulses (exactly
-                // the pulse's power for a one-pulse dwell).
-                let inv_pulses = 1.0 / dwell.pulses.len() as f32;
-                for o in row.iter_mut() {
-                    *o = (10.0 * (*o * inv_pulses).log10()).max(POLAR_FLOOR_DB);
-                }
-                dwell_done();
-            },
-        );
+                    // Non-coherent integration: the mean power of the dwell's pulses (exactly
+                    // the pulse's power for a one-pulse dwell).
+                    let inv_pulses = 1.0 / dwell.pulses.len() as f32;
+                    for o in row.iter_mut() {
+                        *o = (10.0 * (*o * inv_pulses).log10()).max(POLAR_FLOOR_DB);
+                    }
+                    dwell_done();
+                },
+            );
         polar
     }
 
@@ -401,21 +548,44 @@ impl Simulation {
         frame: u64,
         spoke_done: &(dyn Fn() + Sync),
     ) -> Frame {
-        self.render_frame_outputs(seed, frame, Outputs::default(), spoke_done)
+        let schedule =
+            Schedule::for_mode(self.scene.radar(), self.scene.processing().mode(), frame);
+        self.run_checked(&schedule, seed, Outputs::default(), None, spoke_done)
     }
 
     /// Renders revolution `frame` with the scan of `[processing] mode` and the optional
-    /// `outputs` (a Doppler cube needs pulse mode), calling `spoke_done` after every spoke.
+    /// `outputs` ([`Simulation::check_outputs`] says which this scene can give), calling
+    /// `spoke_done` after every spoke.
     pub fn render_frame_outputs(
         &self,
         seed: u64,
         frame: u64,
         outputs: Outputs,
         spoke_done: &(dyn Fn() + Sync),
-    ) -> Frame {
+    ) -> Result<Frame> {
+        self.check_outputs(outputs)?;
         let schedule =
             Schedule::for_mode(self.scene.radar(), self.scene.processing().mode(), frame);
-        self.run_checked(&schedule, seed, outputs, spoke_done)
+        self.run_with(&schedule, seed, outputs, spoke_done)
+    }
+
+    /// Whether this scene can give `outputs`: a Doppler cube needs `[processing] mode =
+    /// "pulse"`; raw I/Q must stay under [`MAX_IQ_BYTES`] per revolution.
+    pub fn check_outputs(&self, outputs: Outputs) -> Result<()> {
+        if outputs.doppler_cube && self.scene.processing().mode() != ProcessingMode::Pulse {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                "processing.mode",
+                "\"spoke\"",
+                "a range-Doppler cube (--datacube) needs processing.mode = \"pulse\": the scene fires one pulse per spoke (add [processing] mode = \"pulse\" or --set processing.mode=pulse)",
+            ));
+        }
+        if outputs.iq {
+            let schedule =
+                Schedule::for_mode(self.scene.radar(), self.scene.processing().mode(), 0);
+            iq::IqCapture::new(&schedule, self.compressor.record_len())?;
+        }
+        Ok(())
     }
 
     /// Seconds before a revolution's start from which its beam crossings are sought: half a
@@ -467,8 +637,27 @@ impl Simulation {
         seed: u64,
         dwell_done: &(dyn Fn() + Sync),
     ) -> Result<Frame> {
+        self.run_with(schedule, seed, Outputs::default(), dwell_done)
+    }
+
+    /// [`Simulation::run`] with optional outputs (raw I/Q for any schedule; the Doppler cube
+    /// in pulse mode).
+    pub fn run_with(
+        &self,
+        schedule: &Schedule,
+        seed: u64,
+        outputs: Outputs,
+        dwell_done: &(dyn Fn() + Sync),
+    ) -> Result<Frame> {
         self.check_schedule(schedule)?;
-        Ok(self.run_checked(schedule, seed, Outputs::default(), dwell_done))
+        let mut iq = if outputs.iq {
+            Some(iq::IqCapture::new(schedule, self.compressor.record_len())?)
+        } else {
+            None
+        };
+        let mut frame = self.run_checked(schedule, seed, outputs, iq.as_mut(), dwell_done);
+        frame.iq = iq.map(|c| c.finish(schedule, self.scene.radar().sample_rate_hz()));
+        Ok(frame)
     }
 
     fn check_schedule(&self, schedule: &Schedule) -> Result<()> {
@@ -492,6 +681,7 @@ impl Simulation {
         schedule: &Schedule,
         seed: u64,
         outputs: Outputs,
+        iq: Option<&mut iq::IqCapture>,
         dwell_done: &(dyn Fn() + Sync),
     ) -> Frame {
         let t0 = Instant::now();
@@ -518,11 +708,12 @@ impl Simulation {
         let clutter = self.clutter_map_from(revolution.scene().radar(), seed, schedule.frame());
         let (polar_db, doppler_cube) = match self.scene.processing().mode() {
             ProcessingMode::Spoke => (
-                self.synthesize_checked(
+                self.synthesize_capture(
                     &traced.groups,
                     clutter.as_ref(),
                     seed,
                     schedule,
+                    iq,
                     dwell_done,
                 ),
                 None,
@@ -537,6 +728,7 @@ impl Simulation {
                 seed,
                 schedule,
                 outputs.doppler_cube,
+                iq,
                 dwell_done,
             ),
         };
@@ -552,6 +744,7 @@ impl Simulation {
             range_bin_m: radar.range_bin_m(),
             polar_db,
             doppler_cube,
+            iq: None,
             truth,
             stats: FrameStats {
                 rays_cast: traced.set.rays_cast,

@@ -246,7 +246,12 @@ impl Simulation {
         }
         let rx = &self.receiver;
         let in_blanking = rx.echo_in_blanking(clutter_echo.is_some(), earliest);
-        let fused = !(rx.blanking() && in_blanking);
+        let fused = !self
+            .compressor
+            .takes_exact_path(scratch, rx.blanking(), in_blanking);
+        // Combined pulse mode: the short pulse's channel gets the same impulse response; its
+        // strong movers are added below with their carrier phase (docs/physics.md §11).
+        self.begin_short(scratch);
         // Pass 2: strong movers through their own spectra (the same bound decides again).
         if any_strong {
             self.compressor.clear_moving(scratch);
@@ -270,6 +275,11 @@ impl Simulation {
                     MIN_GROUP_AMPLITUDE,
                     &mut scratch.moving[..record],
                 );
+                self.add_to_short(
+                    scratch.short.as_deref_mut(),
+                    &scratch.moving,
+                    Complex32::new(phase.re as f32, phase.im as f32),
+                );
                 self.compressor
                     .add_moving_echo(scratch, &m.spectra, phase, delay, fused);
             }
@@ -284,6 +294,14 @@ impl Simulation {
             rx.blanking(),
             in_blanking,
             any_strong,
+        );
+        self.finish_short(
+            scratch,
+            seed,
+            frame,
+            pulse.number,
+            clutter_echo.is_some(),
+            earliest,
         );
     }
 
@@ -300,6 +318,7 @@ impl Simulation {
         seed: u64,
         schedule: &Schedule,
         cube: bool,
+        iq: Option<&mut super::iq::IqCapture>,
         dwell_done: &(dyn Fn() + Sync),
     ) -> (Vec<f32>, Option<DopplerCube>) {
         let radar = self.scene.radar();
@@ -324,13 +343,14 @@ impl Simulation {
         } else {
             (0..spokes).map(|_| None).collect()
         };
+        let mut iq_slabs = iq.map_or_else(|| (0..spokes).map(|_| None).collect(), |c| c.slabs());
         polar
             .par_chunks_mut(bins)
-            .zip(slabs.par_iter_mut())
+            .zip(slabs.par_iter_mut().zip(iq_slabs.par_iter_mut()))
             .enumerate()
             .for_each_init(
                 || PulseScratch {
-                    spoke: self.compressor.scratch(),
+                    spoke: self.scratch(),
                     clutter: Vec::new(),
                     clutter_scratch: DwellClutterScratch::default(),
                     times: Vec::new(),
@@ -342,7 +362,7 @@ impl Simulation {
                         plan.map_or(0, |(p, _)| p.fft.get_inplace_scratch_len())
                     ],
                 },
-                |s, (k, (row, slab))| {
+                |s, (k, (row, (slab, iq_slab)))| {
                     let dwell = &schedule.dwells()[dwell_of_spoke[k]];
                     let spoke_az = radar.scan().spoke_azimuth_rad(k);
                     let nearest = dwell
@@ -380,6 +400,7 @@ impl Simulation {
                             record,
                         );
                     }
+                    s.spoke.capture_received = iq_slab.is_some();
                     for (m, pulse) in dwell.pulses.iter().enumerate() {
                         self.compress_moving_pulse(
                             clutter.map(|_| &s.clutter[m * record..(m + 1) * record]),
@@ -390,6 +411,9 @@ impl Simulation {
                             schedule.frame(),
                             &mut s.spoke,
                         );
+                        if let Some(slab) = iq_slab.as_deref_mut() {
+                            slab[m * record..(m + 1) * record].copy_from_slice(&s.spoke.received);
+                        }
                         let y = &s.spoke.buffer[..bins];
                         match integration {
                             Integration::Noncoherent => {

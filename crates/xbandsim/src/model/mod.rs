@@ -16,7 +16,9 @@ mod world;
 pub use environment::{ClutterDoppler, Environment, SeaClutter};
 pub use motion::{Kinematics, Motion, OwnShip};
 pub use processing::{Integration, Processing, ProcessingMode};
-pub use radar::{Polarisation, Radar, Scan, MAX_POLAR_CELLS, MAX_SPOKES};
+pub use radar::{
+    Polarisation, Radar, Scan, ShortPulse, Stagger, MAX_POLAR_CELLS, MAX_PRF_STAGGER, MAX_SPOKES,
+};
 pub use revolution::Revolution;
 pub use scattering::{ScatteringConfig, ScatteringModel};
 pub use world::SceneObject;

@@ -8,7 +8,7 @@ use crate::constants::{
     db_to_linear, wavelength_m, BOLTZMANN_J_PER_K, REFERENCE_TEMPERATURE_K, SPEED_OF_LIGHT_M_PER_S,
 };
 use crate::error::{Error, Problem, Result};
-use crate::scene::{RadarPreset, RadarSpec, WindowName};
+use crate::scene::{PulseModeName, RadarPreset, RadarSpec, WindowName};
 use crate::waveform::{LfmChirp, Window};
 use glam::DVec3;
 
@@ -44,15 +44,89 @@ pub struct Radar {
     receiver_blanking: bool,
     /// Transmit and receive polarisation.
     polarisation: Polarisation,
+    /// The short pulse of combined pulse mode (None: single pulse).
+    short_pulse: Option<ShortPulse>,
 }
 
-/// The scan: pulse rate, rotation, spokes per revolution and recorded range.
+/// The short pulse of `pulse_mode = "combined"` (docs/physics.md §11): it serves the range
+/// bins inside the long pulse's eclipse, `j < N_T`, on its own receive channel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShortPulse {
+    /// The pulse: unmodulated (bandwidth 0) or an LFM chirp, at the radar's sample rate.
+    pub chirp: LfmChirp,
+    /// Its matched-filter window: none for an unmodulated pulse, the radar's otherwise.
+    pub window: Window,
+}
+
+/// Most entries in `radar.prf_stagger`.
+pub const MAX_PRF_STAGGER: usize = 8;
+
+/// The scan: pulse rate (with its stagger), rotation, spokes per revolution and recorded
+/// range.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Scan {
     prf_hz: f64,
     rotation_rpm: f64,
     spokes: usize,
     max_range_m: f64,
+    stagger: Stagger,
+}
+
+/// A staggered pulse train (docs/physics.md §10): pulse intervals cycle through
+/// `T_i = r_i/mean(r)·(1/prf)`, so `prf` stays the mean rate; one entry is no stagger.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stagger {
+    len: usize,
+    /// Start of pulse i within a cycle, `Σ_{j<i} T_j`, s.
+    offsets_s: [f64; MAX_PRF_STAGGER],
+    /// The intervals `T_i`, s.
+    intervals_s: [f64; MAX_PRF_STAGGER],
+    /// `Σ T_i`, s.
+    cycle_s: f64,
+}
+
+impl Stagger {
+    /// No stagger at `prf_hz`.
+    fn none(prf_hz: f64) -> Stagger {
+        Stagger::of(&[1.0], prf_hz)
+    }
+
+    /// The intervals `r_i/mean(r)/prf` (`ratios`: 1..=MAX_PRF_STAGGER positive values).
+    fn of(ratios: &[f64], prf_hz: f64) -> Stagger {
+        let mean = ratios.iter().sum::<f64>() / ratios.len() as f64;
+        let mut offsets_s = [0.0; MAX_PRF_STAGGER];
+        let mut intervals_s = [0.0; MAX_PRF_STAGGER];
+        let mut t = 0.0;
+        for (i, r) in ratios.iter().enumerate() {
+            offsets_s[i] = t;
+            intervals_s[i] = r / mean / prf_hz;
+            t += intervals_s[i];
+        }
+        Stagger {
+            len: ratios.len(),
+            offsets_s,
+            intervals_s,
+            cycle_s: t,
+        }
+    }
+
+    /// The pulse intervals of one cycle, s.
+    pub fn intervals_s(&self) -> &[f64] {
+        &self.intervals_s[..self.len]
+    }
+
+    /// Whether the intervals differ (more than one entry).
+    pub fn is_staggered(&self) -> bool {
+        self.len > 1
+    }
+
+    /// The shortest interval, s.
+    pub fn shortest_interval_s(&self) -> f64 {
+        self.intervals_s()
+            .iter()
+            .cloned()
+            .fold(f64::INFINITY, f64::min)
+    }
 }
 
 impl Scan {
@@ -86,14 +160,36 @@ impl Scan {
         std::f64::consts::TAU * k as f64 / self.spokes as f64
     }
 
-    /// Pulses fired in one revolution at the PRF, `floor(prf·60/rpm)` (pulse mode).
-    pub fn pulses_per_revolution(&self) -> usize {
-        (self.prf_hz * self.period_s() + 1e-9).floor() as usize
+    /// The pulse train's stagger (one interval when unstaggered).
+    pub fn stagger(&self) -> &Stagger {
+        &self.stagger
     }
 
-    /// Time of pulse `n` after the start of its revolution, `n/prf` s.
+    /// Pulses fired in one revolution (pulse mode): `floor(prf·60/rpm)` unstaggered, else the
+    /// pulses whose times fall inside the period.
+    pub fn pulses_per_revolution(&self) -> usize {
+        if !self.stagger.is_staggered() {
+            return (self.prf_hz * self.period_s() + 1e-9).floor() as usize;
+        }
+        let period = self.period_s();
+        let st = &self.stagger;
+        let cycles = (period / st.cycle_s).floor() as usize;
+        let rest = period - cycles as f64 * st.cycle_s;
+        cycles * st.len
+            + st.offsets_s[..st.len]
+                .iter()
+                .filter(|&&o| o < rest - 1e-12)
+                .count()
+    }
+
+    /// Time of pulse `n` after the start of its revolution, s: `n/prf` unstaggered, else
+    /// `floor(n/L)·ΣT_i + Σ_{j < n mod L} T_j` for L intervals.
     pub fn pulse_time_s(&self, n: usize) -> f64 {
-        n as f64 / self.prf_hz
+        let st = &self.stagger;
+        if !st.is_staggered() {
+            return n as f64 / self.prf_hz;
+        }
+        (n / st.len) as f64 * st.cycle_s + st.offsets_s[n % st.len]
     }
 
     /// Antenna azimuth when pulse `n` is fired, `2π·n/(prf·T)` rad.
@@ -141,6 +237,34 @@ impl Radar {
     /// Matched-filter reference window.
     pub fn window(&self) -> Window {
         self.window
+    }
+
+    /// The short pulse of combined pulse mode; None for a single pulse.
+    pub fn short_pulse(&self) -> Option<&ShortPulse> {
+        self.short_pulse.as_ref()
+    }
+
+    /// First range bin served by the long pulse in combined pulse mode: its length in
+    /// samples `N_T`, the eclipse boundary (bins below come from the short pulse).
+    pub fn join_bin(&self) -> usize {
+        self.chirp.num_samples()
+    }
+
+    /// Combined pulse mode: the noise level of the short pulse's bins in the record's units,
+    /// `20·log10(G_long/G_short)` dB over the long pulse's noise, with `G = Σw/√Σw²` each
+    /// matched filter's peak gain (None for a single pulse; docs/physics.md §11).
+    pub fn short_pulse_noise_db(&self) -> Option<f64> {
+        let gain_db = |chirp: &LfmChirp, window: Window| {
+            let n = chirp.num_samples();
+            10.0 * (n as f64 * window.snr_loss_linear(n)).log10()
+        };
+        self.short_pulse
+            .map(|p| gain_db(&self.chirp, self.window) - gain_db(&p.chirp, p.window))
+    }
+
+    /// Range of [`Radar::join_bin`], `N_T·c/(2·fs)`, m.
+    pub fn join_range_m(&self) -> f64 {
+        self.join_bin() as f64 * self.range_bin_m()
     }
 
     /// Peak transmit power Pt, W.
@@ -285,7 +409,13 @@ impl Radar {
     /// (Skolnik, *Introduction to Radar Systems*, 3rd ed., eq. 2.51 with pulse compression):
     /// [`Radar::radar_equation_constant_w_m2`] × `T·σ/(R⁴·k·T0·F)`.
     pub fn point_target_snr(&self, rcs_m2: f64, range_m: f64) -> f64 {
-        self.radar_equation_constant_w_m2() * self.chirp.pulse_width_s * rcs_m2
+        self.point_target_snr_for_pulse(rcs_m2, range_m, self.chirp.pulse_width_s)
+    }
+
+    /// [`Radar::point_target_snr`] for a pulse of width `pulse_width_s` (the short pulse of
+    /// combined pulse mode).
+    pub fn point_target_snr_for_pulse(&self, rcs_m2: f64, range_m: f64, pulse_width_s: f64) -> f64 {
+        self.radar_equation_constant_w_m2() * pulse_width_s * rcs_m2
             / (range_m.powi(4)
                 * BOLTZMANN_J_PER_K
                 * REFERENCE_TEMPERATURE_K
@@ -454,6 +584,7 @@ pub(super) fn build_radar(
             format!("the pulse must be shorter than the pulse repetition interval 1/prf_hz = {:.3} us (prf_hz = {prf_hz})", pri_s * 1e6),
         ));
     }
+    let stagger = build_stagger(s.prf_stagger.as_deref(), prf_hz, pulse_width_us)?;
     let sample_rate_hz = sample_rate_mhz * 1e6;
     let bandwidth_hz = bandwidth_mhz * 1e6;
     if bandwidth_hz > sample_rate_hz {
@@ -485,14 +616,24 @@ pub(super) fn build_radar(
     // Echoes from beyond c/(2·PRF) arrive after the next pulse has gone out (second-trace
     // echoes): the simulator records one pulse repetition interval, so it does not model
     // them and the recorded range must stay inside it.
-    let unambiguous_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * prf_hz);
+    // A staggered train's shortest interval sets it.
+    let shortest_pri_s = stagger.shortest_interval_s();
+    let unambiguous_m = SPEED_OF_LIGHT_M_PER_S * shortest_pri_s / 2.0;
     if max_range_m + SPEED_OF_LIGHT_M_PER_S * pulse_width_s / 2.0 > unambiguous_m {
+        let interval = if stagger.is_staggered() {
+            format!(
+                "the shortest pulse interval ({:.3} us, prf_stagger)",
+                shortest_pri_s * 1e6
+            )
+        } else {
+            format!("1/prf_hz (prf_hz = {prf_hz})")
+        };
         return Err(Error::invalid(
                 Problem::Conflict,
             "radar.max_range_m",
             max_range_m,
             format!(
-                "beyond the unambiguous range: max_range_m plus the pulse's c·T/2 must stay within c/(2·prf_hz) = {:.1} km at prf_hz = {prf_hz} (echoes from farther arrive after the next pulse, which is not modelled); lower max_range_m or prf_hz",
+                "beyond the unambiguous range: max_range_m plus the pulse's c·T/2 must stay within c/2 times {interval} = {:.1} km (echoes from farther arrive after the next pulse, which is not modelled); lower max_range_m or prf_hz",
                 unambiguous_m / 1000.0
             ),
         ));
@@ -529,6 +670,7 @@ pub(super) fn build_radar(
             "the carrier must be above the bandwidth",
         ));
     }
+    let short_pulse = build_short_pulse(s, pulse_width_us, sample_rate_hz, window)?;
     let mut polarisation = s.polarisation.unwrap_or(Polarisation::Hh);
     if let Some(pol) = environment_polarisation {
         if s.polarisation.is_some() && pol != polarisation {
@@ -564,8 +706,133 @@ pub(super) fn build_radar(
             rotation_rpm,
             spokes,
             max_range_m,
+            stagger,
         },
         receiver_blanking: s.receiver_blanking.unwrap_or(true),
         polarisation,
+        short_pulse,
     })
+}
+
+/// Validates `radar.prf_stagger`: 2 to [`MAX_PRF_STAGGER`] finite positive ratios, no
+/// interval shorter than the pulse.
+fn build_stagger(ratios: Option<&[f64]>, prf_hz: f64, pulse_width_us: f64) -> Result<Stagger> {
+    let Some(ratios) = ratios else {
+        return Ok(Stagger::none(prf_hz));
+    };
+    let field = "radar.prf_stagger";
+    if !(2..=MAX_PRF_STAGGER).contains(&ratios.len()) {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            field,
+            fmt_list(ratios),
+            format!(
+                "give 2 to {MAX_PRF_STAGGER} pulse-interval ratios (leave it out for no stagger)"
+            ),
+        ));
+    }
+    for (i, &r) in ratios.iter().enumerate() {
+        if !r.is_finite() || r <= 0.0 {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                format!("{field}[{i}]"),
+                r,
+                "a pulse-interval ratio must be a finite number above 0",
+            ));
+        }
+    }
+    let stagger = Stagger::of(ratios, prf_hz);
+    if pulse_width_us >= stagger.shortest_interval_s() * 1e6 {
+        return Err(Error::invalid(
+            Problem::Conflict,
+            field,
+            fmt_list(ratios),
+            format!(
+                "the shortest pulse interval ({:.3} us) is not longer than the pulse (pulse_width_us = {pulse_width_us})",
+                stagger.shortest_interval_s() * 1e6
+            ),
+        ));
+    }
+    Ok(stagger)
+}
+
+fn fmt_list(values: &[f64]) -> String {
+    let items: Vec<String> = values.iter().map(|v| v.to_string()).collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// Validates `radar.pulse_mode` and the short pulse's fields (given only with "combined";
+/// the short pulse at least two samples long and shorter than the long one, its bandwidth
+/// within the sample rate).
+fn build_short_pulse(
+    s: &RadarSpec,
+    pulse_width_us: f64,
+    sample_rate_hz: f64,
+    window: Window,
+) -> Result<Option<ShortPulse>> {
+    if s.pulse_mode.unwrap_or_default() == PulseModeName::Single {
+        for (field, given) in [
+            ("radar.short_pulse_width_us", s.short_pulse_width_us),
+            ("radar.short_bandwidth_mhz", s.short_bandwidth_mhz),
+        ] {
+            if let Some(v) = given {
+                return Err(Error::invalid(
+                    Problem::Conflict,
+                    field,
+                    v,
+                    "only combined pulse mode has a short pulse: set radar.pulse_mode = \"combined\" or leave it out",
+                ));
+            }
+        }
+        return Ok(None);
+    }
+    let width_us = positive(
+        "radar.short_pulse_width_us",
+        s.short_pulse_width_us.unwrap_or(0.08),
+    )?;
+    if width_us >= pulse_width_us {
+        return Err(Error::invalid(
+            Problem::Conflict,
+            "radar.short_pulse_width_us",
+            width_us,
+            format!("the short pulse must be shorter than the long one (pulse_width_us = {pulse_width_us})"),
+        ));
+    }
+    if (width_us * 1e-6 * sample_rate_hz).round() < 2.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.short_pulse_width_us",
+            width_us,
+            format!(
+                "the short pulse is under two samples at sample_rate_mhz = {}",
+                sample_rate_hz / 1e6
+            ),
+        ));
+    }
+    let (bandwidth_hz, window) = match s.short_bandwidth_mhz {
+        None => (0.0, Window::None),
+        Some(b) => {
+            let b = positive("radar.short_bandwidth_mhz", b)?;
+            if b * 1e6 > sample_rate_hz {
+                return Err(Error::invalid(
+                    Problem::Conflict,
+                    "radar.short_bandwidth_mhz",
+                    b,
+                    format!(
+                        "complex sampling needs sample_rate_mhz ({}) at least equal to the bandwidth",
+                        sample_rate_hz / 1e6
+                    ),
+                ));
+            }
+            (b * 1e6, window)
+        }
+    };
+    Ok(Some(ShortPulse {
+        chirp: LfmChirp {
+            bandwidth_hz,
+            pulse_width_s: width_us * 1e-6,
+            sample_rate_hz,
+        },
+        window,
+    }))
 }

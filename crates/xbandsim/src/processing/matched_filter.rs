@@ -86,6 +86,13 @@ pub struct SpokeScratch {
     /// Sum of the moving echoes' spectra (FFT length).
     moving_spectrum: Vec<Complex32>,
     fft_scratch: Vec<Complex32>,
+    /// When set, [`PulseCompressor::process_with_moving`] forms the received record
+    /// explicitly (the exact path) and keeps it in `received` (raw I/Q output).
+    pub capture_received: bool,
+    /// The last received record (`record_len` samples) when `capture_received` is set.
+    pub received: Vec<Complex32>,
+    /// The short-pulse channel's buffers (combined pulse mode; set by the engine).
+    pub short: Option<Box<SpokeScratch>>,
 }
 
 impl SpokeScratch {
@@ -97,6 +104,10 @@ impl SpokeScratch {
         self.moving.fill(value);
         self.moving_spectrum.fill(value);
         self.fft_scratch.fill(value);
+        self.received.fill(value);
+        if let Some(short) = &mut self.short {
+            short.fill(value);
+        }
     }
 }
 
@@ -277,6 +288,9 @@ impl PulseCompressor {
             moving: vec![Complex32::new(0.0, 0.0); self.fft_len],
             moving_spectrum: vec![Complex32::new(0.0, 0.0); self.fft_len],
             fft_scratch: vec![Complex32::new(0.0, 0.0); n],
+            capture_received: false,
+            received: Vec::new(),
+            short: None,
         }
     }
 
@@ -297,8 +311,9 @@ impl PulseCompressor {
     }
 
     /// As [`Self::process`], adding the moving echoes summed by [`Self::add_moving_echo`]
-    /// when `with_moving` (added in the fused path's domain unless `blank && echo_in_blanking`,
-    /// which takes the exact path).
+    /// when `with_moving` (added in the fused path's domain unless `blank && echo_in_blanking`
+    /// or `scratch.capture_received`, which take the exact path; the caller adds the moving
+    /// echoes with the matching spectra, see [`Self::takes_exact_path`]).
     pub fn process_with_moving(
         &self,
         scratch: &mut SpokeScratch,
@@ -307,18 +322,21 @@ impl PulseCompressor {
         echo_in_blanking: bool,
         with_moving: bool,
     ) {
+        let exact = self.takes_exact_path(scratch, blank, echo_in_blanking);
         let SpokeScratch {
             buffer,
             noise,
             moving_spectrum,
             fft_scratch,
+            capture_received,
+            received,
             ..
         } = scratch;
         if blank && with_noise {
             noise[..self.pulse_len.min(self.fft_len)].fill(Complex32::new(0.0, 0.0));
         }
         self.forward.process_with_scratch(buffer, fft_scratch);
-        if blank && echo_in_blanking {
+        if exact {
             for (b, s) in buffer.iter_mut().zip(&self.chirp_spectrum) {
                 *b *= s;
             }
@@ -328,11 +346,21 @@ impl PulseCompressor {
                 }
             }
             self.inverse.process_with_scratch(buffer, fft_scratch);
-            buffer[..self.pulse_len].fill(Complex32::new(0.0, 0.0));
+            if blank {
+                buffer[..self.pulse_len.min(self.fft_len)].fill(Complex32::new(0.0, 0.0));
+            }
             if with_noise {
                 for (b, n) in buffer.iter_mut().zip(noise.iter()) {
                     *b += n;
                 }
+            }
+            if *capture_received {
+                let record = self.record_len();
+                received.clear();
+                received.extend_from_slice(&buffer[..record]);
+                // The record ends at record_len: the fused path never sees the circular
+                // convolution's tail beyond it, and neither may the exact one.
+                buffer[record..].fill(Complex32::new(0.0, 0.0));
             }
             self.forward.process_with_scratch(buffer, fft_scratch);
             for (b, h) in buffer.iter_mut().zip(&self.filter_spectrum) {
@@ -359,6 +387,17 @@ impl PulseCompressor {
             }
         }
         self.inverse.process_with_scratch(buffer, fft_scratch);
+    }
+
+    /// Whether [`Self::process_with_moving`] forms the received record in time (the exact
+    /// path): when blanking cuts an echo, or when the record is captured for raw I/Q.
+    pub fn takes_exact_path(
+        &self,
+        scratch: &SpokeScratch,
+        blank: bool,
+        echo_in_blanking: bool,
+    ) -> bool {
+        (blank && echo_in_blanking) || scratch.capture_received
     }
 
     /// Matched filter alone on a received record (`record` FFT length, zero-padded), in place.

@@ -1,9 +1,12 @@
 //! The files of one rendered frame, written as a set: `polar.npy`, `ppi.png`, `ppi_gray.png`
-//! and `truth.json`, and `doppler_cube.npy` when the frame has one (docs/formats.md). The truth file holds no timings, so the same scene and
+//! and `truth.json`, and `doppler_cube.npy`, `iq.npy` and `iq_pulses.npy` when the frame has
+//! them (docs/formats.md). The truth file holds no timings, so the same scene and
 //! seed give byte-identical files.
 
 use super::labels::ObjectTruth;
-use super::output::{json_bytes, npy_f32_bytes, png_bytes, write_set};
+use super::output::{
+    json_bytes, npy_c64_bytes, npy_f32_bytes, npy_f64_bytes, png_bytes, write_set,
+};
 use super::ppi::{colour_image, gray_image, PpiSettings};
 use super::{Frame, FrameStats};
 use crate::error::Result;
@@ -21,6 +24,8 @@ struct TruthFile<'a> {
     frame_start_time_s: f64,
     own_ship: Option<OwnShipTruth>,
     doppler_cube: Option<CubeAxes>,
+    iq: Option<IqAxes>,
+    combined_pulse: Option<CombinedPulseTruth>,
     spokes: usize,
     range_bins: usize,
     range_bin_m: f64,
@@ -47,6 +52,22 @@ struct CubeAxes {
     shape: [usize; 3],
     doppler_bin_hz: f64,
     zero_doppler_bin: usize,
+}
+
+/// The axes of iq.npy and iq_pulses.npy.
+#[derive(Serialize)]
+struct IqAxes {
+    shape: [usize; 2],
+    sample_rate_hz: f64,
+    pulse_columns: [&'static str; 3],
+}
+
+/// Combined pulse mode: where the short pulse's bins end and their noise level.
+#[derive(Serialize)]
+struct CombinedPulseTruth {
+    join_bin: usize,
+    join_range_m: f64,
+    short_pulse_noise_db: f64,
 }
 
 /// The own ship at the start of the frame.
@@ -133,6 +154,18 @@ pub fn write_frame_files(
             doppler_bin_hz: c.doppler_bin_hz,
             zero_doppler_bin: c.doppler_bins / 2,
         }),
+        iq: frame.iq.as_ref().map(|q| IqAxes {
+            shape: [q.pulses, q.samples],
+            sample_rate_hz: q.sample_rate_hz,
+            pulse_columns: ["time_s", "azimuth_deg", "spoke"],
+        }),
+        combined_pulse: radar
+            .short_pulse_noise_db()
+            .map(|noise_db| CombinedPulseTruth {
+                join_bin: radar.join_bin(),
+                join_range_m: radar.join_range_m(),
+                short_pulse_noise_db: noise_db,
+            }),
         spokes: frame.spokes,
         range_bins: frame.range_bins,
         range_bin_m: frame.range_bin_m,
@@ -158,6 +191,19 @@ pub fn write_frame_files(
             "doppler_cube.npy",
             npy_f32_bytes(&[c.spokes, c.doppler_bins, c.range_bins], &c.values_db),
         ));
+    }
+    if let Some(q) = &frame.iq {
+        files.push(("iq.npy", npy_c64_bytes(&[q.pulses, q.samples], &q.values)));
+        let columns: Vec<f64> = (0..q.pulses)
+            .flat_map(|i| {
+                [
+                    q.times_s[i],
+                    q.azimuths_rad[i].to_degrees(),
+                    q.spokes[i] as f64,
+                ]
+            })
+            .collect();
+        files.push(("iq_pulses.npy", npy_f64_bytes(&[q.pulses, 3], &columns)));
     }
     write_set(out, &files)?;
     Ok(())

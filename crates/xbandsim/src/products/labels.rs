@@ -98,6 +98,18 @@ pub struct EchoLosses {
 /// (docs/formats.md, "truth.json").
 pub const RADIAL_CLASS_THRESHOLD_MPS: f64 = 3.0 * KNOT_M_PER_S;
 
+/// Which pulse's channel an object's echo is recorded on (docs/physics.md §11).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PulseChannel {
+    /// Single pulse mode: the one pulse.
+    Single,
+    /// Combined pulse mode, inside the join range: the short pulse.
+    Short,
+    /// Combined pulse mode, from the join range on: the long pulse.
+    Long,
+}
+
 /// Which way an object moves along the line of sight, against
 /// [`RADIAL_CLASS_THRESHOLD_MPS`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -181,6 +193,10 @@ pub struct ObjectTruth {
     /// 1 outside c·T/2, the window-weighted fraction of the pulse's tail inside it, 0 at
     /// the radar.
     pub eclipse_received_fraction: f64,
+    /// The pulse whose channel records its echo: "single", or in combined pulse mode "short"
+    /// (peak bin inside the join range) or "long". Eclipse, window loss and expected SNR are
+    /// that pulse's.
+    pub pulse: PulseChannel,
     /// Expected matched-filter peak with that RCS on the beam axis, dB over the mean noise:
     /// the radar equation's single-pulse SNR plus the multipath gain minus `losses_db`
     /// (null when `rcs_m2` is null).
@@ -318,9 +334,19 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
             *h = true;
         }
     }
-    let weights = radar.window().coefficients(radar.chirp().num_samples());
-    let chirp = radar.chirp().samples();
-    let window_loss = radar.window().snr_loss_linear(radar.chirp().num_samples());
+    // The long (or single) pulse and, in combined mode, the short one: samples, window
+    // weights, window loss and width.
+    let pulse_of = |chirp: &crate::waveform::LfmChirp, window: crate::waveform::Window| {
+        let n = chirp.num_samples();
+        (
+            chirp.samples(),
+            window.coefficients(n),
+            window.snr_loss_linear(n),
+            chirp.pulse_width_s,
+        )
+    };
+    let long_pulse = pulse_of(radar.chirp(), radar.window());
+    let short_pulse = radar.short_pulse().map(|p| pulse_of(&p.chirp, p.window));
     let bin_m = radar.range_bin_m();
     let spokes = radar.spokes();
     let resolution_m = radar.range_resolution_m();
@@ -344,24 +370,29 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
             // returned something.
             let rcs = (calibrated && has_returns[i] && rcs_all[i] > 0.0).then_some(rcs_all[i]);
             let gain = rcs.map(|_| gain_all[i]);
+            let delay_samples = 2.0 * range_m / SPEED_OF_LIGHT_M_PER_S * radar.sample_rate_hz();
+            let (channel, (chirp, weights, window_loss, pulse_width_s)) = match &short_pulse {
+                None => (PulseChannel::Single, &long_pulse),
+                Some(p) if (delay_samples.round() as usize) < radar.join_bin() => {
+                    (PulseChannel::Short, p)
+                }
+                Some(_) => (PulseChannel::Long, &long_pulse),
+            };
             let eclipse_fraction = if radar.receiver_blanking() {
-                eclipse_received_fraction(
-                    2.0 * range_m / SPEED_OF_LIGHT_M_PER_S * radar.sample_rate_hz(),
-                    &chirp,
-                    &weights,
-                )
+                eclipse_received_fraction(delay_samples, chirp, weights)
             } else {
                 1.0
             };
             let losses = EchoLosses {
-                window: loss_db(window_loss),
+                window: loss_db(*window_loss),
                 elevation_pattern: loss_db(ant.elevation_pattern(el).powi(2).max(1e-300)),
                 atmosphere: loss_db(scene.environment().attenuation_power(range_m)),
                 rain: rain_two_way_loss_db(radar, scene.environment(), o.position_m()),
                 eclipse: (eclipse_fraction > 0.0).then(|| loss_db(eclipse_fraction.powi(2))),
             };
             let snr_unclipped_db = rcs.map(|s| {
-                linear_to_db(radar.point_target_snr(s, range_m)) + linear_to_db(gain.unwrap_or(1.0))
+                linear_to_db(radar.point_target_snr_for_pulse(s, range_m, *pulse_width_s))
+                    + linear_to_db(gain.unwrap_or(1.0))
                     - losses.window
                     - losses.elevation_pattern
                     - losses.atmosphere
@@ -441,6 +472,7 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
                 multipath_gain_db: gain.filter(|g| *g > 0.0).map(linear_to_db),
                 losses_db: losses,
                 eclipse_received_fraction: eclipse_fraction,
+                pulse: channel,
                 expected_snr_db: snr_db,
                 visibility,
                 po_tubes: set.tube_budgets.get(i).copied().flatten(),

@@ -11,6 +11,7 @@ pub mod ppi;
 
 use crate::model::revolution::ShipState;
 use labels::ObjectTruth;
+use num_complex::Complex32;
 
 /// Timings and counts of one frame.
 #[derive(Debug, Clone, Default, serde::Serialize)]
@@ -58,6 +59,26 @@ impl DopplerCube {
     }
 }
 
+/// The raw received I/Q of every pulse of a revolution (`render --iq`; docs/formats.md,
+/// "iq.npy"): what the receiver records before the matched filter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PulseIq {
+    /// Rows: the pulses, spoke by spoke, each dwell's in fire order.
+    pub pulses: usize,
+    /// Columns: samples per pulse; sample n is `n/fs` after the pulse starts.
+    pub samples: usize,
+    /// Complex sample rate fs, Hz.
+    pub sample_rate_hz: f64,
+    /// pulses × samples, row-major, in units of the noise rms voltage `√(k·T0·F·fs)`.
+    pub values: Vec<Complex32>,
+    /// Each row's transmit time from the start of the run, s.
+    pub times_s: Vec<f64>,
+    /// Each row's antenna azimuth, rad (nautical).
+    pub azimuths_rad: Vec<f64>,
+    /// Each row's spoke.
+    pub spokes: Vec<usize>,
+}
+
 /// One rendered revolution.
 #[derive(Debug, Clone)]
 pub struct Frame {
@@ -77,6 +98,8 @@ pub struct Frame {
     pub polar_db: Vec<f32>,
     /// The range-Doppler cube (pulse mode, when asked for).
     pub doppler_cube: Option<DopplerCube>,
+    /// The raw received I/Q of every pulse (when asked for).
+    pub iq: Option<PulseIq>,
     /// Per-object ground truth (PPI pixel boxes are added by the PPI product for a given
     /// image: `products::ppi::PpiGeometry::label`).
     pub truth: Vec<ObjectTruth>,

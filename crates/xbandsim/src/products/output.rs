@@ -112,24 +112,67 @@ pub fn npy_f32_bytes(shape: &[usize], data: &[f32]) -> Vec<u8> {
         data.len(),
         "npy shape does not match data"
     );
+    npy_bytes("<f4", shape, data.len() * 4, |out| {
+        for v in data {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+    })
+}
+
+/// `.npy` bytes of a little-endian float64 array of `shape` (C order).
+pub fn npy_f64_bytes(shape: &[usize], data: &[f64]) -> Vec<u8> {
+    assert_eq!(
+        shape.iter().product::<usize>(),
+        data.len(),
+        "npy shape does not match data"
+    );
+    npy_bytes("<f8", shape, data.len() * 8, |out| {
+        for v in data {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+    })
+}
+
+/// `.npy` bytes of a little-endian complex64 array of `shape` (C order; NumPy's `<c8`:
+/// real then imaginary float32 per element).
+pub fn npy_c64_bytes(shape: &[usize], data: &[num_complex::Complex32]) -> Vec<u8> {
+    assert_eq!(
+        shape.iter().product::<usize>(),
+        data.len(),
+        "npy shape does not match data"
+    );
+    npy_bytes("<c8", shape, data.len() * 8, |out| {
+        for v in data {
+            out.extend_from_slice(&v.re.to_le_bytes());
+            out.extend_from_slice(&v.im.to_le_bytes());
+        }
+    })
+}
+
+/// An `.npy` (version 1.0) file: header for `descr` and `shape`, then `write_data`'s bytes.
+fn npy_bytes(
+    descr: &str,
+    shape: &[usize],
+    data_bytes: usize,
+    write_data: impl FnOnce(&mut Vec<u8>),
+) -> Vec<u8> {
     let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
     let shape_txt = if dims.len() == 1 {
         format!("({},)", dims[0])
     } else {
         format!("({})", dims.join(", "))
     };
-    let mut header = format!("{{'descr': '<f4', 'fortran_order': False, 'shape': {shape_txt}, }}");
+    let mut header =
+        format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape_txt}, }}");
     // Magic (6) + version (2) + header length (2) + header + '\n' is a multiple of 64.
     let unpadded = 10 + header.len() + 1;
     header.push_str(&" ".repeat((64 - unpadded % 64) % 64));
     header.push('\n');
-    let mut out = Vec::with_capacity(10 + header.len() + data.len() * 4);
+    let mut out = Vec::with_capacity(10 + header.len() + data_bytes);
     out.extend_from_slice(b"\x93NUMPY\x01\x00");
     out.extend_from_slice(&(header.len() as u16).to_le_bytes());
     out.extend_from_slice(header.as_bytes());
-    for v in data {
-        out.extend_from_slice(&v.to_le_bytes());
-    }
+    write_data(&mut out);
     out
 }
 

@@ -9,5 +9,6 @@ mod spec;
 pub use load::{locate, LoadedSpec};
 pub use spec::{
     ClutterDistributionName, DisplaySpec, EnvironmentSpec, ObjectSpec, OwnShipSpec, ProcessingSpec,
-    RadarPreset, RadarSpec, RainCellSpec, ScatteringSpec, SceneSpec, ShapeName, WindowName,
+    PulseModeName, RadarPreset, RadarSpec, RainCellSpec, ScatteringSpec, SceneSpec, ShapeName,
+    WindowName,
 };

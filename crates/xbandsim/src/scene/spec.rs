@@ -34,6 +34,18 @@ pub enum WindowName {
     Taylor,
 }
 
+/// `radar.pulse_mode`: one pulse, or a short pulse for near range joined to the long one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum PulseModeName {
+    /// The LFM pulse alone (ranges inside c·T/2 are eclipsed).
+    #[default]
+    Single,
+    /// A short pulse (`short_pulse_width_us`, `short_bandwidth_mhz`) for the range bins inside
+    /// the long pulse's eclipse, the long LFM pulse beyond: no blind zone.
+    Combined,
+}
+
 /// `environment.clutter_distribution`: the amplitude statistics of sea clutter.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "lowercase")]
@@ -161,8 +173,17 @@ pub struct RadarSpec {
     pub tilt_deg: Option<f64>,
     /// Complex (I/Q) sample rate, MHz.
     pub sample_rate_mhz: Option<f64>,
-    /// Pulse repetition frequency, Hz.
+    /// Pulse repetition frequency, Hz (the mean rate when `prf_stagger` is given).
     pub prf_hz: Option<f64>,
+    /// Staggered pulse intervals: a list of 2 to 8 positive PRI ratios, cycled pulse after
+    /// pulse (e.g. [4, 5]: intervals 4/4.5 and 5/4.5 of 1/prf_hz). Pulse mode only matters.
+    pub prf_stagger: Option<Vec<f64>>,
+    /// "single" (default) or "combined" (short pulse near, long pulse far).
+    pub pulse_mode: Option<PulseModeName>,
+    /// Combined mode: width of the short pulse, microseconds (default 0.08).
+    pub short_pulse_width_us: Option<f64>,
+    /// Combined mode: LFM bandwidth of the short pulse, MHz (default: unmodulated).
+    pub short_bandwidth_mhz: Option<f64>,
     /// Antenna rotation rate, revolutions per minute.
     pub rotation_rpm: Option<f64>,
     /// Largest range written to the outputs, m.

@@ -37,13 +37,22 @@ fn pulse_mode_is_deterministic_across_thread_counts() {
             .build()
             .unwrap();
         pool.install(|| {
-            let f = Simulation::new(scene(text)).render_frame_outputs(
-                5,
-                1,
-                xbandsim::engine::Outputs { doppler_cube: true },
-                &|| {},
-            );
-            (f.polar_db, f.doppler_cube.unwrap().values_db)
+            let f = Simulation::new(scene(text))
+                .render_frame_outputs(
+                    5,
+                    1,
+                    xbandsim::engine::Outputs {
+                        doppler_cube: true,
+                        iq: true,
+                    },
+                    &|| {},
+                )
+                .expect("pulse mode gives a cube");
+            (
+                f.polar_db,
+                f.doppler_cube.unwrap().values_db,
+                f.iq.unwrap().values,
+            )
         })
     };
     assert!(run(1) == run(3), "pulse mode differs between thread counts");

@@ -14,6 +14,7 @@ mod meshes;
 mod motion;
 mod multipath;
 mod pulse;
+mod pulse_modes;
 mod rcs;
 mod scene_errors;
 mod signal_chain;

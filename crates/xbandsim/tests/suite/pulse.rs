@@ -89,7 +89,17 @@ fn doppler_cube_axes_and_noise_calibration() {
         .replace("noise = false\n", "")
         .replace("integration = \"coherent\"\n", "doppler_pulses = 8\n");
     let sim = Simulation::new(scene(&text));
-    let frame = sim.render_frame_outputs(1, 0, Outputs { doppler_cube: true }, &|| {});
+    let frame = sim
+        .render_frame_outputs(
+            1,
+            0,
+            Outputs {
+                doppler_cube: true,
+                iq: false,
+            },
+            &|| {},
+        )
+        .expect("pulse mode gives a cube");
     let cube = frame.doppler_cube.as_ref().unwrap();
     assert_eq!(
         (cube.spokes, cube.doppler_bins, cube.range_bins),
