@@ -175,4 +175,78 @@ pub(crate) fn checks(out: &mut Checks) {
         Tolerance::Absolute(0.1),
         KINEMATICS,
     ));
+    const ROLL: &str = "deck attitude R = Rz(−heading)·Rx(pitch)·Ry(roll) (docs/formats.md, object frames): beam elevation asin(sin p·cos α − cos p·sin r·sin α), mast top at R·(0, 0, h); two-way elevation pattern Gn² (docs/physics.md §3)";
+    let roll = own_ship_roll();
+    out.push(check(
+        "own ship rolling 15° (13.86° when the beam crosses a target abeam): peak over a level antenna at the same place = two-way elevation pattern 20·log10(Gn(el − δ)/Gn(el))",
+        roll.expected_db,
+        roll.measured_db,
+        "dB",
+        Tolerance::Absolute(0.02),
+        ROLL,
+    ));
+    out.push(check(
+        "own ship rolling: the target's range from the antenna swung out on its 4 m mast, h·sin(roll) = 0.958 m nearer",
+        roll.expected_range_m,
+        roll.measured_range_m,
+        "m",
+        Tolerance::Absolute(0.1),
+        ROLL,
+    ));
+}
+
+/// The own-ship roll check's figures.
+pub struct RollCheck {
+    /// Peak of the target abeam, rolling deck minus level deck at the same antenna place, dB.
+    pub measured_db: f64,
+    /// `20·log10(Gn(el − δ)/Gn(el))`, δ = −roll(t_b) toward starboard.
+    pub expected_db: f64,
+    /// Measured slant range of the peak, m.
+    pub measured_range_m: f64,
+    /// `|target − (h·sin r, 0, h·cos r)|`, m.
+    pub expected_range_m: f64,
+}
+
+/// An own ship heading north, rolling 15° with a 10 s period and phase 90°
+/// (roll = 15°·cos(2πt/10)), antenna on a 4 m mast, sees a 10 m² point 400 m due east
+/// (starboard) at t_b = 0.625 s, when roll = 15°·cos(π/8): the beam toward starboard dips by
+/// the roll and the mast top swings h·sin r toward the target. Compared with a level radar
+/// placed where the mast top is then (same range, same sampling), the peak differs by the
+/// two-way elevation pattern alone.
+pub fn own_ship_roll() -> RollCheck {
+    let h = 4.0;
+    let amplitude = 15f64.to_radians();
+    let t_b = 90.0 / 360.0 * 60.0 / 24.0;
+    let r = amplitude * (TAU * t_b / 10.0 + std::f64::consts::FRAC_PI_2).sin();
+    let antenna = [h * r.sin(), 0.0, h * r.cos()];
+    let target = "[[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 10.0\nposition_m = [400.0, 0.0, 4.0]\n";
+    let head = |position: [f64; 3]| {
+        format!("[environment]\nmultipath = false\nclutter = false\nnoise = false\n[radar]\nposition_m = [{}, {}, {}]\nspokes = 360\nmax_range_m = 600.0\n", position[0], position[1], position[2])
+    };
+    let rolling = format!("{}[own_ship]\nheading_deg = 0.0\nroll_amplitude_deg = 15.0\nmotion_period_s = 10.0\nmotion_phase_deg = 90.0\n{target}", head([0.0, 0.0, h]));
+    let level = format!("{}{target}", head(antenna));
+    let (_, rolled) = render_text(&rolling, 1);
+    let (sim, flat) = render_text(&level, 1);
+    let peak = |f: &Frame| {
+        let row = spoke(f, 90);
+        let (j, v) = argmax(&row[200..340]);
+        (j + 200, v as f64)
+    };
+    let (j_roll, p_roll) = peak(&rolled);
+    let (j_flat, p_flat) = peak(&flat);
+    assert_eq!(j_roll, j_flat, "same range, same peak bin");
+    let dx = 400.0 - antenna[0];
+    let dz = 4.0 - antenna[2];
+    let el = dz.atan2(dx);
+    let bw = sim.scene().radar().antenna().el_beamwidth_rad;
+    // Starboard (α = 90°) with pitch 0: δ = −sin(r) → asin(−sin r) = −r.
+    let delta = (-r.sin()).asin();
+    let gn = |x: f64| xbandsim::antenna::sinc2_pattern(x, bw);
+    let (measured_range_m, _) = measured_position(&rolled, 90.0, 399.0, 10.0);
+    RollCheck {
+        measured_db: p_roll - p_flat,
+        expected_db: 20.0 * (gn(el - delta) / gn(el)).log10(),
+        measured_range_m,
+        expected_range_m: dx.hypot(dz),
+    }
 }

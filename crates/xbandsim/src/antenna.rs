@@ -70,6 +70,15 @@ impl Antenna {
         sinc2_pattern(wrap_angle_rad(delta_az_rad), self.az_beamwidth_rad)
     }
 
+    /// The same antenna with its beam axis raised by `extra_tilt_rad` (the deck's roll and
+    /// pitch).
+    pub fn tilted_by(&self, extra_tilt_rad: f64) -> Antenna {
+        Antenna {
+            tilt_rad: self.tilt_rad + extra_tilt_rad,
+            ..*self
+        }
+    }
+
     /// One-way normalised elevation power pattern at elevation `el_rad` (the beam axis is at
     /// the tilt angle).
     #[inline]

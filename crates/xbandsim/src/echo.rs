@@ -125,6 +125,29 @@ impl EchoGroups {
         noise_rms_v: f64,
         kernel: &FractionalDelayKernel,
     ) -> EchoGroups {
+        EchoGroups::build_tilted(
+            contributions,
+            antenna,
+            &[],
+            sample_rate_hz,
+            num_samples,
+            noise_rms_v,
+            kernel,
+        )
+    }
+
+    /// As [`EchoGroups::build`], with object i's elevation pattern centred
+    /// `object_tilt_rad[i]` above the antenna's tilt (the own ship's roll and pitch when the
+    /// beam crosses it); objects beyond the slice's end get none.
+    pub fn build_tilted(
+        contributions: &[Contribution],
+        antenna: &Antenna,
+        object_tilt_rad: &[f64],
+        sample_rate_hz: f64,
+        num_samples: usize,
+        noise_rms_v: f64,
+        kernel: &FractionalDelayKernel,
+    ) -> EchoGroups {
         let cell_rad = antenna.az_beamwidth_rad / AZIMUTH_CELLS_PER_BEAMWIDTH;
         let cells = (std::f64::consts::TAU / cell_rad).ceil() as u64;
         let key = |c: &Contribution| -> u64 {
@@ -171,10 +194,19 @@ impl EchoGroups {
             arena.resize(offset + len, Complex32::new(0.0, 0.0));
             let slot = &mut arena[offset..offset + len];
             let mut acc = vec![Complex64::new(0.0, 0.0); len];
+            let tilted;
+            let ant =
+                match object_tilt_rad.get(contributions[members[0].1 as usize].object as usize) {
+                    Some(&t) if t != 0.0 => {
+                        tilted = antenna.tilted_by(t);
+                        &tilted
+                    }
+                    _ => antenna,
+                };
             for &(_, i) in members {
                 let c = &contributions[i as usize];
-                let el_weight = (antenna.elevation_pattern(c.el_tx_rad)
-                    * antenna.elevation_pattern(c.el_rx_rad))
+                let el_weight = (ant.elevation_pattern(c.el_tx_rad)
+                    * ant.elevation_pattern(c.el_rx_rad))
                 .sqrt();
                 let a = c.amplitude_v * (el_weight * inv_noise);
                 let (first, taps) = kernel.taps(c.delay_s() * sample_rate_hz);

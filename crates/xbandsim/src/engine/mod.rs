@@ -241,6 +241,21 @@ impl Simulation {
         )
     }
 
+    /// As [`Simulation::echo_groups`], with object i's elevation pattern raised by
+    /// `object_tilt_rad[i]` (the own ship's roll and pitch when the beam crosses it).
+    pub fn echo_groups_tilted(&self, set: &ScatterSet, object_tilt_rad: &[f64]) -> EchoGroups {
+        let radar = self.scene.radar();
+        EchoGroups::build_tilted(
+            &set.contributions,
+            radar.antenna(),
+            object_tilt_rad,
+            radar.sample_rate_hz(),
+            self.compressor.record_len(),
+            radar.noise_power_w().sqrt(),
+            &self.kernel,
+        )
+    }
+
     /// Adds one pulse's band-limited impulse response (targets weighted by the azimuth pattern
     /// for a beam at `beam_az_rad`, plus the clutter of spoke `spoke` with the pulse's speckle)
     /// into `impulse_response` (noise-rms units); returns the earliest target sample written.
@@ -617,7 +632,16 @@ impl Simulation {
                 Arc::new(build_scene_bvh(revolution.scene().objects()))
             };
             let set = trace_scene(revolution.scene(), &bvh);
-            let groups = self.echo_groups(&set);
+            let groups = if revolution.deck_moves() {
+                let tilts: Vec<f64> = revolution
+                    .objects()
+                    .iter()
+                    .map(|o| o.beam_tilt_rad)
+                    .collect();
+                self.echo_groups_tilted(&set, &tilts)
+            } else {
+                self.echo_groups(&set)
+            };
             Traced {
                 revolution,
                 bvh,
@@ -705,7 +729,27 @@ impl Simulation {
         } else {
             &traced.revolution
         };
-        let clutter = self.clutter_map_from(revolution.scene().radar(), seed, schedule.frame());
+        let clutter = if revolution.deck_moves() {
+            // Each spoke's beam tilted by the deck's roll and pitch when the antenna passes it.
+            let scan = *self.scene.radar().scan();
+            let tilts: Vec<f64> = (0..scan.spokes())
+                .map(|k| {
+                    let t = revolution.start_time_s()
+                        + k as f64 / scan.spokes() as f64 * scan.period_s();
+                    revolution.beam_tilt_rad(t, scan.spoke_azimuth_rad(k))
+                })
+                .collect();
+            ClutterMap::with_beam_tilts(
+                revolution.scene().radar(),
+                self.scene.environment(),
+                seed,
+                schedule.frame(),
+                self.compressor.record_len(),
+                &tilts,
+            )
+        } else {
+            self.clutter_map_from(revolution.scene().radar(), seed, schedule.frame())
+        };
         let (polar_db, doppler_cube) = match self.scene.processing().mode() {
             ProcessingMode::Spoke => (
                 self.synthesize_capture(

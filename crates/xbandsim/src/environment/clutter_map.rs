@@ -131,6 +131,22 @@ impl ClutterMap {
         frame: u64,
         samples: usize,
     ) -> Option<ClutterMap> {
+        ClutterMap::with_beam_tilts(radar, env, seed, frame, samples, &[])
+    }
+
+    /// As [`ClutterMap::new`], with spoke k's beam axis raised by `beam_tilt_rad[k]` (the own
+    /// ship's roll and pitch when the beam passes it; an empty slice for a level deck): the
+    /// sea's elevation gain `Gn²(ψ_d − tilt − δ)` and the rain's elevation integral
+    /// `∫_{lo−δ}^{hi−δ} Gn²` = the level integral `+ ∫_{lo−δ}^{lo} − ∫_{hi−δ}^{hi}` (each edge
+    /// by an 8-point midpoint rule).
+    pub fn with_beam_tilts(
+        radar: &Radar,
+        env: &Environment,
+        seed: u64,
+        frame: u64,
+        samples: usize,
+        beam_tilt_rad: &[f64],
+    ) -> Option<ClutterMap> {
         if env.clutter().is_none() && env.rain().is_none() {
             return None;
         }
@@ -170,6 +186,13 @@ impl ClutterMap {
             /// log10 ν of the empirical K shape without the swell-direction term.
             log_nu_row: f64,
             rain_volume_factor: f64,
+            /// For a tilted beam: the depression angle, the sea factor without its elevation
+            /// gain, the rain factor without its elevation integral and that integral's
+            /// limits (rad).
+            depression: f64,
+            sea_factor_per_gain: f64,
+            rain_per_integral: f64,
+            rain_limits: (f64, f64),
         }
         let rows: Vec<Option<Row>> = (0..samples)
             .map(|n| {
@@ -196,6 +219,12 @@ impl ClutterMap {
                         grazing_rad.to_degrees(),
                     ) / 10.0,
                 );
+                let sea_factor_per_gain =
+                    ground_m * dr / grazing_rad.cos() * k_noise / r.powi(4) * atmos;
+                let rain_per_integral = r * r * dr * k_noise / r.powi(4) * atmos;
+                let rain_limits = env.rain().as_ref().map_or((0.0, 0.0), |rain| {
+                    (depression, ((rain.top_m - h) / r).clamp(-1.0, 1.0).asin())
+                });
                 // Rain: elevations from the sea up to the rain top, two-way elevation pattern.
                 let rain_volume_factor = env.rain().as_ref().map_or(0.0, |rain| {
                     let lo = depression;
@@ -232,6 +261,10 @@ impl ClutterMap {
                     dir_norm,
                     log_nu_row,
                     rain_volume_factor,
+                    depression,
+                    sea_factor_per_gain,
+                    rain_per_integral,
+                    rain_limits,
                 })
             })
             .collect();
@@ -311,8 +344,30 @@ impl ClutterMap {
             let swell_rel = clutter.map_or(0.0, |c| az - c.swell_from_rad());
             let cos_rel = wind_rel.cos();
             let cos_2swell = (2.0 * swell_rel).cos();
+            let tilt = beam_tilt_rad.get(k).copied().unwrap_or(0.0);
+            let tilted = ant.tilted_by(tilt);
+            // ∫_{x−δ}^{x} Gn²(e) de on the level antenna's pattern (8-point midpoint rule).
+            let edge = |x: f64| {
+                let steps = 8;
+                (0..steps)
+                    .map(|i| x - tilt + tilt * (i as f64 + 0.5) / steps as f64)
+                    .map(|e| ant.elevation_pattern(e).powi(2))
+                    .sum::<f64>()
+                    * tilt
+                    / steps as f64
+            };
             for (n, row) in rows.iter().enumerate() {
                 let Some(row) = row else { continue };
+                let (sea_factor, rain_volume_factor) = if tilt == 0.0 {
+                    (row.sea_factor, row.rain_volume_factor)
+                } else {
+                    let (lo, hi) = row.rain_limits;
+                    let level = row.rain_volume_factor / row.rain_per_integral;
+                    (
+                        row.sea_factor_per_gain * tilted.elevation_pattern(row.depression).powi(2),
+                        row.rain_per_integral * (level + edge(lo) - edge(hi)).max(0.0),
+                    )
+                };
                 let p = radar_xy + dir * row.ground_m;
                 let rain_loss = if has_rain {
                     (-2.0 * rain_db(row.ground_m) / 10.0 * std::f64::consts::LN_10).exp()
@@ -335,7 +390,7 @@ impl ClutterMap {
                             ) / 10.0,
                         ),
                     };
-                    let mean = sigma0 * row.sea_factor;
+                    let mean = sigma0 * sea_factor;
                     sea_row[n] = (mean * rain_loss * delta) as f32;
                     if let Some(f) = &field {
                         let g = f.at(p.x - drift.x, p.y - drift.y);
@@ -363,7 +418,7 @@ impl ClutterMap {
                 }
                 if let Some(rain) = &env.rain() {
                     rain_row[n] = (volume_reflectivity_m2_per_m3(rain.rate_at(p), lambda)
-                        * row.rain_volume_factor
+                        * rain_volume_factor
                         * rain_loss
                         * delta) as f32;
                 }

@@ -141,11 +141,13 @@ impl Scene {
             None => scene,
             Some(s) => {
                 let course_deg = s.course_deg.unwrap_or(0.0);
-                scene.with_own_ship(OwnShip::new(
+                let ship = OwnShip::new(
                     s.speed_kn.unwrap_or(0.0),
                     course_deg,
                     s.heading_deg.unwrap_or(course_deg),
-                )?)
+                )?;
+                let mast_height_m = scene.radar().position_m().z;
+                scene.with_own_ship(world::build_own_ship_wave(ship, s, mast_height_m)?)
             }
         })
     }

@@ -79,6 +79,50 @@ pub struct WaveMotion {
     pub phase_rad: f64,
 }
 
+impl WaveMotion {
+    /// Checks the amplitudes (finite, ≥ 0, roll and pitch at most 60°), the phase (finite) and
+    /// the period (finite, > 0); errors name `{prefix}.field`.
+    fn check(&self, prefix: &str) -> Result<()> {
+        let f = |name: &str| format!("{prefix}.{name}");
+        for (name, v, max) in [
+            ("heave_amplitude_m", self.heave_amplitude_m, f64::INFINITY),
+            (
+                "roll_amplitude_deg",
+                self.roll_amplitude_rad.to_degrees(),
+                60.0,
+            ),
+            (
+                "pitch_amplitude_deg",
+                self.pitch_amplitude_rad.to_degrees(),
+                60.0,
+            ),
+        ] {
+            finite(&f(name), v)?;
+            if !(0.0..=max).contains(&v) {
+                return Err(invalid(&f(name), v, format!("must be from 0 to {max}")));
+            }
+        }
+        finite(&f("motion_phase_deg"), self.phase_rad)?;
+        if !(self.period_s.is_finite() && self.period_s > 0.0) {
+            return Err(invalid(
+                &f("motion_period_s"),
+                self.period_s,
+                "wave-induced motion needs a period: a finite number of seconds above zero",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Roll `A_r·sin(2πt/T + φ)` and pitch `A_p·cos(2πt/T + φ)` at `t_s`, rad.
+    pub fn roll_pitch_rad(&self, t_s: f64) -> (f64, f64) {
+        let phase = TAU * t_s / self.period_s + self.phase_rad;
+        (
+            self.roll_amplitude_rad * phase.sin(),
+            self.pitch_amplitude_rad * phase.cos(),
+        )
+    }
+}
+
 /// A validated motion.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Motion {
@@ -198,32 +242,7 @@ impl Motion {
             finite(&f("yaw_deg"), h)?;
         }
         if let Some(w) = &wave {
-            for (name, v, max) in [
-                ("heave_amplitude_m", w.heave_amplitude_m, f64::INFINITY),
-                (
-                    "roll_amplitude_deg",
-                    w.roll_amplitude_rad.to_degrees(),
-                    60.0,
-                ),
-                (
-                    "pitch_amplitude_deg",
-                    w.pitch_amplitude_rad.to_degrees(),
-                    60.0,
-                ),
-            ] {
-                finite(&f(name), v)?;
-                if !(0.0..=max).contains(&v) {
-                    return Err(invalid(&f(name), v, format!("must be from 0 to {max}")));
-                }
-            }
-            finite(&f("motion_phase_deg"), w.phase_rad)?;
-            if !(w.period_s.is_finite() && w.period_s > 0.0) {
-                return Err(invalid(
-                    &f("motion_period_s"),
-                    w.period_s,
-                    "wave-induced motion needs a period: a finite number of seconds above zero",
-                ));
-            }
+            w.check(field)?;
         }
         Ok(Motion {
             path,
@@ -355,12 +374,19 @@ pub fn heading_of(rotation: DMat3) -> Option<f64> {
     (bow.x.hypot(bow.y) > 1e-9).then(|| bow.x.atan2(bow.y).rem_euclid(TAU))
 }
 
-/// The ship the radar rides on (`[own_ship]`): a straight course at a steady speed. The
-/// antenna's phase centre moves with it; bearings in the record stay true (north-referenced).
+/// The ship the radar rides on (`[own_ship]`): a straight course at a steady speed, with an
+/// optional roll and pitch in the waves. The antenna's phase centre moves with it and, when
+/// the ship rolls and pitches about a centre at the waterline under the mast, swings on its
+/// mast height and tilts the beam (docs/physics.md §9); bearings in the record stay true
+/// (north-referenced).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OwnShip {
     velocity_mps: DVec3,
     heading_rad: f64,
+    /// Roll and pitch in the waves (heave 0).
+    wave: Option<WaveMotion>,
+    /// Height of the antenna's phase centre above the centre of roll and pitch, m.
+    mast_height_m: f64,
 }
 
 impl OwnShip {
@@ -381,7 +407,92 @@ impl OwnShip {
         Ok(OwnShip {
             velocity_mps: DVec3::new(s * course.sin(), s * course.cos(), 0.0),
             heading_rad: heading.rem_euclid(TAU),
+            wave: None,
+            mast_height_m: 0.0,
         })
+    }
+
+    /// The same ship rolling `roll_amplitude_deg·sin(2πt/T + φ)` and pitching
+    /// `pitch_amplitude_deg·cos(2πt/T + φ)` (T = `motion_period_s`, φ = `motion_phase_deg`)
+    /// about a centre `mast_height_m` below the antenna; amplitudes 0–60°, errors name
+    /// `own_ship.field`.
+    pub fn rolling(
+        self,
+        roll_amplitude_deg: f64,
+        pitch_amplitude_deg: f64,
+        motion_period_s: f64,
+        motion_phase_deg: f64,
+        mast_height_m: f64,
+    ) -> Result<OwnShip> {
+        let wave = WaveMotion {
+            heave_amplitude_m: 0.0,
+            roll_amplitude_rad: roll_amplitude_deg.to_radians(),
+            pitch_amplitude_rad: pitch_amplitude_deg.to_radians(),
+            period_s: motion_period_s,
+            phase_rad: motion_phase_deg.to_radians(),
+        };
+        wave.check("own_ship")?;
+        Ok(OwnShip {
+            wave: Some(wave),
+            mast_height_m,
+            ..self
+        })
+    }
+
+    /// Roll and pitch at `t_s`, rad (0 without wave motion).
+    pub fn roll_pitch_rad(&self, t_s: f64) -> (f64, f64) {
+        self.wave.map_or((0.0, 0.0), |w| w.roll_pitch_rad(t_s))
+    }
+
+    /// Ship-to-world rotation at `t_s` (heading, pitch, roll as an object's:
+    /// docs/formats.md, "Object frames").
+    pub fn rotation(&self, t_s: f64) -> DMat3 {
+        let (roll, pitch) = self.roll_pitch_rad(t_s);
+        object_frame(self.heading_rad, pitch, roll)
+    }
+
+    /// Where the antenna's phase centre is at `t_s` relative to its place at t = 0, ENU m:
+    /// the ship's run plus the mast's swing `R(t)·(0, 0, h) − (0, 0, h)`.
+    pub fn antenna_offset_m(&self, t_s: f64) -> DVec3 {
+        let run = self.displacement_m(t_s);
+        if self.wave.is_none() {
+            return run;
+        }
+        let mast = DVec3::new(0.0, 0.0, self.mast_height_m);
+        run + self.rotation(t_s) * mast - mast
+    }
+
+    /// Velocity of the antenna's phase centre at `t_s`, ENU m/s: the ship's plus the mast's
+    /// swing (its derivative by a central difference over a millionth of the wave period,
+    /// relative error below 10⁻¹⁰).
+    pub fn antenna_velocity_mps(&self, t_s: f64) -> DVec3 {
+        match self.wave {
+            None => self.velocity_mps,
+            Some(w) => {
+                let dt = w.period_s * 1e-6;
+                let mast = DVec3::new(0.0, 0.0, self.mast_height_m);
+                self.velocity_mps
+                    + (self.rotation(t_s + dt) * mast - self.rotation(t_s - dt) * mast) / (2.0 * dt)
+            }
+        }
+    }
+
+    /// Elevation of the beam axis above the horizon when the antenna points at nautical
+    /// azimuth `azimuth_rad` at `t_s`, from the deck's roll and pitch alone, rad: the
+    /// boresight `(sin α, cos α, 0)` in the ship's frame (α = azimuth − heading) carried by
+    /// [`OwnShip::rotation`], `asin(z)`; `sin p·cos α − cos p·sin r·sin α` (0 on a level deck).
+    pub fn beam_tilt_rad(&self, t_s: f64, azimuth_rad: f64) -> f64 {
+        if self.wave.is_none() {
+            return 0.0;
+        }
+        let a = azimuth_rad - self.heading_rad;
+        let boresight = self.rotation(t_s) * DVec3::new(a.sin(), a.cos(), 0.0);
+        boresight.z.clamp(-1.0, 1.0).asin()
+    }
+
+    /// The wave motion, if the ship rolls or pitches.
+    pub fn wave(&self) -> Option<&WaveMotion> {
+        self.wave.as_ref()
     }
 
     /// Velocity over ground, ENU m/s.

@@ -22,6 +22,10 @@ pub struct ShipState {
     pub velocity_mps: DVec3,
     /// Heading, rad (nautical).
     pub heading_rad: f64,
+    /// Roll, rad (starboard down positive; 0 without `roll_amplitude_deg`).
+    pub roll_rad: f64,
+    /// Pitch, rad (bow up positive).
+    pub pitch_rad: f64,
 }
 
 /// An object when the beam crosses it.
@@ -35,6 +39,9 @@ pub struct ObjectState {
     pub antenna_position_m: DVec3,
     /// The antenna's velocity then, ENU m/s.
     pub antenna_velocity_mps: DVec3,
+    /// How far the own ship's roll and pitch raised the beam axis toward it then, rad (0 on
+    /// a level deck): the antenna's elevation pattern is centred at `tilt + this`.
+    pub beam_tilt_rad: f64,
 }
 
 impl ShipState {
@@ -59,6 +66,7 @@ pub struct Revolution {
     scene: Arc<Scene>,
     objects: Vec<ObjectState>,
     own_ship: Option<ShipState>,
+    ship: Option<super::motion::OwnShip>,
 }
 
 impl Revolution {
@@ -76,9 +84,13 @@ impl Revolution {
             scene.radar().position_m()
                 + scene
                     .own_ship()
-                    .map_or(DVec3::ZERO, |s| s.displacement_m(t))
+                    .map_or(DVec3::ZERO, |s| s.antenna_offset_m(t))
         };
-        let radar_velocity = scene.own_ship().map_or(DVec3::ZERO, |s| s.velocity_mps());
+        let radar_velocity = |t: f64| {
+            scene
+                .own_ship()
+                .map_or(DVec3::ZERO, |s| s.antenna_velocity_mps(t))
+        };
         let (sin_lead, cos_lead) = (TAU * lead_s / period_s).sin_cos();
         let objects: Vec<ObjectState> = scene
             .objects()
@@ -99,18 +111,29 @@ impl Revolution {
                         )
                     })
                 };
+                let kinematics = o.kinematics(beam_time_s);
+                let antenna_position_m = radar_at(beam_time_s);
+                let r = kinematics.position_m - antenna_position_m;
                 ObjectState {
                     beam_time_s,
-                    kinematics: o.kinematics(beam_time_s),
-                    antenna_position_m: radar_at(beam_time_s),
-                    antenna_velocity_mps: radar_velocity,
+                    kinematics,
+                    antenna_position_m,
+                    antenna_velocity_mps: radar_velocity(beam_time_s),
+                    beam_tilt_rad: scene
+                        .own_ship()
+                        .map_or(0.0, |s| s.beam_tilt_rad(beam_time_s, r.x.atan2(r.y))),
                 }
             })
             .collect();
-        let own_ship = scene.own_ship().map(|s| ShipState {
-            antenna_position_m: radar_at(start_time_s),
-            velocity_mps: s.velocity_mps(),
-            heading_rad: s.heading_rad(),
+        let own_ship = scene.own_ship().map(|s| {
+            let (roll_rad, pitch_rad) = s.roll_pitch_rad(start_time_s);
+            ShipState {
+                antenna_position_m: radar_at(start_time_s),
+                velocity_mps: s.velocity_mps(),
+                heading_rad: s.heading_rad(),
+                roll_rad,
+                pitch_rad,
+            }
         });
         let seen = if scene.is_still() {
             Arc::clone(scene)
@@ -136,7 +159,19 @@ impl Revolution {
             scene: seen,
             objects,
             own_ship,
+            ship: scene.own_ship().copied(),
         }
+    }
+
+    /// How far the own ship's roll and pitch raise the beam axis at `t_s` when the antenna
+    /// points at `azimuth_rad`, rad (0 on a level deck or without an own ship).
+    pub fn beam_tilt_rad(&self, t_s: f64, azimuth_rad: f64) -> f64 {
+        self.ship.map_or(0.0, |s| s.beam_tilt_rad(t_s, azimuth_rad))
+    }
+
+    /// Whether the own ship rolls or pitches (the beam tilts with time and azimuth).
+    pub fn deck_moves(&self) -> bool {
+        self.ship.is_some_and(|s| s.wave().is_some())
     }
 
     /// Start of the revolution, s.

@@ -515,3 +515,42 @@ fn build_motion(prefix: &str, o: &ObjectSpec, yaw_rad: Option<f64>) -> Result<Op
     };
     Motion::new(prefix, path, heading, wave).map(Some)
 }
+
+/// The own ship's roll and pitch (`[own_ship]` `roll_amplitude_deg`, `pitch_amplitude_deg`,
+/// `motion_period_s`, `motion_phase_deg`): the period is needed with an amplitude and refused
+/// without one.
+pub(super) fn build_own_ship_wave(
+    ship: super::motion::OwnShip,
+    s: &crate::scene::OwnShipSpec,
+    mast_height_m: f64,
+) -> Result<super::motion::OwnShip> {
+    if s.roll_amplitude_deg.is_none() && s.pitch_amplitude_deg.is_none() {
+        for (field, set) in [
+            ("own_ship.motion_period_s", s.motion_period_s.is_some()),
+            ("own_ship.motion_phase_deg", s.motion_phase_deg.is_some()),
+        ] {
+            if set {
+                return Err(Error::invalid(
+                    Problem::Conflict,
+                    field,
+                    "(set)",
+                    "needs a roll or pitch: roll_amplitude_deg or pitch_amplitude_deg",
+                ));
+            }
+        }
+        return Ok(ship);
+    }
+    let period_s = s.motion_period_s.ok_or_else(|| {
+        Error::missing(
+            "own_ship.motion_period_s",
+            "roll and pitch (roll_amplitude_deg, pitch_amplitude_deg) need motion_period_s",
+        )
+    })?;
+    ship.rolling(
+        s.roll_amplitude_deg.unwrap_or(0.0),
+        s.pitch_amplitude_deg.unwrap_or(0.0),
+        period_s,
+        s.motion_phase_deg.unwrap_or(0.0),
+        mast_height_m,
+    )
+}

@@ -78,6 +78,8 @@ struct OwnShipTruth {
     speed_kn: f64,
     course_deg: Option<f64>,
     heading_deg: f64,
+    roll_deg: f64,
+    pitch_deg: f64,
 }
 
 impl OwnShipTruth {
@@ -89,6 +91,8 @@ impl OwnShipTruth {
             speed_kn: v.x.hypot(v.y) / KNOT_M_PER_S,
             course_deg: s.course_rad().map(f64::to_degrees),
             heading_deg: s.heading_rad.to_degrees(),
+            roll_deg: s.roll_rad.to_degrees(),
+            pitch_deg: s.pitch_rad.to_degrees(),
         }
     }
 }

@@ -385,7 +385,12 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
             };
             let losses = EchoLosses {
                 window: loss_db(*window_loss),
-                elevation_pattern: loss_db(ant.elevation_pattern(el).powi(2).max(1e-300)),
+                elevation_pattern: loss_db(
+                    ant.tilted_by(state.beam_tilt_rad)
+                        .elevation_pattern(el)
+                        .powi(2)
+                        .max(1e-300),
+                ),
                 atmosphere: loss_db(scene.environment().attenuation_power(range_m)),
                 rain: rain_two_way_loss_db(radar, scene.environment(), o.position_m()),
                 eclipse: (eclipse_fraction > 0.0).then(|| loss_db(eclipse_fraction.powi(2))),

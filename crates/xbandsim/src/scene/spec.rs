@@ -405,4 +405,13 @@ pub struct OwnShipSpec {
     pub course_deg: Option<f64>,
     /// Heading of the bow, nautical degrees (default: the course).
     pub heading_deg: Option<f64>,
+    /// Roll amplitude in the waves, degrees (0–60): roll = A·sin(2πt/T + φ), starboard down
+    /// positive. Tilts the beam and swings the antenna on its mast.
+    pub roll_amplitude_deg: Option<f64>,
+    /// Pitch amplitude, degrees (0–60): pitch = A·cos(2πt/T + φ), bow up positive.
+    pub pitch_amplitude_deg: Option<f64>,
+    /// Period T of the roll and pitch, s (needed with an amplitude).
+    pub motion_period_s: Option<f64>,
+    /// Phase φ of the roll and pitch, degrees (default 0).
+    pub motion_phase_deg: Option<f64>,
 }
