@@ -269,7 +269,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
             next,
             xbandsim::engine::Outputs {
                 doppler_cube: true,
-                iq: false,
+                ..Default::default()
             },
             &|| {},
         ))

@@ -134,6 +134,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     let outputs = Outputs {
         doppler_cube: a.datacube,
         iq: a.iq,
+        radial_velocity: display.doppler_colour,
     };
     let sim = Simulation::new(scene);
     sim.check_outputs(outputs)?;

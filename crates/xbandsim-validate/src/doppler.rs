@@ -33,7 +33,7 @@ pub fn render_pulse(text: &str) -> (Simulation, Frame) {
             0,
             Outputs {
                 doppler_cube: true,
-                iq: false,
+                ..Default::default()
             },
             &|| {},
         )

@@ -70,6 +70,8 @@ pub struct Outputs {
     pub doppler_cube: bool,
     /// The raw received I/Q of every pulse ([`crate::products::PulseIq`]).
     pub iq: bool,
+    /// Every cell's pulse-pair radial velocity (pulse mode; `[display] doppler_colour`).
+    pub radial_velocity: bool,
 }
 
 /// The raw signals of one pulse, in units of the noise rms voltage `√(k·T0·F·fs)`.
@@ -569,8 +571,8 @@ impl Simulation {
     }
 
     /// Renders revolution `frame` with the scan of `[processing] mode` and the optional
-    /// `outputs` ([`Simulation::check_outputs`] says which this scene can give), calling
-    /// `spoke_done` after every spoke.
+    /// `outputs` ([`Simulation::check_outputs`] says which this scene can give; a Doppler
+    /// cube and radial velocities need pulse mode), calling `spoke_done` after every spoke.
     pub fn render_frame_outputs(
         &self,
         seed: u64,
@@ -584,8 +586,8 @@ impl Simulation {
         self.run_with(&schedule, seed, outputs, spoke_done)
     }
 
-    /// Whether this scene can give `outputs`: a Doppler cube needs `[processing] mode =
-    /// "pulse"`; raw I/Q must stay under [`MAX_IQ_BYTES`] per revolution.
+    /// Whether this scene can give `outputs`: a Doppler cube and radial velocities need
+    /// `[processing] mode = "pulse"`; raw I/Q must stay under [`MAX_IQ_BYTES`] per revolution.
     pub fn check_outputs(&self, outputs: Outputs) -> Result<()> {
         if outputs.doppler_cube && self.scene.processing().mode() != ProcessingMode::Pulse {
             return Err(Error::invalid(
@@ -593,6 +595,14 @@ impl Simulation {
                 "processing.mode",
                 "\"spoke\"",
                 "a range-Doppler cube (--datacube) needs processing.mode = \"pulse\": the scene fires one pulse per spoke (add [processing] mode = \"pulse\" or --set processing.mode=pulse)",
+            ));
+        }
+        if outputs.radial_velocity && self.scene.processing().mode() != ProcessingMode::Pulse {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                "processing.mode",
+                "\"spoke\"",
+                "radial velocities (display.doppler_colour) need processing.mode = \"pulse\": the scene fires one pulse per spoke",
             ));
         }
         if outputs.iq {
@@ -750,7 +760,7 @@ impl Simulation {
         } else {
             self.clutter_map_from(revolution.scene().radar(), seed, schedule.frame())
         };
-        let (polar_db, doppler_cube) = match self.scene.processing().mode() {
+        let (polar_db, doppler_cube, radial_velocity) = match self.scene.processing().mode() {
             ProcessingMode::Spoke => (
                 self.synthesize_capture(
                     &traced.groups,
@@ -760,6 +770,7 @@ impl Simulation {
                     iq,
                     dwell_done,
                 ),
+                None,
                 None,
             ),
             ProcessingMode::Pulse => self.synthesize_pulses(
@@ -771,7 +782,7 @@ impl Simulation {
                 &self.movers(revolution),
                 seed,
                 schedule,
-                outputs.doppler_cube,
+                outputs,
                 iq,
                 dwell_done,
             ),
@@ -789,6 +800,7 @@ impl Simulation {
             polar_db,
             doppler_cube,
             iq: None,
+            radial_velocity,
             truth,
             stats: FrameStats {
                 rays_cast: traced.set.rays_cast,

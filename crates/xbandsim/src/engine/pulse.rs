@@ -7,17 +7,18 @@
 //! and bearing `β̇·(t − t_b)` (the antenna pattern weights it at its moved bearing),
 //! and its chirp is Doppler-shifted within the pulse (`s(t)·exp(j2π·f_D·t)`, which gives the
 //! LFM range–Doppler coupling). A dwell's pulses are integrated into its spoke
-//! (noncoherent, coherent or none), and its first `doppler_pulses` pulses give the spoke's
-//! slab of the range-Doppler cube.
+//! (noncoherent, coherent or none), its first `doppler_pulses` pulses give the spoke's
+//! slab of the range-Doppler cube, and (when asked) its consecutive pulses' lag-one products
+//! give each cell's pulse-pair radial velocity.
 
-use super::{Simulation, MIN_GROUP_AMPLITUDE, POLAR_FLOOR_DB};
+use super::{Outputs, Simulation, MIN_GROUP_AMPLITUDE, POLAR_FLOOR_DB};
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
 use crate::echo::EchoGroups;
 use crate::environment::clutter_map::{ClutterMap, DwellClutterScratch, GaussianDoppler};
 use crate::model::revolution::Revolution;
 use crate::model::Integration;
 use crate::processing::{DopplerSpectra, SpokeScratch};
-use crate::products::DopplerCube;
+use crate::products::{DopplerCube, RadialVelocity};
 use crate::rng::{RngKey, Stream};
 use glam::DVec3;
 use num_complex::{Complex32, Complex64};
@@ -86,7 +87,14 @@ struct PulseScratch {
     cpi: Vec<Complex32>,
     doppler: Vec<Complex32>,
     doppler_fft: Vec<Complex32>,
+    /// Pulse pair: the previous pulse's output, the lag-one sum R1 and the power sum.
+    previous: Vec<Complex32>,
+    lag_one: Vec<Complex32>,
+    power: Vec<f32>,
 }
+
+/// One spoke's rows of the radial-velocity product.
+type VelocityRows<'a> = (&'a mut [f32], &'a mut [bool], &'a mut [f32]);
 
 impl Simulation {
     /// The Doppler spectra of sea clutter and rain seen by a beam at `azimuth_rad` from an
@@ -306,8 +314,10 @@ impl Simulation {
     }
 
     /// Pulse mode: every dwell's pulses compressed with their moving echoes, integrated into
-    /// the spoke as `[processing] integration` says, and (when `cube`) the Doppler spectrum of
-    /// each spoke's first `doppler_pulses` pulses. Returns the polar record and the cube.
+    /// the spoke as `[processing] integration` says, and (when `outputs` ask) the Doppler
+    /// spectrum of each spoke's first `doppler_pulses` pulses and every cell's pulse-pair
+    /// radial velocity (docs/physics.md §10). Returns the polar record, the cube and the
+    /// velocities.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn synthesize_pulses(
         &self,
@@ -317,10 +327,11 @@ impl Simulation {
         movers: &[Mover],
         seed: u64,
         schedule: &Schedule,
-        cube: bool,
+        outputs: Outputs,
         iq: Option<&mut super::iq::IqCapture>,
         dwell_done: &(dyn Fn() + Sync),
-    ) -> (Vec<f32>, Option<DopplerCube>) {
+    ) -> (Vec<f32>, Option<DopplerCube>, Option<RadialVelocity>) {
+        let cube = outputs.doppler_cube;
         let radar = self.scene.radar();
         let spokes = radar.spokes();
         let bins = self.compressor.num_bins();
@@ -344,9 +355,30 @@ impl Simulation {
             (0..spokes).map(|_| None).collect()
         };
         let mut iq_slabs = iq.map_or_else(|| (0..spokes).map(|_| None).collect(), |c| c.slabs());
+        let pairs = outputs.radial_velocity;
+        let cells = if pairs { spokes * bins } else { 0 };
+        let mut velocity = vec![0f32; cells];
+        let mut estimated = vec![false; cells];
+        let mut power = vec![0f32; cells];
+        let mut velocity_rows: Vec<Option<VelocityRows>> = if pairs {
+            velocity
+                .chunks_mut(bins)
+                .zip(estimated.chunks_mut(bins))
+                .zip(power.chunks_mut(bins))
+                .map(|((v, e), p)| Some((v, e, p)))
+                .collect()
+        } else {
+            (0..spokes).map(|_| None).collect()
+        };
+        let pair_len = if pairs { bins } else { 0 };
+        let wavelength_m = radar.wavelength_m();
         polar
             .par_chunks_mut(bins)
-            .zip(slabs.par_iter_mut().zip(iq_slabs.par_iter_mut()))
+            .zip(
+                slabs
+                    .par_iter_mut()
+                    .zip(velocity_rows.par_iter_mut().zip(iq_slabs.par_iter_mut())),
+            )
             .enumerate()
             .for_each_init(
                 || PulseScratch {
@@ -361,8 +393,11 @@ impl Simulation {
                         Complex32::new(0.0, 0.0);
                         plan.map_or(0, |(p, _)| p.fft.get_inplace_scratch_len())
                     ],
+                    previous: vec![Complex32::new(0.0, 0.0); pair_len],
+                    lag_one: vec![Complex32::new(0.0, 0.0); pair_len],
+                    power: vec![0.0; pair_len],
                 },
-                |s, (k, (row, (slab, iq_slab)))| {
+                |s, (k, (row, (slab, (velocity_row, iq_slab))))| {
                     let dwell = &schedule.dwells()[dwell_of_spoke[k]];
                     let spoke_az = radar.scan().spoke_azimuth_rad(k);
                     let nearest = dwell
@@ -381,6 +416,8 @@ impl Simulation {
                         .map_or(0, |(i, _)| i);
                     row.fill(0.0);
                     s.coherent.fill(Complex32::new(0.0, 0.0));
+                    s.lag_one.fill(Complex32::new(0.0, 0.0));
+                    s.power.fill(0.0);
                     let record = self.compressor.record_len();
                     if let Some(c) = clutter {
                         s.times.clear();
@@ -437,6 +474,18 @@ impl Simulation {
                         if m < cpi_len {
                             s.cpi[m * bins..(m + 1) * bins].copy_from_slice(y);
                         }
+                        if pairs {
+                            // Pulse pair: R1 += y_m·conj(y_{m−1}), R0 += |y_m|².
+                            for (p, v) in s.power.iter_mut().zip(y) {
+                                *p += v.norm_sqr();
+                            }
+                            if m > 0 {
+                                for ((r, v), u) in s.lag_one.iter_mut().zip(y).zip(&s.previous) {
+                                    *r += v * u.conj();
+                                }
+                            }
+                            s.previous.copy_from_slice(y);
+                        }
                     }
                     let count = dwell.pulses.len() as f32;
                     match integration {
@@ -450,6 +499,24 @@ impl Simulation {
                     }
                     for o in row.iter_mut() {
                         *o = (10.0 * o.log10()).max(POLAR_FLOOR_DB);
+                    }
+                    if let Some((v_row, e_row, p_row)) = velocity_row.as_mut() {
+                        // Mean Doppler arg(R1)/(2π·PRI) over the dwell's pulse spacing (at
+                        // least two pulses a spoke in pulse mode), v = −λ·f/2.
+                        let n = dwell.pulses.len();
+                        let pri_s = (dwell.pulses[n - 1].time_s - dwell.pulses[0].time_s)
+                            / (n - 1).max(1) as f64;
+                        let to_velocity = -wavelength_m / (2.0 * std::f64::consts::TAU * pri_s);
+                        for j in 0..bins {
+                            let r1 = s.lag_one[j];
+                            e_row[j] = r1 != Complex32::new(0.0, 0.0);
+                            v_row[j] = if e_row[j] {
+                                (to_velocity * r1.arg() as f64) as f32
+                            } else {
+                                0.0
+                            };
+                            p_row[j] = (10.0 * (s.power[j] / count).log10()).max(POLAR_FLOOR_DB);
+                        }
                     }
                     if let (Some((p, m_len)), Some(slab)) = (plan, slab.as_deref_mut()) {
                         doppler_slab(
@@ -472,7 +539,15 @@ impl Simulation {
             doppler_bin_hz: radar.prf_hz() / cpi_len as f64,
             values_db: cube_values,
         });
-        (polar, cube)
+        let radial_velocity = pairs.then(|| RadialVelocity {
+            spokes,
+            range_bins: bins,
+            velocity_mps: velocity,
+            estimated,
+            power_db: power,
+            unambiguous_mps: wavelength_m * radar.prf_hz() / 4.0,
+        });
+        (polar, cube, radial_velocity)
     }
 }
 

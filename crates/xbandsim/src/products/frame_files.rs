@@ -1,15 +1,15 @@
 //! The files of one rendered frame, written as a set: `polar.npy`, `ppi.png`, `ppi_gray.png`
-//! and `truth.json`, and `doppler_cube.npy`, `iq.npy` and `iq_pulses.npy` when the frame has
-//! them (docs/formats.md). The truth file holds no timings, so the same scene and
-//! seed give byte-identical files.
+//! and `truth.json`, and `doppler_cube.npy`, `radial_velocity.npy`, `iq.npy` and
+//! `iq_pulses.npy` when the frame has them (docs/formats.md). The truth file holds no timings,
+//! so the same scene and seed give byte-identical files.
 
 use super::labels::ObjectTruth;
 use super::output::{
     json_bytes, npy_c64_bytes, npy_f32_bytes, npy_f64_bytes, png_bytes, write_set,
 };
-use super::ppi::{colour_image, gray_image, PpiSettings};
+use super::ppi::{colour_image_marked, gray_image, PpiSettings};
 use super::{Frame, FrameStats};
-use crate::error::Result;
+use crate::error::{Error, Problem, Result};
 use crate::model::motion::KNOT_M_PER_S;
 use crate::model::revolution::ShipState;
 use crate::model::Radar;
@@ -32,6 +32,7 @@ struct TruthFile<'a> {
     image_size_px: u32,
     display_range_m: f64,
     ppi_up_azimuth_deg: f64,
+    ppi_radar_px: [f64; 2],
     radar_position_m: [f64; 3],
     objects: &'a [ObjectTruth],
     /// Deterministic counts only: timings go to the terminal, so that the same seed gives
@@ -108,7 +109,9 @@ impl TraceCounts {
 }
 
 /// Writes the four outputs of a frame into `out` as a set (all encoded first, then written
-/// together: a failure leaves the previous set in place and no temporary files).
+/// together: a failure leaves the previous set in place and no temporary files), and the
+/// frame's optional products. With `[display] doppler_colour` the frame must carry its
+/// radial velocities (rendered with `engine::Outputs::radial_velocity`).
 pub fn write_frame_files(
     radar: &Radar,
     display: &PpiSettings,
@@ -117,23 +120,39 @@ pub fn write_frame_files(
     scene_name: &str,
     seed: u64,
 ) -> Result<()> {
-    let up_azimuth_rad = display.up_azimuth_rad(frame.own_ship.as_ref());
-    let conv = display.oriented_scan_converter(radar, up_azimuth_rad);
+    let conv = display.frame_scan_converter(radar, frame.own_ship.as_ref());
+    let geometry = conv.geometry();
     let size = conv.size_px();
     let mut objects = frame.truth.clone();
-    conv.geometry().label(&mut objects);
+    geometry.label(&mut objects);
     let mut ppi = vec![0f32; (size * size) as usize];
     conv.convert(&frame.polar_db, f32::NAN, &mut ppi);
     let d = display;
+    let velocity = match (&frame.radial_velocity, d.doppler_colour) {
+        (None, true) => {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                "display.doppler_colour",
+                true,
+                "this frame carries no radial velocities: render it in pulse mode with engine::Outputs { radial_velocity: true, .. }",
+            ))
+        }
+        (v, _) => v.as_ref(),
+    };
+    let threshold_db = d.doppler_colour_threshold_db;
+    let approaching = velocity
+        .filter(|_| d.doppler_colour)
+        .map(|v| move |i: usize| v.approaching(i, threshold_db));
     let polar = npy_f32_bytes(&[frame.spokes, frame.range_bins], &frame.polar_db);
     let colour = png_bytes(
         &out.join("ppi.png"),
         size,
         size,
         3,
-        &colour_image(
+        &colour_image_marked(
             &conv,
             &ppi,
+            approaching.as_ref().map(|f| f as &dyn Fn(usize) -> bool),
             d.colormap,
             d.min_db,
             d.max_db,
@@ -175,7 +194,11 @@ pub fn write_frame_files(
         range_bin_m: frame.range_bin_m,
         image_size_px: size,
         display_range_m: conv.display_range_m(),
-        ppi_up_azimuth_deg: up_azimuth_rad.to_degrees(),
+        ppi_up_azimuth_deg: geometry.up_azimuth_rad.to_degrees(),
+        ppi_radar_px: {
+            let (x, y) = geometry.radar_px();
+            [x, y]
+        },
         radar_position_m: frame
             .own_ship
             .map_or(radar.position_m(), |s| s.antenna_position_m)
@@ -194,6 +217,12 @@ pub fn write_frame_files(
         files.push((
             "doppler_cube.npy",
             npy_f32_bytes(&[c.spokes, c.doppler_bins, c.range_bins], &c.values_db),
+        ));
+    }
+    if let Some(v) = velocity {
+        files.push((
+            "radial_velocity.npy",
+            npy_f32_bytes(&[v.spokes, v.range_bins], &v.velocity_mps),
         ));
     }
     if let Some(q) = &frame.iq {

@@ -79,6 +79,39 @@ pub struct PulseIq {
     pub spokes: Vec<usize>,
 }
 
+/// The mean radial velocity of every cell of a pulse-mode revolution, estimated from its
+/// dwell's pulses by the pulse-pair method (docs/physics.md §10; docs/formats.md,
+/// "radial_velocity.npy"), with the cell's mean pulse power.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RadialVelocity {
+    /// Spokes (rows).
+    pub spokes: usize,
+    /// Range bins (columns), as the polar record's.
+    pub range_bins: usize,
+    /// Mean radial velocity `−λ·arg(R1)/(4π·PRI)`, m/s, positive opening, spokes × bins
+    /// row-major; aliased into ±`unambiguous_mps`; 0 where `estimated` is false.
+    pub velocity_mps: Vec<f32>,
+    /// Whether the cell has an estimate (its lag-one sum R1 is not zero: false only where
+    /// nothing at all was received, with the noise off).
+    pub estimated: Vec<bool>,
+    /// The dwell's mean pulse power `R0 = mean |y_m|²` over the mean noise power, dB (floor
+    /// −120 dB), as the noncoherent record.
+    pub power_db: Vec<f32>,
+    /// The largest speed told apart from its aliases, `λ·PRF/4`, m/s.
+    pub unambiguous_mps: f64,
+}
+
+impl RadialVelocity {
+    /// Whether cell `i` (spoke·range_bins + bin) holds an echo at least `threshold_db` over the
+    /// noise closing at [`labels::RADIAL_CLASS_THRESHOLD_MPS`] or faster: what a target
+    /// analyser colours as approaching.
+    pub fn approaching(&self, i: usize, threshold_db: f64) -> bool {
+        self.estimated[i]
+            && self.power_db[i] as f64 >= threshold_db
+            && self.velocity_mps[i] as f64 <= -labels::RADIAL_CLASS_THRESHOLD_MPS
+    }
+}
+
 /// One rendered revolution.
 #[derive(Debug, Clone)]
 pub struct Frame {
@@ -100,6 +133,8 @@ pub struct Frame {
     pub doppler_cube: Option<DopplerCube>,
     /// The raw received I/Q of every pulse (when asked for).
     pub iq: Option<PulseIq>,
+    /// Every cell's pulse-pair radial velocity (pulse mode, when asked for).
+    pub radial_velocity: Option<RadialVelocity>,
     /// Per-object ground truth (PPI pixel boxes are added by the PPI product for a given
     /// image: `products::ppi::PpiGeometry::label`).
     pub truth: Vec<ObjectTruth>,

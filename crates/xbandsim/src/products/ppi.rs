@@ -1,12 +1,15 @@
 //! Stage: display. Polar (spokes × range bins) to Cartesian PPI scan conversion, colour maps
 //! and range rings.
 //!
-//! The PPI has the radar at the centre and true bearing `u` at the top (`[display]
-//! orientation`: north-up u = 0, head-up u = the own ship's heading, course-up u = its course):
-//! pixel (col, row) of an image of side `S` covering ±R is at screen right
-//! `x = (col + ½ − S/2)·2R/S`, up `y = (S/2 − row − ½)·2R/S`; its true bearing
-//! `atan2(x, y) + u` picks the nearest spoke and its range `√(x²+y²)` is interpolated linearly
-//! between range bins.
+//! The PPI has true bearing `u` at the top (`[display] orientation`: north-up u = 0, head-up
+//! u = the own ship's heading, course-up u = its course) and the radar at the centre (relative
+//! motion) or displaced from it by `o` = the antenna's ground displacement since t = 0 (true
+//! motion, `[display] motion = "true"`; docs/formats.md): pixel (col, row) of an image of side
+//! `S` covering ±R is at screen right `x = (col + ½ − S/2)·2R/S`, up `y = (S/2 − row − ½)·2R/S`,
+//! i.e. at east `e = x·cos u + y·sin u`, north `n = −x·sin u + y·cos u` from the image centre;
+//! seen from the radar, `(e, n) − o`, its true bearing picks the nearest spoke and its range is
+//! interpolated linearly between range bins (with `o = 0` the bearing is `atan2(x, y) + u` and
+//! the range `√(x²+y²)`).
 
 use crate::error::{Error, Problem, Result};
 use crate::model::checks::finite;
@@ -25,6 +28,9 @@ pub struct PpiGeometry {
     pub display_range_m: f64,
     /// True bearing shown straight up, rad (0: north-up).
     pub up_azimuth_rad: f64,
+    /// Where the radar is from the image centre, `[east, north]` m: zero in relative motion,
+    /// the antenna's ground displacement since t = 0 in true motion.
+    pub radar_offset_m: [f64; 2],
 }
 
 impl PpiGeometry {
@@ -32,11 +38,26 @@ impl PpiGeometry {
     pub fn pixel_of(&self, east_m: f64, north_m: f64) -> (f64, f64) {
         let s = self.size_px as f64;
         let px_m = 2.0 * self.display_range_m / s;
-        // Turn the picture so that bearing `up` points up.
+        let [oe, on] = self.radar_offset_m;
+        let (east_m, north_m) = (east_m + oe, north_m + on);
+        // Turn the picture about its centre so that bearing `up` points up.
         let (sin_u, cos_u) = self.up_azimuth_rad.sin_cos();
         let right = east_m * cos_u - north_m * sin_u;
         let up = east_m * sin_u + north_m * cos_u;
         (right / px_m + s / 2.0, s / 2.0 - up / px_m)
+    }
+
+    /// Pixel coordinates (col, row, fractional) of the radar (the antenna's phase centre):
+    /// the image centre `(S/2, S/2)` in relative motion.
+    pub fn radar_px(&self) -> (f64, f64) {
+        self.pixel_of(0.0, 0.0)
+    }
+
+    /// The radar's position on the screen from the image centre, m: `(right, up)`.
+    fn radar_screen_m(&self) -> (f64, f64) {
+        let [oe, on] = self.radar_offset_m;
+        let (sin_u, cos_u) = self.up_azimuth_rad.sin_cos();
+        (oe * cos_u - on * sin_u, oe * sin_u + on * cos_u)
     }
 
     /// The pixel box `[x_min, y_min, x_max, y_max]` of an echo region: the polar sector's
@@ -85,9 +106,7 @@ impl PpiGeometry {
 /// Precomputed mapping from PPI pixels to polar samples.
 #[derive(Debug, Clone)]
 pub struct ScanConverter {
-    size_px: u32,
-    display_range_m: f64,
-    up_azimuth_rad: f64,
+    geometry: PpiGeometry,
     /// Per pixel: polar index of the lower bin (u32::MAX outside the display) and the weight
     /// of the upper bin.
     lut: Vec<(u32, f32)>,
@@ -114,6 +133,32 @@ impl ScanConverter {
         range_bin_m: f64,
         up_azimuth_rad: f64,
     ) -> ScanConverter {
+        let geometry = PpiGeometry {
+            size_px,
+            display_range_m,
+            up_azimuth_rad,
+            radar_offset_m: [0.0, 0.0],
+        };
+        ScanConverter::for_geometry(geometry, spokes, num_bins, range_bin_m)
+    }
+
+    /// Mapping for the image `geometry` (orientation and the radar's place in it) of a polar
+    /// record of `spokes` × `num_bins` bins `range_bin_m` apart. Pixels farther than the
+    /// display range from the radar map to nothing.
+    pub fn for_geometry(
+        geometry: PpiGeometry,
+        spokes: usize,
+        num_bins: usize,
+        range_bin_m: f64,
+    ) -> ScanConverter {
+        let PpiGeometry {
+            size_px,
+            display_range_m,
+            up_azimuth_rad,
+            radar_offset_m: [oe, on],
+        } = geometry;
+        let centred = oe == 0.0 && on == 0.0;
+        let (sin_u, cos_u) = up_azimuth_rad.sin_cos();
         let s = size_px as usize;
         let px_m = 2.0 * display_range_m / size_px as f64;
         let spoke_rad = std::f64::consts::TAU / spokes as f64;
@@ -122,16 +167,23 @@ impl ScanConverter {
             for col in 0..s {
                 let x = (col as f64 + 0.5 - s as f64 / 2.0) * px_m;
                 let y = (s as f64 / 2.0 - row as f64 - 0.5) * px_m;
-                let r = x.hypot(y);
+                let (r, az) = if centred {
+                    let az = if up_azimuth_rad == 0.0 {
+                        x.atan2(y).rem_euclid(std::f64::consts::TAU)
+                    } else {
+                        (x.atan2(y) + up_azimuth_rad).rem_euclid(std::f64::consts::TAU)
+                    };
+                    (x.hypot(y), az)
+                } else {
+                    // East and north from the image centre, then from the radar.
+                    let e = x * cos_u + y * sin_u - oe;
+                    let n = -x * sin_u + y * cos_u - on;
+                    (e.hypot(n), e.atan2(n).rem_euclid(std::f64::consts::TAU))
+                };
                 if r > display_range_m {
                     lut.push((u32::MAX, 0.0));
                     continue;
                 }
-                let az = if up_azimuth_rad == 0.0 {
-                    x.atan2(y).rem_euclid(std::f64::consts::TAU)
-                } else {
-                    (x.atan2(y) + up_azimuth_rad).rem_euclid(std::f64::consts::TAU)
-                };
                 let spoke = ((az / spoke_rad).round() as usize) % spokes;
                 let fb = r / range_bin_m;
                 let b0 = fb.floor() as usize;
@@ -142,22 +194,17 @@ impl ScanConverter {
                 lut.push(((spoke * num_bins + b0) as u32, (fb - b0 as f64) as f32));
             }
         }
-        ScanConverter {
-            size_px,
-            display_range_m,
-            up_azimuth_rad,
-            lut,
-        }
+        ScanConverter { geometry, lut }
     }
 
     /// Image side, px.
     pub fn size_px(&self) -> u32 {
-        self.size_px
+        self.geometry.size_px
     }
 
     /// Half-width of the image, m.
     pub fn display_range_m(&self) -> f64 {
-        self.display_range_m
+        self.geometry.display_range_m
     }
 
     /// Scan-converts `polar` (spokes × bins) into `out` (size² pixels, row-major);
@@ -176,11 +223,14 @@ impl ScanConverter {
 
     /// The image geometry.
     pub fn geometry(&self) -> PpiGeometry {
-        PpiGeometry {
-            size_px: self.size_px,
-            display_range_m: self.display_range_m,
-            up_azimuth_rad: self.up_azimuth_rad,
-        }
+        self.geometry
+    }
+
+    /// The polar cell (spoke·bins + bin) nearest to pixel `pixel` (row-major), None outside
+    /// the display.
+    pub fn nearest_cell(&self, pixel: usize) -> Option<usize> {
+        let (idx, w) = self.lut[pixel];
+        (idx != u32::MAX).then(|| idx as usize + usize::from(w >= 0.5))
     }
 }
 
@@ -238,6 +288,10 @@ pub fn gray_image(ppi_db: &[f32], min_db: f64, max_db: f64) -> Vec<u8> {
         .collect()
 }
 
+/// Colour of the cells `[display] doppler_colour` marks as approaching: pure red, outside
+/// every colour map.
+pub const APPROACHING_RGB: [u8; 3] = [255, 0, 0];
+
 /// RGB image from PPI dB values with range rings every `ring_spacing_m` (0 = none).
 pub fn colour_image(
     conv: &ScanConverter,
@@ -247,25 +301,44 @@ pub fn colour_image(
     max_db: f64,
     ring_spacing_m: f64,
 ) -> Vec<u8> {
-    let s = conv.size_px as usize;
+    colour_image_marked(conv, ppi_db, None, colormap, min_db, max_db, ring_spacing_m)
+}
+
+/// As [`colour_image`], with the pixels whose nearest polar cell `marked` says so drawn in
+/// [`APPROACHING_RGB`] (under the range rings).
+pub fn colour_image_marked(
+    conv: &ScanConverter,
+    ppi_db: &[f32],
+    marked: Option<&dyn Fn(usize) -> bool>,
+    colormap: Colormap,
+    min_db: f64,
+    max_db: f64,
+    ring_spacing_m: f64,
+) -> Vec<u8> {
+    let s = conv.size_px() as usize;
+    let display_range_m = conv.display_range_m();
     let mut rgb = Vec::with_capacity(s * s * 3);
-    for &v in ppi_db {
+    for (p, &v) in ppi_db.iter().enumerate() {
         let c = if v.is_nan() {
             [0, 0, 0]
+        } else if marked.is_some_and(|m| conv.nearest_cell(p).is_some_and(m)) {
+            APPROACHING_RGB
         } else {
             colour(colormap, normalise_db(v, min_db, max_db))
         };
         rgb.extend_from_slice(&c);
     }
     if ring_spacing_m > 0.0 {
-        let px_m = 2.0 * conv.display_range_m / s as f64;
+        let px_m = 2.0 * display_range_m / s as f64;
         let ring = [40u8, 220, 40];
+        // Rings are centred on the radar (the image centre in relative motion).
+        let (rx, ry) = conv.geometry().radar_screen_m();
         for row in 0..s {
             for col in 0..s {
-                let x = (col as f64 + 0.5 - s as f64 / 2.0) * px_m;
-                let y = (s as f64 / 2.0 - row as f64 - 0.5) * px_m;
+                let x = (col as f64 + 0.5 - s as f64 / 2.0) * px_m - rx;
+                let y = (s as f64 / 2.0 - row as f64 - 0.5) * px_m - ry;
                 let r = x.hypot(y);
-                if r > conv.display_range_m + 0.5 * px_m {
+                if r > display_range_m + 0.5 * px_m {
                     continue;
                 }
                 let k = (r / ring_spacing_m).round();
@@ -303,6 +376,29 @@ pub enum Orientation {
     CourseUp,
 }
 
+/// `display.motion`: what the PPI keeps fixed.
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Default,
+    serde::Deserialize,
+    serde::Serialize,
+    schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Motion {
+    /// Relative motion: the own ship (the antenna) at the image centre; the picture moves
+    /// past it.
+    #[default]
+    Relative,
+    /// True motion: the picture fixed to the ground, centred on the antenna's position at
+    /// t = 0; the own ship moves across it.
+    True,
+}
+
 /// Colour map for `ppi.png`.
 #[derive(
     Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize, serde::Serialize, schemars::JsonSchema,
@@ -333,6 +429,12 @@ pub struct PpiSettings {
     pub max_db: f64,
     /// Which bearing is at the top.
     pub orientation: Orientation,
+    /// Relative or true motion.
+    pub motion: Motion,
+    /// Colour approaching echoes (pulse mode).
+    pub doppler_colour: bool,
+    /// Power an echo needs to be coloured, dB over noise.
+    pub doppler_colour_threshold_db: f64,
 }
 
 impl PpiSettings {
@@ -377,6 +479,12 @@ impl PpiSettings {
             min_db,
             max_db,
             orientation: s.orientation.unwrap_or_default(),
+            motion: s.motion.unwrap_or_default(),
+            doppler_colour: s.doppler_colour.unwrap_or(false),
+            doppler_colour_threshold_db: finite(
+                "display.doppler_colour_threshold_db",
+                s.doppler_colour_threshold_db.unwrap_or(10.0),
+            )?,
         })
     }
 
@@ -390,6 +498,47 @@ impl PpiSettings {
             Orientation::HeadUp => s.heading_rad,
             Orientation::CourseUp => s.course_rad().unwrap_or(s.heading_rad),
         }
+    }
+
+    /// Where the radar is from the image centre in a frame whose own ship is `own_ship` (its
+    /// state at the frame's start), `[east, north]` m: zero in relative motion; in true motion
+    /// the antenna's ground displacement since t = 0 (where `radar.position_m` puts it), zero
+    /// without an own ship.
+    pub fn radar_offset_m(&self, radar: &Radar, own_ship: Option<&ShipState>) -> [f64; 2] {
+        match (self.motion, own_ship) {
+            (Motion::True, Some(s)) => {
+                let d = s.antenna_position_m - radar.position_m();
+                [d.x, d.y]
+            }
+            _ => [0.0, 0.0],
+        }
+    }
+
+    /// The geometry of a frame's images for `radar`'s record, with the own ship in `own_ship`
+    /// (its state at the frame's start): this side, covering the max range, the orientation's
+    /// bearing at the top and the radar where the motion mode puts it.
+    pub fn frame_geometry(&self, radar: &Radar, own_ship: Option<&ShipState>) -> PpiGeometry {
+        PpiGeometry {
+            size_px: self.image_size_px,
+            display_range_m: radar.max_range_m(),
+            up_azimuth_rad: self.up_azimuth_rad(own_ship),
+            radar_offset_m: self.radar_offset_m(radar, own_ship),
+        }
+    }
+
+    /// Scan converter from `radar`'s polar record to a frame's image
+    /// ([`PpiSettings::frame_geometry`]).
+    pub fn frame_scan_converter(
+        &self,
+        radar: &Radar,
+        own_ship: Option<&ShipState>,
+    ) -> ScanConverter {
+        ScanConverter::for_geometry(
+            self.frame_geometry(radar, own_ship),
+            radar.spokes(),
+            radar.num_range_bins(),
+            radar.range_bin_m(),
+        )
     }
 
     /// Scan converter from `radar`'s polar record to this image, covering its max range,
@@ -416,6 +565,7 @@ impl PpiSettings {
             size_px: self.image_size_px,
             display_range_m: radar.max_range_m(),
             up_azimuth_rad: 0.0,
+            radar_offset_m: [0.0, 0.0],
         }
     }
 }

@@ -10,7 +10,7 @@
 
 use super::SceneSpec;
 use crate::error::{Error, Location, Result};
-use crate::model::Scene;
+use crate::model::{ProcessingMode, Scene};
 use crate::products::ppi::{Orientation, PpiSettings};
 use std::path::{Path, PathBuf};
 use toml::de::{DeTable, DeValue};
@@ -124,6 +124,16 @@ impl LoadedSpec {
                 "display.orientation",
                 format!("{:?}", settings.orientation),
                 "head-up and course-up turn the picture with the own ship: they need an [own_ship] table",
+            )));
+        }
+        if settings.doppler_colour
+            && self.spec.processing.mode.unwrap_or_default() != ProcessingMode::Pulse
+        {
+            return Err(self.locate_error(crate::error::Error::invalid(
+                crate::error::Problem::Conflict,
+                "display.doppler_colour",
+                true,
+                "colouring approaching echoes needs each cell's Doppler from its pulses: set [processing] mode = \"pulse\"",
             )));
         }
         Ok(settings)

@@ -5,7 +5,7 @@
 use crate::environment::clutter::Sigma0Model;
 use crate::geometry::MeshUnit;
 use crate::model::{Integration, Polarisation, ProcessingMode, ScatteringModel};
-use crate::products::ppi::{Colormap, Orientation};
+use crate::products::ppi::{Colormap, Motion, Orientation};
 use crate::propagation::SeaRoughness;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -294,6 +294,15 @@ pub struct DisplaySpec {
     pub max_db: Option<f64>,
     /// "north-up" (default), "head-up" or "course-up" (the last two need `[own_ship]`).
     pub orientation: Option<Orientation>,
+    /// "relative" (default: the own ship at the image centre) or "true" (the picture fixed to
+    /// the ground, centred on the antenna's position at t = 0; the own ship moves across it).
+    pub motion: Option<Motion>,
+    /// Draw echoes closing at 3 kn or faster in red on ppi.png, from each cell's pulse-pair
+    /// radial velocity, and write radial_velocity.npy (default false; needs
+    /// `[processing] mode = "pulse"`).
+    pub doppler_colour: Option<bool>,
+    /// Mean pulse power a cell needs to be coloured, dB over noise (default 10).
+    pub doppler_colour_threshold_db: Option<f64>,
 }
 
 /// `[scattering]`.

@@ -44,6 +44,7 @@ fn pulse_mode_is_deterministic_across_thread_counts() {
                     xbandsim::engine::Outputs {
                         doppler_cube: true,
                         iq: true,
+                        ..Default::default()
                     },
                     &|| {},
                 )

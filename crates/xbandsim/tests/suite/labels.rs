@@ -83,6 +83,7 @@ position_m = [-2500.0, 0.0, 4.0]
         size_px: 512,
         display_range_m: sim.scene().radar().max_range_m(),
         up_azimuth_rad: 0.0,
+        radar_offset_m: [0.0, 0.0],
     }
     .label(&mut truth);
     let by = |n: &str| truth.iter().find(|t| t.name == n).unwrap().clone();

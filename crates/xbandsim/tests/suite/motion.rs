@@ -484,3 +484,127 @@ fn tilted_clutter_matches_a_tilted_radar() {
     let wrong_way = worst(false, true, -1.0);
     assert!(wrong_way > 0.1, "wrong way {wrong_way}");
 }
+
+/// True motion: the picture is fixed to the ground. Over three revolutions of an own ship
+/// under way, a buoy's pixel box (and its brightest pixel) stays put while the antenna's pixel
+/// moves by speed·T_rot per frame, starting at the centre; in relative motion the buoy's box
+/// moves instead. truth.json tells where the radar is (`ppi_radar_px`). A bad `motion` value
+/// is an error naming the field.
+#[test]
+fn true_motion_keeps_the_ground_still() {
+    use xbandsim::products::frame_files::write_frame_files;
+    use xbandsim::products::ppi::{Motion, PpiSettings};
+    use xbandsim::scene::LoadedSpec;
+    let text = format!(
+        "{}[own_ship]\nspeed_kn = 20.0\ncourse_deg = 60.0\n[display]\nmotion = \"true\"\nimage_size_px = 256\n[[object]]\nname = \"buoy\"\nshape = \"point\"\nrcs_m2 = 100.0\nposition_m = [-300.0, 520.0, 4.0]\n",
+        radar_block_no_noise("spokes = 360\nmax_range_m = 1000.0")
+    );
+    let spec = LoadedSpec::from_toml(&text, "t", std::path::Path::new(".")).unwrap();
+    let settings = spec.ppi_settings().unwrap();
+    assert_eq!(settings.motion, Motion::True);
+    let relative = PpiSettings {
+        motion: Motion::Relative,
+        ..settings.clone()
+    };
+    let sim = Simulation::new(spec.build().unwrap());
+    let radar = sim.scene().radar();
+    let px_m = 2000.0 / 256.0;
+    let step_px = 20.0 * KNOT_M_PER_S * radar.scan().period_s() / px_m;
+    let (sin_c, cos_c) = 60f64.to_radians().sin_cos();
+    let dir = tempfile::tempdir().unwrap();
+    let (mut boxes, mut peaks, mut relative_boxes) = (vec![], vec![], vec![]);
+    for k in 0..3u64 {
+        let frame = sim.render_frame(0, k);
+        let own = frame.own_ship.as_ref();
+        let g = settings.frame_geometry(radar, own);
+        let (x, y) = g.radar_px();
+        let moved = step_px * k as f64;
+        assert!(
+            (x - 128.0 - moved * sin_c).abs() < 1e-6 && (y - 128.0 + moved * cos_c).abs() < 1e-6,
+            "frame {k}: radar at ({x}, {y})"
+        );
+        let mut truth = frame.truth.clone();
+        g.label(&mut truth);
+        boxes.push(truth[0].ppi_box_px.unwrap());
+        let conv = settings.frame_scan_converter(radar, own);
+        let mut image = vec![0f32; 256 * 256];
+        conv.convert(&frame.polar_db, f32::NAN, &mut image);
+        let best = (0..image.len())
+            .filter(|&i| image[i].is_finite())
+            .max_by(|&a, &b| image[a].total_cmp(&image[b]))
+            .unwrap();
+        peaks.push(((best % 256) as f64, (best / 256) as f64));
+        let mut truth = frame.truth.clone();
+        relative.frame_geometry(radar, own).label(&mut truth);
+        relative_boxes.push(truth[0].ppi_box_px.unwrap());
+        // The files say where the radar is.
+        write_frame_files(radar, &settings, &frame, dir.path(), "t", 0).unwrap();
+        let json: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(dir.path().join("truth.json")).unwrap()).unwrap();
+        let p = &json["ppi_radar_px"];
+        assert!(
+            (p[0].as_f64().unwrap() - x).abs() < 1e-9 && (p[1].as_f64().unwrap() - y).abs() < 1e-9
+        );
+        assert_eq!(
+            json["objects"][0]["ppi_box_px"][0].as_f64(),
+            Some(boxes[k as usize][0])
+        );
+    }
+    for k in 1..3 {
+        let drift = (0..4)
+            .map(|i| (boxes[k][i] - boxes[0][i]).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            drift < 0.3,
+            "frame {k}: the buoy's box drifted {drift} px: {boxes:?}"
+        );
+        let (dx, dy) = (peaks[k].0 - peaks[0].0, peaks[k].1 - peaks[0].1);
+        assert!(dx.abs() <= 1.0 && dy.abs() <= 1.0, "peaks {peaks:?}");
+        // Relative motion: the buoy moves against the own ship's track.
+        let centre = |b: [f64; 4]| ((b[0] + b[2]) / 2.0, (b[1] + b[3]) / 2.0);
+        let (c0, ck) = (centre(relative_boxes[0]), centre(relative_boxes[k]));
+        let moved = step_px * k as f64;
+        assert!(
+            (ck.0 - c0.0 + moved * sin_c).abs() < 0.5 && (ck.1 - c0.1 - moved * cos_c).abs() < 0.5,
+            "relative motion: {c0:?} -> {ck:?}"
+        );
+    }
+    // Head-up in true motion: the picture turns about the image centre, the antenna stays
+    // its displacement from it, and the buoy's brightest pixel stays inside its box.
+    let head_up = PpiSettings {
+        orientation: xbandsim::products::ppi::Orientation::HeadUp,
+        ..settings.clone()
+    };
+    let frame = sim.render_frame(0, 2);
+    let own = frame.own_ship.as_ref();
+    let g = head_up.frame_geometry(radar, own);
+    let (x, y) = g.radar_px();
+    assert!(((x - 128.0).hypot(y - 128.0) - 2.0 * step_px).abs() < 1e-6);
+    assert!(
+        (x - 128.0).abs() < 1e-6 && y < 128.0,
+        "dead ahead is up: ({x}, {y})"
+    );
+    let mut truth = frame.truth.clone();
+    g.label(&mut truth);
+    let b = truth[0].ppi_box_px.unwrap();
+    let mut image = vec![0f32; 256 * 256];
+    head_up
+        .frame_scan_converter(radar, own)
+        .convert(&frame.polar_db, f32::NAN, &mut image);
+    let best = (0..image.len())
+        .filter(|&i| image[i].is_finite())
+        .max_by(|&a, &b| image[a].total_cmp(&image[b]))
+        .unwrap();
+    let (col, row) = ((best % 256) as f64 + 0.5, (best / 256) as f64 + 0.5);
+    assert!(
+        b[0] - 1.0 <= col && col <= b[2] + 1.0 && b[1] - 1.0 <= row && row <= b[3] + 1.0,
+        "peak ({col}, {row}) outside {b:?}"
+    );
+    // A bad value names the field.
+    let bad = text.replace("motion = \"true\"", "motion = \"sideways\"");
+    let err = LoadedSpec::from_toml(&bad, "t", std::path::Path::new("."))
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("motion") && err.contains("sideways"), "{err}");
+}

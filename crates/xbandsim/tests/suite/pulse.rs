@@ -95,7 +95,7 @@ fn doppler_cube_axes_and_noise_calibration() {
             0,
             Outputs {
                 doppler_cube: true,
-                iq: false,
+                ..Default::default()
             },
             &|| {},
         )
@@ -214,4 +214,113 @@ fn spoke_zero_is_continuous_across_north() {
             "spoke {k}: peak at bin {j}, truth {j_truth}"
         );
     }
+}
+
+/// Doppler colour (the pulse-pair estimator, docs/physics.md §10): of two 10 kn targets, one
+/// closing and one opening, the closing one's peak cell reads its truth radial velocity within
+/// 0.5 m/s and is drawn red on ppi.png; the opening one's cells are not; radial_velocity.npy
+/// is written. Doppler colour in spoke mode is refused by field.
+#[test]
+fn doppler_colour_marks_approaching_echoes() {
+    use xbandsim::products::frame_files::write_frame_files;
+    use xbandsim::products::ppi::APPROACHING_RGB;
+    use xbandsim::scene::LoadedSpec;
+    let text = "[radar]\nspokes = 180\nmax_range_m = 900.0\nprf_hz = 1200.0\n[environment]\nnoise = true\nclutter = false\nmultipath = false\n[processing]\nmode = \"pulse\"\n[display]\ndoppler_colour = true\nimage_size_px = 1024\n[[object]]\nname = \"closing\"\nshape = \"point\"\nrcs_m2 = 10.0\nposition_m = [0.0, 500.0, 4.0]\nspeed_kn = 10.0\ncourse_deg = 180.0\n[[object]]\nname = \"opening\"\nshape = \"point\"\nrcs_m2 = 10.0\nposition_m = [500.0, -200.0, 4.0]\nspeed_kn = 10.0\ncourse_deg = 112.0\n";
+    let spec = LoadedSpec::from_toml(text, "t", std::path::Path::new(".")).unwrap();
+    let settings = spec.ppi_settings().unwrap();
+    assert!(settings.doppler_colour && settings.doppler_colour_threshold_db == 10.0);
+    let sim = Simulation::new(spec.build().unwrap());
+    let outputs = Outputs {
+        radial_velocity: true,
+        ..Default::default()
+    };
+    let frame = sim
+        .render_frame_outputs(5, 0, outputs, &|| {})
+        .expect("pulse mode gives radial velocities");
+    let v = frame.radial_velocity.as_ref().unwrap();
+    let bins = frame.range_bins;
+    let lambda = sim.scene().radar().wavelength_m();
+    assert!((v.unambiguous_mps - lambda * 1200.0 / 4.0).abs() < 1e-12);
+    let peak_of = |name: &str| {
+        let t = frame.truth.iter().find(|t| t.name == name).unwrap();
+        let b = t.polar_box.unwrap();
+        let mut best = (0, f32::MIN);
+        // The box may wrap through north (spoke_min > spoke_max).
+        let n = (b.spoke_max + frame.spokes - b.spoke_min) % frame.spokes;
+        for k in (0..=n).map(|d| (b.spoke_min + d) % frame.spokes) {
+            for j in b.bin_min..=b.bin_max {
+                let i = k * bins + j;
+                if frame.polar_db[i] > best.1 {
+                    best = (i, frame.polar_db[i]);
+                }
+            }
+        }
+        (t.clone(), best.0)
+    };
+    let (closing, ci) = peak_of("closing");
+    let (opening, oi) = peak_of("opening");
+    assert!(closing.radial_velocity_mps < -5.0 && opening.radial_velocity_mps > 5.0);
+    assert!(
+        frame.polar_db[ci] > 20.0 && frame.polar_db[oi] > 20.0,
+        "{} {} {:?} {:?}",
+        frame.polar_db[ci],
+        frame.polar_db[oi],
+        closing.expected_snr_db,
+        opening.expected_snr_db
+    );
+    for (t, i) in [(&closing, ci), (&opening, oi)] {
+        assert!(v.estimated[i]);
+        let err = (v.velocity_mps[i] as f64 - t.radial_velocity_mps).abs();
+        assert!(
+            err < 0.5,
+            "{}: estimate {} m/s, truth {} m/s",
+            t.name,
+            v.velocity_mps[i],
+            t.radial_velocity_mps
+        );
+    }
+    assert!(v.approaching(ci, 10.0) && !v.approaching(oi, 10.0));
+    // Noise alone (10 dB below the threshold) is never coloured.
+    let coloured = (0..v.velocity_mps.len())
+        .filter(|&i| v.approaching(i, 10.0))
+        .count();
+    assert!(coloured > 0);
+    // The image: red pixels in the closing target's box, none in the opening one's.
+    let dir = tempfile::tempdir().unwrap();
+    write_frame_files(sim.scene().radar(), &settings, &frame, dir.path(), "t", 5).unwrap();
+    let decoder = png::Decoder::new(std::io::BufReader::new(
+        std::fs::File::open(dir.path().join("ppi.png")).unwrap(),
+    ));
+    let mut reader = decoder.read_info().unwrap();
+    let mut rgb = vec![0u8; reader.output_buffer_size()];
+    reader.next_frame(&mut rgb).unwrap();
+    let truth: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("truth.json")).unwrap()).unwrap();
+    let red_in = |id: usize| {
+        let b = &truth["objects"][id]["ppi_box_px"];
+        let b: Vec<usize> = (0..4).map(|i| b[i].as_f64().unwrap() as usize).collect();
+        let mut n = 0;
+        for row in b[1]..=b[3].min(1023) {
+            for col in b[0]..=b[2].min(1023) {
+                let p = (row * 1024 + col) * 3;
+                n += usize::from(rgb[p..p + 3] == APPROACHING_RGB);
+            }
+        }
+        n
+    };
+    assert!(red_in(0) > 0, "the closing target is not coloured");
+    assert_eq!(red_in(1), 0, "the opening target is coloured");
+    let npy = std::fs::read(dir.path().join("radial_velocity.npy")).unwrap();
+    assert_eq!(npy.len(), 128 + 4 * frame.spokes * bins);
+    // Spoke mode has no pulses to compare: refused, naming the field.
+    let spoke = text.replace("mode = \"pulse\"\n", "");
+    let err = LoadedSpec::from_toml(&spoke, "t", std::path::Path::new("."))
+        .unwrap()
+        .build()
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("display.doppler_colour") && err.contains("pulse"),
+        "{err}"
+    );
 }

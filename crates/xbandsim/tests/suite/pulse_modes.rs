@@ -20,8 +20,8 @@ fn iq(outputs_sim: &Simulation) -> xbandsim::Frame {
             2,
             0,
             Outputs {
-                doppler_cube: false,
                 iq: true,
+                ..Default::default()
             },
             &|| {},
         )
@@ -108,8 +108,8 @@ fn oversized_raw_iq_is_refused() {
     ));
     let err = sim
         .check_outputs(Outputs {
-            doppler_cube: false,
             iq: true,
+            ..Default::default()
         })
         .unwrap_err()
         .to_string();
