@@ -25,6 +25,18 @@ impl IqCapture {
     /// Buffers for `schedule` with records of `record` samples; refuses a capture over
     /// [`MAX_IQ_BYTES`].
     pub(crate) fn new(schedule: &Schedule, record: usize) -> Result<IqCapture> {
+        let spoke_rows = IqCapture::rows(schedule, record)?;
+        let rows = spoke_rows.last().copied().unwrap_or(0);
+        Ok(IqCapture {
+            record,
+            spoke_rows,
+            values: vec![Complex32::new(0.0, 0.0); rows * record],
+        })
+    }
+
+    /// First row of each spoke's dwell (spokes + 1 entries), checking the capture's size
+    /// against [`MAX_IQ_BYTES`] without allocating it.
+    pub(crate) fn rows(schedule: &Schedule, record: usize) -> Result<Vec<usize>> {
         let spokes = schedule.spokes();
         let mut counts = vec![0usize; spokes];
         for d in schedule.dwells() {
@@ -50,11 +62,7 @@ impl IqCapture {
                 ),
             ));
         }
-        Ok(IqCapture {
-            record,
-            spoke_rows,
-            values: vec![Complex32::new(0.0, 0.0); rows * record],
-        })
+        Ok(spoke_rows)
     }
 
     /// Each spoke's rows, to fill in parallel with the spokes.

@@ -358,7 +358,8 @@ impl Simulation {
 
     /// Raw I/Q of one pulse at `beam_az_rad`, formed explicitly in time (echo record, noise,
     /// blanking, then the matched filter) — the same signals `compress_spoke` forms in the
-    /// frequency domain, kept for figures, raw-IQ users and tests.
+    /// frequency domain (the long pulse's channel: in combined pulse mode the bins inside the
+    /// join come from the short pulse instead), kept for figures and tests.
     pub fn raw_spoke(
         &self,
         clutter: Option<&ClutterMap>,
@@ -608,7 +609,7 @@ impl Simulation {
         if outputs.iq {
             let schedule =
                 Schedule::for_mode(self.scene.radar(), self.scene.processing().mode(), 0);
-            iq::IqCapture::new(&schedule, self.compressor.record_len())?;
+            iq::IqCapture::rows(&schedule, self.compressor.record_len())?;
         }
         Ok(())
     }

@@ -372,6 +372,11 @@ impl Simulation {
         };
         let pair_len = if pairs { bins } else { 0 };
         let wavelength_m = radar.wavelength_m();
+        // Combined pulse mode: the short pulse's bins carry its higher noise floor in the
+        // record's units; the colour threshold is over each channel's own noise.
+        let (join_bin, short_noise_db) = radar
+            .short_pulse_noise_db()
+            .map_or((0, 0.0), |d| (radar.join_bin().min(bins), d as f32));
         polar
             .par_chunks_mut(bins)
             .zip(
@@ -515,7 +520,9 @@ impl Simulation {
                             } else {
                                 0.0
                             };
-                            p_row[j] = (10.0 * (s.power[j] / count).log10()).max(POLAR_FLOOR_DB);
+                            let local_noise_db = if j < join_bin { short_noise_db } else { 0.0 };
+                            p_row[j] = (10.0 * (s.power[j] / count).log10() - local_noise_db)
+                                .max(POLAR_FLOOR_DB);
                         }
                     }
                     if let (Some((p, m_len)), Some(slab)) = (plan, slab.as_deref_mut()) {

@@ -76,6 +76,9 @@ impl Schedule {
     /// the beam crosses it; the engine advances moving echoes to each pulse's time).
     pub fn pulse_scan(radar: &Radar, frame: u64) -> Schedule {
         let scan = radar.scan();
+        if scan.stagger().is_staggered() {
+            return Schedule::staggered_scan(radar, frame);
+        }
         let spokes = scan.spokes();
         let start_s = frame as f64 * scan.period_s();
         let mut dwells: Vec<Dwell> = (0..spokes)
@@ -105,6 +108,51 @@ impl Schedule {
             p.time_s -= period_s;
         }
         dwells[0].pulses = late.into_iter().chain(early).collect();
+        Schedule {
+            spokes,
+            frame,
+            scene_time_s: start_s,
+            dwells,
+        }
+    }
+
+    /// The pulse-by-pulse scan of revolution `frame` for a staggered PRF: the one pulse train
+    /// runs on through every revolution ([`crate::model::Scan::train_time_s`]), so no interval
+    /// at a revolution's seam is shorter than the stagger's; revolution k takes the pulses
+    /// fired from half a spoke before north at `k·T` to half a spoke before north at
+    /// `(k + 1)·T`, numbered from 0 in fire order, each integrated into the spoke nearest the
+    /// antenna's azimuth `2π·(t − k·T)/T`.
+    fn staggered_scan(radar: &Radar, frame: u64) -> Schedule {
+        let scan = radar.scan();
+        let spokes = scan.spokes();
+        let period_s = scan.period_s();
+        let start_s = frame as f64 * period_s;
+        let lead_s = 0.5 * period_s / spokes as f64;
+        let mut dwells: Vec<Dwell> = (0..spokes)
+            .map(|k| Dwell {
+                spoke: k,
+                pulses: Vec::new(),
+            })
+            .collect();
+        let first = scan.first_train_pulse_at(start_s - lead_s);
+        let end_s = start_s + period_s - lead_s;
+        let mut g = first;
+        loop {
+            let t = scan.train_time_s(g);
+            if t >= end_s {
+                break;
+            }
+            let azimuth = (std::f64::consts::TAU * (t - start_s) / period_s)
+                .rem_euclid(std::f64::consts::TAU);
+            let spoke =
+                ((azimuth / std::f64::consts::TAU * spokes as f64).round() as usize) % spokes;
+            dwells[spoke].pulses.push(Pulse {
+                number: (g - first) as u64,
+                time_s: t,
+                azimuth_rad: azimuth,
+            });
+            g += 1;
+        }
         Schedule {
             spokes,
             frame,

@@ -101,6 +101,9 @@ impl Processing {
 /// azimuth, [`super::Scan::spoke_of_pulse`]).
 pub fn fewest_pulses_per_spoke(radar: &Radar) -> usize {
     let scan = radar.scan();
+    if scan.stagger().is_staggered() {
+        return scan.fewest_train_pulses_per_spoke();
+    }
     let mut counts = vec![0usize; scan.spokes()];
     for n in 0..scan.pulses_per_revolution() {
         counts[scan.spoke_of_pulse(n)] += 1;

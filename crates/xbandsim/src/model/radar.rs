@@ -183,13 +183,55 @@ impl Scan {
     }
 
     /// Time of pulse `n` after the start of its revolution, s: `n/prf` unstaggered, else
-    /// `floor(n/L)·ΣT_i + Σ_{j < n mod L} T_j` for L intervals.
+    /// `floor(n/L)·ΣT_i + Σ_{j < n mod L} T_j` for L intervals (revolution 0's pulses; a
+    /// staggered train runs on across revolutions, [`Scan::train_time_s`]).
     pub fn pulse_time_s(&self, n: usize) -> f64 {
         let st = &self.stagger;
         if !st.is_staggered() {
             return n as f64 / self.prf_hz;
         }
-        (n / st.len) as f64 * st.cycle_s + st.offsets_s[n % st.len]
+        self.train_time_s(n as i64)
+    }
+
+    /// Time of pulse `g` of the one continuous pulse train that runs through every
+    /// revolution, s from t = 0 (g < 0 before it): `floor(g/L)·ΣT_i + Σ_{j < g mod L} T_j`.
+    pub fn train_time_s(&self, g: i64) -> f64 {
+        let st = &self.stagger;
+        let l = st.len as i64;
+        g.div_euclid(l) as f64 * st.cycle_s + st.offsets_s[g.rem_euclid(l) as usize]
+    }
+
+    /// The first pulse of the train at or after `t_s`.
+    pub fn first_train_pulse_at(&self, t_s: f64) -> i64 {
+        let st = &self.stagger;
+        let l = st.len as i64;
+        let mut g = (t_s / st.cycle_s).floor() as i64 * l;
+        while self.train_time_s(g) < t_s {
+            g += 1;
+        }
+        while g > i64::MIN + 1 && self.train_time_s(g - 1) >= t_s {
+            g -= 1;
+        }
+        g
+    }
+
+    /// The fewest pulses a staggered train puts in any window as long as a spoke's dwell,
+    /// `T/spokes`: windows starting just after each pulse of a cycle are the emptiest.
+    pub fn fewest_train_pulses_per_spoke(&self) -> usize {
+        let dwell_s = self.period_s() / self.spokes as f64;
+        let l = self.stagger.len as i64;
+        (0..l)
+            .map(|j| {
+                let start = self.train_time_s(j);
+                let mut g = j + 1;
+                while self.train_time_s(g) - start < dwell_s {
+                    g += 1;
+                }
+                // The pulses in (t_j, t_j + dwell).
+                (g - j - 1).max(0) as usize
+            })
+            .min()
+            .unwrap_or(0)
     }
 
     /// Antenna azimuth when pulse `n` is fired, `2π·n/(prf·T)` rad.

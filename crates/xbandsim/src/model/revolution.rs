@@ -143,7 +143,13 @@ impl Revolution {
                 .objects()
                 .iter()
                 .zip(&objects)
-                .map(|(o, s)| o.posed_at(s.beam_time_s, start_radar - s.antenna_position_m))
+                .map(|(o, s)| {
+                    // Horizontal only: objects keep their heights over the sea (the multipath
+                    // reflector); the mast top's height change between the revolution's start
+                    // and the crossing (cm for a rolling ship) is left to the antenna.
+                    let d = start_radar - s.antenna_position_m;
+                    o.posed_at(s.beam_time_s, DVec3::new(d.x, d.y, 0.0))
+                })
                 .collect();
             Arc::new(Scene {
                 radar: scene.radar().moved_to(start_radar),

@@ -440,6 +440,20 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
             } else {
                 Visibility::Visible
             };
+            // The compressed echo's extent beyond the object: one range resolution on the far
+            // side for the LFM pulse; the short pulse's response on both sides (c·τ/2 for an
+            // unmodulated pulse: its triangle's half-base).
+            let (near_m, far_m) = match (channel, radar.short_pulse()) {
+                (PulseChannel::Short, Some(p)) => {
+                    let half = if p.chirp.bandwidth_hz > 0.0 {
+                        SPEED_OF_LIGHT_M_PER_S / (2.0 * p.chirp.bandwidth_hz)
+                    } else {
+                        SPEED_OF_LIGHT_M_PER_S * p.chirp.pulse_width_s / 2.0
+                    };
+                    (half, half)
+                }
+                _ => (0.0, resolution_m),
+            };
             let echo_region = visibility.has_echo().then(|| {
                 EchoRegion::new(
                     rel,
@@ -447,7 +461,7 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
                     centre_range,
                     r_b,
                     ground_range_m,
-                    resolution_m,
+                    (near_m, far_m),
                     ant.az_beamwidth_rad,
                 )
             });
@@ -515,13 +529,13 @@ impl EchoRegion {
         centre_range_m: f64,
         radius_m: f64,
         ground_range_m: f64,
-        resolution_m: f64,
+        (near_m, far_m): (f64, f64),
         az_beamwidth_rad: f64,
     ) -> EchoRegion {
         let half_az = (radius_m / ground_range_m.max(1e-9)).atan() + az_beamwidth_rad / 2.0;
         EchoRegion {
-            range_min_m: (centre_range_m - radius_m).max(0.0),
-            range_max_m: centre_range_m + radius_m + resolution_m,
+            range_min_m: (centre_range_m - radius_m - near_m).max(0.0),
+            range_max_m: centre_range_m + radius_m + far_m,
             height_above_radar_m: rel.z,
             azimuth_rad: az,
             half_width_rad: half_az.min(std::f64::consts::PI),

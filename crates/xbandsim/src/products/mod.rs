@@ -94,8 +94,9 @@ pub struct RadialVelocity {
     /// Whether the cell has an estimate (its lag-one sum R1 is not zero: false only where
     /// nothing at all was received, with the noise off).
     pub estimated: Vec<bool>,
-    /// The dwell's mean pulse power `R0 = mean |y_m|²` over the mean noise power, dB (floor
-    /// −120 dB), as the noncoherent record.
+    /// The dwell's mean pulse power `R0 = mean |y_m|²` over the mean noise power of the
+    /// cell's own channel, dB (floor −120 dB): the noncoherent record's value, less
+    /// `short_pulse_noise_db` in the short pulse's bins of combined pulse mode.
     pub power_db: Vec<f32>,
     /// The largest speed told apart from its aliases, `λ·PRF/4`, m/s.
     pub unambiguous_mps: f64,

@@ -132,6 +132,38 @@ fn stagger_times_the_pulses() {
     assert!(total.abs_diff(5000) <= 1, "{total}");
 }
 
+/// A staggered train runs on through the revolutions: across frames 0–2 every interval is
+/// one of the stagger's (no short gap at a seam), every dwell holds at least the fewest
+/// pulses the processing settings allow for, and pulse numbers run from 0 in fire order.
+#[test]
+fn staggered_train_is_continuous_across_revolutions() {
+    let s = scene("[radar]\nprf_hz = 1000.0\nprf_stagger = [3.0, 4.0, 5.0]\nspokes = 180\n[processing]\nmode = \"pulse\"\n");
+    let radar = s.radar();
+    let intervals = radar.scan().stagger().intervals_s().to_vec();
+    let fewest = xbandsim::model::processing::fewest_pulses_per_spoke(radar);
+    let mut times = Vec::new();
+    for frame in 0..3 {
+        let schedule = xbandsim::engine::Schedule::pulse_scan(radar, frame);
+        let mut numbers: Vec<(f64, u64)> = Vec::new();
+        for d in schedule.dwells() {
+            assert!(d.pulses.len() >= fewest, "{} < {fewest}", d.pulses.len());
+            numbers.extend(d.pulses.iter().map(|p| (p.time_s, p.number)));
+        }
+        numbers.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (n, (_, number)) in numbers.iter().enumerate() {
+            assert_eq!(*number, n as u64);
+        }
+        times.extend(numbers.into_iter().map(|(t, _)| t));
+    }
+    for w in times.windows(2) {
+        let dt = w[1] - w[0];
+        assert!(
+            intervals.iter().any(|i| (dt - i).abs() < 1e-9),
+            "interval {dt} is not one of {intervals:?}"
+        );
+    }
+}
+
 fn error_of(text: &str) -> String {
     match Scene::from_toml_str(text, "t.toml") {
         Ok(_) => panic!("accepted:\n{text}"),
@@ -197,4 +229,50 @@ fn combined_mode_sees_inside_the_eclipse() {
     let j = (near.range_m / frame.range_bin_m).round() as usize;
     let peak = frame.polar_db[j] as f64;
     assert!((peak - long_snr).abs() < 0.05, "{peak} vs {long_snr}");
+    // Its box holds the short pulse's triangle, ±c·τ/2 = ±12 m (8 bins) around it.
+    let b = near.polar_box.as_ref().unwrap();
+    assert!(
+        b.bin_min + 8 <= j && b.bin_max >= j + 8,
+        "{b:?} around bin {j}"
+    );
+    for k in [j - 7, j + 7] {
+        assert!(
+            frame.polar_db[k] > -60.0,
+            "bin {k} of the triangle is in the box"
+        );
+    }
+}
+
+/// Combined pulse mode with Doppler colour: the short pulse's bins sit at its higher noise
+/// floor in the record, but the colour threshold is over each channel's own noise, so noise
+/// alone is not painted (it would be in about 40 % of those cells against the record's
+/// value).
+#[test]
+fn combined_mode_noise_is_not_coloured() {
+    let sim = Simulation::new(scene("[radar]\nspokes = 90\nmax_range_m = 300.0\nprf_hz = 1200.0\npulse_mode = \"combined\"\n[environment]\nclutter = false\nmultipath = false\n[processing]\nmode = \"pulse\"\n"));
+    let frame = sim
+        .render_frame_outputs(
+            4,
+            0,
+            Outputs {
+                radial_velocity: true,
+                ..Default::default()
+            },
+            &|| {},
+        )
+        .unwrap();
+    let v = frame.radial_velocity.as_ref().unwrap();
+    let join = sim.scene().radar().join_bin();
+    let mut coloured = 0;
+    let mut cells = 0;
+    for k in 0..frame.spokes {
+        for j in 8..join {
+            cells += 1;
+            coloured += v.approaching(k * frame.range_bins + j, 10.0) as usize;
+        }
+    }
+    assert!(
+        (coloured as f64) < 0.01 * cells as f64,
+        "{coloured} of {cells}"
+    );
 }
