@@ -16,6 +16,7 @@ macro_rules! say {
 }
 
 mod bench;
+mod dataset;
 mod figures;
 mod progress;
 mod rcs;
@@ -41,6 +42,9 @@ struct Cli {
 enum Command {
     /// Render one antenna revolution of a scene: ppi.png, ppi_gray.png, polar.npy, truth.json.
     Render(render::RenderArgs),
+    /// Make a labelled dataset from a dataset spec: every sample's scene drawn from (spec,
+    /// seed, index), rendered and written atomically; run again to resume.
+    Dataset(dataset::DatasetArgs),
     /// Print the JSON Schema of the scene file format.
     Schema,
     /// Draw the figures as PNGs: fig2_antenna_pattern.png (the paper's Fig. 2, antenna
@@ -118,6 +122,7 @@ fn main() -> ExitCode {
         Command::Figures { out, scene, seed } => figures::run(&out, &scene, seed),
         Command::Bench(args) => bench::run(&args),
         Command::Rcs(args) => rcs::run(&args),
+        Command::Dataset(args) => dataset::run(&args),
         Command::MakeVessel {
             out,
             length_m,

@@ -193,6 +193,17 @@ fn steps(field: &str) -> Vec<(String, Option<usize>)> {
 }
 
 /// Sets `field` (dotted path) in a TOML document, creating tables on the way.
+/// Sets `field` (a dotted path as `--set` takes: `radar.spokes`, `object[0].yaw_deg`,
+/// `radar.position_m[2]`) to `value` in a scene document, creating missing tables; an indexed
+/// step must name an existing array element. The error says what is missing.
+pub fn assign_field(
+    doc: &mut toml::Table,
+    field: &str,
+    value: toml::Value,
+) -> std::result::Result<(), String> {
+    assign(doc, field, value)
+}
+
 fn assign(
     doc: &mut toml::Table,
     field: &str,

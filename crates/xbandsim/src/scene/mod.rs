@@ -6,7 +6,7 @@
 mod load;
 mod spec;
 
-pub use load::{locate, LoadedSpec};
+pub use load::{assign_field, locate, LoadedSpec};
 pub use spec::{
     ClutterDistributionName, DisplaySpec, EnvironmentSpec, ObjectSpec, OwnShipSpec, ProcessingSpec,
     PulseModeName, RadarPreset, RadarSpec, RainCellSpec, ScatteringSpec, SceneSpec, ShapeName,

@@ -1,0 +1,49 @@
+//! Typed errors of the dataset generator; the CLI alone turns them into messages.
+
+use std::path::PathBuf;
+
+/// What can go wrong making a dataset.
+#[derive(Debug, thiserror::Error)]
+pub enum DatasetError {
+    /// The dataset spec is not valid: `field` names the offending entry.
+    #[error("dataset spec: {field}: {message}")]
+    Spec { field: String, message: String },
+    /// A sample's scene was refused by the scene loader (the spec drew an invalid scene).
+    #[error("sample {index}: {source}")]
+    Scene {
+        index: u64,
+        #[source]
+        source: xbandsim::Error,
+    },
+    /// Reading or writing a file failed.
+    #[error("{}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// The output directory holds a different dataset.
+    #[error("{}: {message}", path.display())]
+    Mismatch { path: PathBuf, message: String },
+}
+
+impl DatasetError {
+    /// A spec error at `field`.
+    pub fn spec(field: impl Into<String>, message: String) -> DatasetError {
+        DatasetError::Spec {
+            field: field.into(),
+            message,
+        }
+    }
+
+    /// An I/O error on `path`.
+    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> DatasetError {
+        DatasetError::Io {
+            path: path.into(),
+            source,
+        }
+    }
+}
+
+/// Results of the dataset generator.
+pub type Result<T> = std::result::Result<T, DatasetError>;

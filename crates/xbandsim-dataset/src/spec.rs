@@ -1,0 +1,445 @@
+//! The dataset spec (docs/formats.md, "Dataset spec"): a base scene, the scene fields drawn
+//! per sample, and the targets placed at random, each field fixed or drawn from a
+//! distribution ([`crate::dist`]). Parsed into validated, immutable values; every error names
+//! the field.
+
+use crate::dist::Dist;
+use crate::error::{DatasetError, Result};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Most revolutions per sample.
+pub const MAX_FRAMES_PER_SAMPLE: u64 = 1000;
+
+/// Most targets in one sample.
+pub const MAX_TARGETS: i64 = 500;
+
+/// A validated dataset spec.
+#[derive(Debug, Clone)]
+pub struct DatasetSpec {
+    /// The spec's text, as read (recorded with the dataset).
+    pub text: String,
+    /// Directory mesh files in the base scene are found relative to.
+    pub base_dir: PathBuf,
+    /// Consecutive revolutions per sample (1: a single frame).
+    pub frames: u64,
+    /// Also write each frame's range-Doppler cube (needs pulse mode).
+    pub datacube: bool,
+    /// The scene every sample starts from.
+    pub base_scene: toml::Table,
+    /// Scene fields drawn per sample, by dotted path, in name order.
+    pub vary: BTreeMap<String, Dist>,
+    /// The targets.
+    pub targets: Targets,
+}
+
+/// How targets are placed.
+#[derive(Debug, Clone)]
+pub struct Targets {
+    /// How many (whole numbers ≥ 0).
+    pub count: Dist,
+    /// Range from the antenna as a fraction of the sample's `radar.max_range_m`.
+    pub range_fraction: Dist,
+    /// Nautical bearing from the antenna, degrees.
+    pub bearing_deg: Dist,
+    /// Nearest two targets may come, m (positions are redrawn up to 50 times to keep it).
+    pub min_separation_m: f64,
+    /// The classes, at least one when `count` can exceed 0.
+    pub classes: Vec<TargetClass>,
+}
+
+/// One class of target.
+#[derive(Debug, Clone)]
+pub struct TargetClass {
+    /// Category name (the object's `class` in the scene and the label's category).
+    pub name: String,
+    /// Relative frequency.
+    pub weight: f64,
+    /// Heading of the bow, nautical degrees (default uniform over the circle).
+    pub heading_deg: Dist,
+    /// Speed through the water along the heading, knots (default 0).
+    pub speed_kn: Dist,
+    /// Constant-rate turn, degrees per second (default 0; only for moving targets).
+    pub turn_rate_deg_per_s: Dist,
+    /// Height of the object's reference point above the sea, m (default 0).
+    pub z_m: Dist,
+    /// The scene-file `[[object]]` fields (shape and dimensions), each fixed or drawn.
+    pub object: BTreeMap<String, Dist>,
+}
+
+fn table<'a>(t: &'a toml::Table, key: &str, field: &str) -> Result<Option<&'a toml::Table>> {
+    match t.get(key) {
+        None => Ok(None),
+        Some(v) => v
+            .as_table()
+            .map(Some)
+            .ok_or_else(|| DatasetError::spec(field, "must be a table".into())),
+    }
+}
+
+fn refuse_unknown(t: &toml::Table, known: &[&str], prefix: &str) -> Result<()> {
+    match t.keys().find(|k| !known.contains(&k.as_str())) {
+        Some(k) => Err(DatasetError::spec(
+            format!("{prefix}{k}"),
+            format!("unknown field (known: {})", known.join(", ")),
+        )),
+        None => Ok(()),
+    }
+}
+
+fn dist_or(t: &toml::Table, key: &str, prefix: &str, default: Dist) -> Result<Dist> {
+    t.get(key)
+        .map_or(Ok(default), |v| Dist::parse(&format!("{prefix}{key}"), v))
+}
+
+fn uniform(low: f64, high: f64) -> Dist {
+    Dist::Uniform { low, high }
+}
+
+fn fixed(x: f64) -> Dist {
+    Dist::Fixed(toml::Value::Float(x))
+}
+
+impl DatasetSpec {
+    /// Reads a spec file (mesh files of its base scene are found relative to its folder).
+    pub fn read(path: &Path) -> Result<DatasetSpec> {
+        let text = std::fs::read_to_string(path).map_err(|e| DatasetError::io(path, e))?;
+        let base = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        DatasetSpec::parse(&text, base)
+    }
+
+    /// Parses and checks spec text: the tables and their fields, every distribution, and that
+    /// the extremes of every drawn field give valid scenes (so a bad size or setting is an
+    /// error here, naming the spec's field, not a failure at sample 1234).
+    pub fn parse(text: &str, base_dir: &Path) -> Result<DatasetSpec> {
+        let doc: toml::Table = toml::from_str(text)
+            .map_err(|e| DatasetError::spec("(file)", e.to_string().trim_end().to_string()))?;
+        refuse_unknown(&doc, &["dataset", "scene", "vary", "targets"], "")?;
+        let empty = toml::Table::new();
+        let d = table(&doc, "dataset", "dataset")?.unwrap_or(&empty);
+        refuse_unknown(d, &["frames", "datacube"], "dataset.")?;
+        let frames = match d.get("frames") {
+            None => 1,
+            Some(v) => v
+                .as_integer()
+                .filter(|n| (1..=MAX_FRAMES_PER_SAMPLE as i64).contains(n))
+                .ok_or_else(|| {
+                    DatasetError::spec(
+                        "dataset.frames",
+                        format!("{v}: must be a whole number from 1 to {MAX_FRAMES_PER_SAMPLE}"),
+                    )
+                })? as u64,
+        };
+        let datacube = match d.get("datacube") {
+            None => false,
+            Some(v) => v.as_bool().ok_or_else(|| {
+                DatasetError::spec("dataset.datacube", format!("{v}: must be true or false"))
+            })?,
+        };
+        let base_scene = table(&doc, "scene", "scene")?.cloned().unwrap_or_default();
+        let mut vary = BTreeMap::new();
+        if let Some(v) = table(&doc, "vary", "vary")? {
+            for (k, value) in v {
+                vary.insert(k.clone(), Dist::parse(&format!("vary.\"{k}\""), value)?);
+            }
+        }
+        let t = table(&doc, "targets", "targets")?.unwrap_or(&empty);
+        refuse_unknown(
+            t,
+            &[
+                "count",
+                "range_fraction",
+                "bearing_deg",
+                "min_separation_m",
+                "class",
+            ],
+            "targets.",
+        )?;
+        let count = dist_or(t, "count", "targets.", Dist::Fixed(toml::Value::Integer(0)))?;
+        let range_fraction = dist_or(t, "range_fraction", "targets.", uniform(0.05, 0.95))?;
+        let bearing_deg = dist_or(t, "bearing_deg", "targets.", uniform(0.0, 360.0))?;
+        let min_separation_m = match t.get("min_separation_m") {
+            None => 30.0,
+            Some(v) => v
+                .as_float()
+                .or_else(|| v.as_integer().map(|i| i as f64))
+                .filter(|x| x.is_finite() && *x >= 0.0)
+                .ok_or_else(|| {
+                    DatasetError::spec(
+                        "targets.min_separation_m",
+                        format!("{v}: must be a number of metres, 0 or more"),
+                    )
+                })?,
+        };
+        let mut classes = Vec::new();
+        if let Some(list) = t.get("class") {
+            let list = list.as_array().ok_or_else(|| {
+                DatasetError::spec("targets.class", "must be [[targets.class]] tables".into())
+            })?;
+            for (i, c) in list.iter().enumerate() {
+                let prefix = format!("targets.class[{i}].");
+                let c = c.as_table().ok_or_else(|| {
+                    DatasetError::spec(format!("targets.class[{i}]"), "must be a table".into())
+                })?;
+                classes.push(parse_class(c, &prefix)?);
+            }
+        }
+        let targets = Targets {
+            count,
+            range_fraction,
+            bearing_deg,
+            min_separation_m,
+            classes,
+        };
+        let spec = DatasetSpec {
+            text: text.to_string(),
+            base_dir: base_dir.to_path_buf(),
+            frames,
+            datacube,
+            base_scene,
+            vary,
+            targets,
+        };
+        spec.check_extremes()?;
+        Ok(spec)
+    }
+
+    /// Builds the scenes at the extremes of every drawn field (one field at a time, the
+    /// others at their middle values), naming the spec's field when one is refused.
+    fn check_extremes(&self) -> Result<()> {
+        let counts = extremes(&self.targets.count);
+        for c in &counts {
+            let n = c.as_integer().ok_or_else(|| {
+                DatasetError::spec("targets.count", format!("{c}: must be a whole number"))
+            })?;
+            if !(0..=MAX_TARGETS).contains(&n) {
+                return Err(DatasetError::spec(
+                    "targets.count",
+                    format!("{n}: must be from 0 to {MAX_TARGETS}"),
+                ));
+            }
+            if n > 0 && self.targets.classes.is_empty() {
+                return Err(DatasetError::spec(
+                    "targets.class",
+                    "targets.count can be above 0 but no [[targets.class]] is given".into(),
+                ));
+            }
+        }
+        for f in extremes(&self.targets.range_fraction) {
+            let x = f.as_float().or_else(|| f.as_integer().map(|i| i as f64));
+            if !x.is_some_and(|x| x > 0.0 && x <= 1.0) {
+                return Err(DatasetError::spec(
+                    "targets.range_fraction",
+                    format!("{f}: must lie in (0, 1], a fraction of radar.max_range_m"),
+                ));
+            }
+        }
+        let first = middle;
+        let scene_with = |field: Option<(&str, &toml::Value)>| -> toml::Table {
+            let mut doc = self.base_scene.clone();
+            for (k, d) in &self.vary {
+                let v = match field {
+                    Some((f, v)) if f == k => v.clone(),
+                    _ => first(d),
+                };
+                let _ = xbandsim::scene::assign_field(&mut doc, k, v);
+            }
+            doc
+        };
+        let build = |doc: toml::Table| -> std::result::Result<(), String> {
+            let text = toml::to_string(&doc).map_err(|e| e.to_string())?;
+            let loaded = xbandsim::LoadedSpec::from_toml(&text, "sample", &self.base_dir)
+                .map_err(|e| e.to_string())?;
+            loaded.build().map(|_| ()).map_err(|e| e.to_string())
+        };
+        for (k, d) in &self.vary {
+            for v in extremes(d) {
+                let mut doc = self.base_scene.clone();
+                xbandsim::scene::assign_field(&mut doc, k, v.clone())
+                    .map_err(|e| DatasetError::spec(format!("vary.\"{k}\""), e))?;
+                build(scene_with(Some((k, &v)))).map_err(|e| {
+                    DatasetError::spec(
+                        format!("vary.\"{k}\""),
+                        format!("{v} gives a scene that is refused: {e}"),
+                    )
+                })?;
+            }
+        }
+        build(scene_with(None))
+            .map_err(|e| DatasetError::spec("scene", format!("the base scene is refused: {e}")))?;
+        for (i, c) in self.targets.classes.iter().enumerate() {
+            let number = |key: &str, d: &Dist, ok: &dyn Fn(f64) -> bool, why: &str| -> Result<()> {
+                for v in extremes(d) {
+                    let x = v.as_float().or_else(|| v.as_integer().map(|i| i as f64));
+                    if !x.is_some_and(|x| x.is_finite() && ok(x)) {
+                        return Err(DatasetError::spec(
+                            format!("targets.class[{i}].{key}"),
+                            format!("{v}: {why}"),
+                        ));
+                    }
+                }
+                Ok(())
+            };
+            number(
+                "speed_kn",
+                &c.speed_kn,
+                &|x| x >= 0.0,
+                "a speed must be 0 or more knots",
+            )?;
+            number(
+                "heading_deg",
+                &c.heading_deg,
+                &|_| true,
+                "must be a number of degrees",
+            )?;
+            number(
+                "turn_rate_deg_per_s",
+                &c.turn_rate_deg_per_s,
+                &|_| true,
+                "must be a number of degrees per second",
+            )?;
+            number("z_m", &c.z_m, &|_| true, "must be a number of metres")?;
+            for (k, d) in &c.object {
+                for v in extremes(d) {
+                    let mut object = toml::Table::new();
+                    for (k2, d2) in &c.object {
+                        object.insert(k2.clone(), if k2 == k { v.clone() } else { first(d2) });
+                    }
+                    object.insert(
+                        "position_m".into(),
+                        toml::Value::try_from([0.0, 100.0, 0.0]).unwrap_or(toml::Value::Float(0.0)),
+                    );
+                    let mut doc = scene_with(None);
+                    doc.insert(
+                        "object".into(),
+                        toml::Value::Array(vec![toml::Value::Table(object)]),
+                    );
+                    build(doc).map_err(|e| {
+                        DatasetError::spec(
+                            format!("targets.class[{i}].object.{k}"),
+                            format!("{v} gives an object that is refused: {e}"),
+                        )
+                    })?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+fn parse_class(c: &toml::Table, prefix: &str) -> Result<TargetClass> {
+    refuse_unknown(
+        c,
+        &[
+            "name",
+            "weight",
+            "heading_deg",
+            "speed_kn",
+            "turn_rate_deg_per_s",
+            "z_m",
+            "object",
+        ],
+        prefix,
+    )?;
+    let name = c
+        .get("name")
+        .and_then(|v| v.as_str())
+        .filter(|s| !s.trim().is_empty())
+        .ok_or_else(|| DatasetError::spec(format!("{prefix}name"), "a class needs a name".into()))?
+        .to_string();
+    let weight = match c.get("weight") {
+        None => 1.0,
+        Some(v) => v
+            .as_float()
+            .or_else(|| v.as_integer().map(|i| i as f64))
+            .filter(|w| w.is_finite() && *w > 0.0)
+            .ok_or_else(|| {
+                DatasetError::spec(format!("{prefix}weight"), format!("{v}: must be above 0"))
+            })?,
+    };
+    let object_table = c
+        .get("object")
+        .and_then(|v| v.as_table())
+        .ok_or_else(|| {
+            DatasetError::spec(
+                format!("{prefix}object"),
+                "a class needs an object table: the scene-file [[object]] fields of its shape (shape, sizes), each fixed or drawn".into(),
+            )
+        })?;
+    let placed = [
+        "position_m",
+        "name",
+        "class",
+        "speed_kn",
+        "course_deg",
+        "velocity_mps",
+        "yaw_deg",
+        "track",
+        "turn_rate_deg_per_s",
+    ];
+    let mut object = BTreeMap::new();
+    for (k, v) in object_table {
+        if placed.contains(&k.as_str()) {
+            return Err(DatasetError::spec(
+                format!("{prefix}object.{k}"),
+                "is set by the generator (placement, heading, speed and name come from the class and targets tables)".into(),
+            ));
+        }
+        object.insert(k.clone(), Dist::parse(&format!("{prefix}object.{k}"), v)?);
+    }
+    if !object.contains_key("shape") {
+        return Err(DatasetError::spec(
+            format!("{prefix}object.shape"),
+            "a class's object needs a shape".into(),
+        ));
+    }
+    Ok(TargetClass {
+        name,
+        weight,
+        heading_deg: dist_or(c, "heading_deg", prefix, uniform(0.0, 360.0))?,
+        speed_kn: dist_or(c, "speed_kn", prefix, fixed(0.0))?,
+        turn_rate_deg_per_s: dist_or(c, "turn_rate_deg_per_s", prefix, fixed(0.0))?,
+        z_m: dist_or(c, "z_m", prefix, fixed(0.0))?,
+        object,
+    })
+}
+
+/// A value from the middle of a distribution: a range's midpoint (a log-uniform law's
+/// geometric mean, a normal's clipped mean), a choice's first value, the fixed value.
+pub fn middle(d: &Dist) -> toml::Value {
+    match d {
+        Dist::Fixed(v) => v.clone(),
+        Dist::Uniform { low, high } => toml::Value::Float(0.5 * (low + high)),
+        Dist::LogUniform { low, high } => toml::Value::Float((low * high).sqrt()),
+        Dist::Normal { mean, min, max, .. } => toml::Value::Float(mean.clamp(*min, *max)),
+        Dist::UniformInt { low, high } => toml::Value::Integer(low + (high - low) / 2),
+        Dist::Choice { values, .. } => values[0].clone(),
+    }
+}
+
+/// The values at a distribution's edges: its bounds (a normal's clip or mean ± 4σ), every
+/// choice, or the fixed value.
+pub fn extremes(d: &Dist) -> Vec<toml::Value> {
+    match d {
+        Dist::Fixed(v) => vec![v.clone()],
+        Dist::Uniform { low, high } | Dist::LogUniform { low, high } => {
+            vec![toml::Value::Float(*low), toml::Value::Float(*high)]
+        }
+        Dist::Normal {
+            mean,
+            std,
+            min,
+            max,
+        } => vec![
+            toml::Value::Float((mean - 4.0 * std).max(*min)),
+            toml::Value::Float((mean + 4.0 * std).min(*max)),
+        ],
+        Dist::UniformInt { low, high } => {
+            vec![toml::Value::Integer(*low), toml::Value::Integer(*high)]
+        }
+        Dist::Choice { values, .. } => values.clone(),
+    }
+}

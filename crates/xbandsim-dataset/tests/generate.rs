@@ -1,0 +1,231 @@
+//! The dataset generator through its public API: samples depend only on (spec, seed, index)
+//! — the same bytes for any job count, shard split or order, and after a resume —; a sample's
+//! scene.toml re-renders it bit for bit; bad specs are refused naming the field.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use xbandsim_dataset::{generate, sample_dir, DatasetError, DatasetSpec, Request, Shard};
+
+const SPEC: &str = r#"
+[dataset]
+frames = 1
+
+[scene.radar]
+spokes = 60
+max_range_m = 400.0
+position_m = [0.0, 0.0, 6.0]
+
+[scene.environment]
+clutter = true
+
+[scene.display]
+image_size_px = 96
+
+[vary]
+"environment.sea_state" = { uniform = [1.0, 4.0] }
+"radar.position_m[2]" = { uniform = [4.0, 10.0] }
+
+[targets]
+count = { uniform_int = [0, 3] }
+
+[[targets.class]]
+name = "buoy"
+[targets.class.object]
+shape = "cylinder"
+radius_m = { uniform = [0.3, 1.0] }
+height_m = 2.0
+
+[[targets.class]]
+name = "boat"
+speed_kn = { uniform = [0.0, 20.0] }
+[targets.class.object]
+shape = "box"
+size_m = [2.0, 6.0, 1.5]
+"#;
+
+fn spec() -> DatasetSpec {
+    DatasetSpec::parse(SPEC, Path::new(".")).unwrap()
+}
+
+/// Every file under `dir` (relative path → bytes), leaving out nothing.
+fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut out = BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                let rel = p.strip_prefix(dir).unwrap().display().to_string();
+                out.insert(rel, std::fs::read(&p).unwrap());
+            }
+        }
+    }
+    out
+}
+
+fn request(count: u64, seed: u64, shard: Shard, jobs: usize) -> Request {
+    Request {
+        count,
+        seed,
+        shard,
+        jobs,
+    }
+}
+
+#[test]
+fn samples_do_not_depend_on_jobs_shards_or_resumes() {
+    let spec = spec();
+    let tmp = tempfile::tempdir().unwrap();
+    let whole = tmp.path().join("whole");
+    let s = generate(&spec, &whole, &request(6, 11, Shard::ALL, 1), &|| {}).unwrap();
+    assert_eq!((s.in_shard, s.skipped, s.made), (6, 0, 6));
+    // Two shards made separately, with two jobs, into one folder.
+    let sharded = tmp.path().join("sharded");
+    for i in [1, 0] {
+        let shard = Shard { index: i, count: 2 };
+        let s = generate(&spec, &sharded, &request(6, 11, shard, 2), &|| {}).unwrap();
+        assert_eq!((s.in_shard, s.made), (3, 3));
+    }
+    assert_eq!(files(&whole), files(&sharded));
+    // A run stopped part-way: one shard done, a half-written sample left in .partial; the
+    // same command again skips the finished samples and makes the rest.
+    let resumed = tmp.path().join("resumed");
+    generate(
+        &spec,
+        &resumed,
+        &request(6, 11, Shard { index: 0, count: 3 }, 1),
+        &|| {},
+    )
+    .unwrap();
+    let stale = resumed.join(".partial").join(format!("{:09}", 4));
+    std::fs::create_dir_all(&stale).unwrap();
+    std::fs::write(stale.join("polar.npy"), b"half").unwrap();
+    let s = generate(&spec, &resumed, &request(6, 11, Shard::ALL, 2), &|| {}).unwrap();
+    assert_eq!((s.skipped, s.made), (2, 4));
+    let mut got = files(&resumed);
+    got.retain(|k, _| !k.starts_with(".partial"));
+    assert_eq!(files(&whole), got);
+    // Another seed gives other samples, and is refused in the same folder.
+    let other = tmp.path().join("other");
+    generate(&spec, &other, &request(6, 12, Shard::ALL, 1), &|| {}).unwrap();
+    assert_ne!(files(&whole), files(&other));
+    let err = generate(&spec, &whole, &request(6, 12, Shard::ALL, 1), &|| {}).unwrap_err();
+    assert!(matches!(err, DatasetError::Mismatch { .. }), "{err}");
+}
+
+/// A sample's scene.toml, rendered with the seed it names, gives the sample's polar record
+/// byte for byte; its targets carry their class.
+#[test]
+fn a_sample_re_renders_from_its_scene_file() {
+    let spec = spec();
+    let tmp = tempfile::tempdir().unwrap();
+    generate(&spec, tmp.path(), &request(4, 5, Shard::ALL, 1), &|| {}).unwrap();
+    let mut with_targets = 0;
+    for i in 0..4 {
+        let dir = sample_dir(tmp.path(), i);
+        let text = std::fs::read_to_string(dir.join("scene.toml")).unwrap();
+        let seed: u64 = text
+            .lines()
+            .find_map(|l| l.split("--seed ").nth(1))
+            .and_then(|s| s.trim().parse().ok())
+            .unwrap();
+        let loaded = xbandsim::LoadedSpec::from_toml(&text, "scene.toml", Path::new(".")).unwrap();
+        let frame = xbandsim::Simulation::new(loaded.build().unwrap()).render(seed);
+        let npy = xbandsim::products::output::npy_f32_bytes(
+            &[frame.spokes, frame.range_bins],
+            &frame.polar_db,
+        );
+        assert_eq!(
+            npy,
+            std::fs::read(dir.join("polar.npy")).unwrap(),
+            "sample {i}"
+        );
+        let truth: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(dir.join("truth.json")).unwrap()).unwrap();
+        for o in truth["objects"].as_array().unwrap() {
+            with_targets += 1;
+            assert!(["buoy", "boat"].contains(&o["class"].as_str().unwrap()));
+        }
+    }
+    assert!(with_targets > 0);
+}
+
+#[test]
+fn bad_specs_name_the_field() {
+    let cases = [
+        (SPEC.replace("frames = 1", "frames = 0"), "dataset.frames"),
+        (
+            SPEC.replace("[dataset]", "[dataset]\nimages = 3"),
+            "dataset.images",
+        ),
+        (
+            SPEC.replace(
+                "radius_m = { uniform = [0.3, 1.0] }",
+                "radius_m = { uniform = [-0.3, 1.0] }",
+            ),
+            "targets.class[0].object.radius_m",
+        ),
+        (
+            SPEC.replace(
+                "count = { uniform_int = [0, 3] }",
+                "count = { choice = [] }",
+            ),
+            "targets.count.choice",
+        ),
+        (
+            SPEC.replace(
+                "count = { uniform_int = [0, 3] }",
+                "count = { uniform_int = [-1, 3] }",
+            ),
+            "targets.count",
+        ),
+        (
+            SPEC.replace(
+                "speed_kn = { uniform = [0.0, 20.0] }",
+                "speed_kn = { uniform = [-5.0, 20.0] }",
+            ),
+            "targets.class[1].speed_kn",
+        ),
+        (
+            SPEC.replace(
+                "\"environment.sea_state\" = { uniform = [1.0, 4.0] }",
+                "\"environment.sea_state\" = { uniform = [1.0, 40.0] }",
+            ),
+            "vary.\"environment.sea_state\"",
+        ),
+        (
+            SPEC.replace("shape = \"cylinder\"\n", ""),
+            "targets.class[0].object.shape",
+        ),
+        (
+            SPEC.replace("name = \"buoy\"\n", ""),
+            "targets.class[0].name",
+        ),
+        (
+            SPEC.replace(
+                "height_m = 2.0",
+                "height_m = 2.0\nposition_m = [1.0, 2.0, 3.0]",
+            ),
+            "targets.class[0].object.position_m",
+        ),
+    ];
+    for (text, field) in cases {
+        let err = DatasetSpec::parse(&text, Path::new("."))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(field), "{field}: {err}");
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let err = generate(&spec(), tmp.path(), &request(0, 1, Shard::ALL, 1), &|| {})
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("--count"), "{err}");
+    for bad in ["2/2", "1", "a/b", "0/0"] {
+        assert!(Shard::parse(bad)
+            .unwrap_err()
+            .to_string()
+            .contains("--shard"));
+    }
+}
