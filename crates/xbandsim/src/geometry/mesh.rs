@@ -398,11 +398,46 @@ fn load_gltf(path: &Path) -> Result<TriangleMesh> {
 /// A simple vessel, generated: a hull with a pointed bow, flared sides and a transom stern
 /// from the waterline (z = 0) to the deck, a bridge house, a funnel and a mast. Bow toward
 /// +y. `segments` sets the resolution along the hull (triangles grow as segments²/2; 128
-/// gives about 10 800).
+/// gives about 10 800). `make-vessel` writes it; the scene shape `vessel`
+/// ([`super::procedural::VesselParams`]) builds its hulls with the same [`hull_mesh`].
 pub fn vessel(length_m: f64, segments: usize) -> TriangleMesh {
     let n = segments.max(8);
     let beam = length_m * 0.25;
     let freeboard = length_m * 0.1;
+    // Superstructure boxes (centre, size): bridge, funnel, mast.
+    let boxes = [
+        (
+            DVec3::new(0.0, -0.15 * length_m, freeboard + 0.075 * length_m),
+            DVec3::new(0.7 * beam, 0.22 * length_m, 0.15 * length_m),
+        ),
+        (
+            DVec3::new(0.0, -0.33 * length_m, freeboard + 0.1 * length_m),
+            DVec3::new(0.25 * beam, 0.08 * length_m, 0.2 * length_m),
+        ),
+        (
+            DVec3::new(0.0, -0.1 * length_m, freeboard + 0.25 * length_m),
+            DVec3::new(0.04 * beam, 0.02 * length_m, 0.2 * length_m),
+        ),
+    ];
+    hull_mesh(length_m, beam, freeboard, n, (n / 8).max(2), &boxes)
+}
+
+/// A hull of `length_m` with deck width `beam_m` (its parallel body aft of 0.1·L forward of
+/// amidships, a pointed bow ahead of it: half-width `B/2·√(1 − ((u − 0.2)/0.8)²)` at
+/// `u = 2y/L > 0.2`), sides flaring from 85 % of the deck width at the waterline (z = 0) to
+/// the deck at `freeboard_m`, a flat transom, `n` segments along the length, `rows` up the
+/// sides and 4 across the deck; then `boxes` (centre, size) standing on it, each face but the
+/// bottom split into 4 × 4 quads. Bow toward +y.
+pub fn hull_mesh(
+    length_m: f64,
+    beam_m: f64,
+    freeboard_m: f64,
+    n: usize,
+    rows: usize,
+    boxes: &[(DVec3, DVec3)],
+) -> TriangleMesh {
+    let beam = beam_m;
+    let freeboard = freeboard_m;
     let mut mesh = TriangleMesh {
         vertices_m: Vec::new(),
         triangles: Vec::new(),
@@ -416,7 +451,6 @@ pub fn vessel(length_m: f64, segments: usize) -> TriangleMesh {
             beam / 2.0 * (1.0 - ((u - 0.2) / 0.8).powi(2)).max(0.0).sqrt()
         }
     };
-    let rows = (n / 8).max(2); // vertical divisions of the sides
     let cols = 4usize; // across the deck
     let ys_owned: Vec<f64> = (0..=n)
         .map(|i| -length_m / 2.0 + length_m * i as f64 / n as f64)
@@ -478,24 +512,9 @@ pub fn vessel(length_m: f64, segments: usize) -> TriangleMesh {
         )
     };
     grid(&mut mesh, &f, cols, rows, false);
-    // Superstructure boxes: bridge, funnel, mast.
-    let boxes = [
-        (
-            DVec3::new(0.0, -0.15 * length_m, freeboard + 0.075 * length_m),
-            DVec3::new(0.7 * beam, 0.22 * length_m, 0.15 * length_m),
-        ),
-        (
-            DVec3::new(0.0, -0.33 * length_m, freeboard + 0.1 * length_m),
-            DVec3::new(0.25 * beam, 0.08 * length_m, 0.2 * length_m),
-        ),
-        (
-            DVec3::new(0.0, -0.1 * length_m, freeboard + 0.25 * length_m),
-            DVec3::new(0.04 * beam, 0.02 * length_m, 0.2 * length_m),
-        ),
-    ];
     // Their faces as the box primitive builds them, without the bottom (it rests on the
     // deck), each split into 4 × 4 quads.
-    for (c, s) in boxes {
+    for &(c, s) in boxes {
         for p in (ShapeGeometry::Box { size_m: s }).primitives(c, DMat3::IDENTITY, 0) {
             if let PrimitiveKind::Parallelogram {
                 corner,

@@ -10,11 +10,13 @@
 mod bvh;
 pub mod mesh;
 mod primitives;
+pub mod procedural;
 mod shapes;
 
 pub use bvh::Bvh;
 pub use mesh::{MeshUnit, TriangleMesh};
 pub use primitives::{Primitive, PrimitiveKind};
+pub use procedural::{BuoyParams, Superstructure, VesselParams};
 pub use shapes::{object_frame, ShapeGeometry};
 
 use glam::DVec3;

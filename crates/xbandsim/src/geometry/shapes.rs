@@ -14,7 +14,8 @@
 //! `R = Rz(−yaw)·Rx(pitch)·Ry(roll)` applied to object coordinates.
 
 use super::mesh::TriangleMesh;
-use super::{Primitive, PrimitiveKind};
+use super::procedural::{buoy_primitives, vessel_primitives, BuoyParams, VesselParams};
+use super::{Aabb, Primitive, PrimitiveKind};
 use crate::scene::ShapeName;
 use glam::{DMat3, DVec3};
 use std::sync::Arc;
@@ -38,6 +39,13 @@ pub enum ShapeGeometry {
     Box { size_m: DVec3 },
     /// Triangle mesh in the object frame, m.
     Mesh { mesh: Arc<TriangleMesh> },
+    /// Procedural vessel: `hull` is `params.hull()` (built once), the mast a cylinder.
+    Vessel {
+        params: VesselParams,
+        hull: Arc<TriangleMesh>,
+    },
+    /// Procedural buoy: float, pillar and reflector.
+    Buoy { params: BuoyParams },
 }
 
 /// Rotation from object to world coordinates for yaw, pitch and roll in radians.
@@ -59,6 +67,8 @@ impl ShapeGeometry {
             ShapeGeometry::Cylinder { .. } => ShapeName::Cylinder,
             ShapeGeometry::Box { .. } => ShapeName::Box,
             ShapeGeometry::Mesh { .. } => ShapeName::Mesh,
+            ShapeGeometry::Vessel { .. } => ShapeName::Vessel,
+            ShapeGeometry::Buoy { .. } => ShapeName::Buoy,
         }
     }
 
@@ -79,6 +89,10 @@ impl ShapeGeometry {
             ShapeGeometry::Cylinder { radius_m, height_m } => radius_m.hypot(0.5 * height_m),
             ShapeGeometry::Box { size_m } => 0.5 * size_m.length(),
             ShapeGeometry::Mesh { mesh } => mesh.bounding_radius_m(),
+            ShapeGeometry::Vessel { .. } | ShapeGeometry::Buoy { .. } => {
+                let b = self.local_bounds();
+                0.5 * (b.max - b.min).length()
+            }
         }
     }
 
@@ -90,14 +104,46 @@ impl ShapeGeometry {
                 DVec3::new(0.0, width_m / 2f64.sqrt(), 0.0) * 0.5
             }
             ShapeGeometry::Mesh { mesh } => mesh.bounds_centre_m(),
+            ShapeGeometry::Vessel { .. } | ShapeGeometry::Buoy { .. } => {
+                let b = self.local_bounds();
+                0.5 * (b.min + b.max)
+            }
             _ => DVec3::ZERO,
         }
+    }
+
+    /// A procedural vessel, its hull built from `params`.
+    pub fn vessel(params: VesselParams) -> ShapeGeometry {
+        ShapeGeometry::Vessel {
+            hull: Arc::new(params.hull()),
+            params,
+        }
+    }
+
+    /// Bounding box of the shape's primitives in object coordinates.
+    fn local_bounds(&self) -> Aabb {
+        let mut b = Aabb::EMPTY;
+        for p in self.primitives(DVec3::ZERO, DMat3::IDENTITY, 0) {
+            let pb = p.bounds();
+            b.grow(pb.min);
+            b.grow(pb.max);
+        }
+        b
     }
 
     /// Primitives of this shape placed at `position_m` with `rotation`, tagged `object`.
     pub fn primitives(&self, position_m: DVec3, rotation: DMat3, object: u32) -> Vec<Primitive> {
         let to_world = |p: DVec3| position_m + rotation * p;
         let dir = |v: DVec3| rotation * v;
+        match self {
+            ShapeGeometry::Vessel { params, hull } => {
+                return vessel_primitives(params, hull, position_m, rotation, object)
+            }
+            ShapeGeometry::Buoy { params } => {
+                return buoy_primitives(params, position_m, rotation, object)
+            }
+            _ => {}
+        }
         let mut out = Vec::new();
         let mut push = |kind| out.push(Primitive { kind, object });
         match self.clone() {
@@ -213,6 +259,7 @@ impl ShapeGeometry {
                     }
                 }
             }
+            ShapeGeometry::Vessel { .. } | ShapeGeometry::Buoy { .. } => {}
         }
         out
     }

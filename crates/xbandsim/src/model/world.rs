@@ -6,7 +6,9 @@ use super::motion::{
     heading_of, HeadingRule, Kinematics, Motion, Trajectory, WaveMotion, Waypoint, KNOT_M_PER_S,
 };
 use crate::error::{Error, Problem, Result};
-use crate::geometry::{object_frame, MeshUnit, ShapeGeometry, TriangleMesh};
+use crate::geometry::{
+    object_frame, BuoyParams, MeshUnit, ShapeGeometry, Superstructure, TriangleMesh, VesselParams,
+};
 use crate::scene::{ObjectSpec, ShapeName};
 use glam::{DMat3, DVec3};
 use std::path::Path;
@@ -84,6 +86,13 @@ impl SceneObject {
             ShapeGeometry::Cylinder { radius_m, height_m } => vec![*radius_m, *height_m],
             ShapeGeometry::Box { size_m } => size_m.to_array().to_vec(),
             ShapeGeometry::Mesh { mesh } => vec![mesh.triangles.len() as f64],
+            ShapeGeometry::Vessel { params, hull } => vec![
+                params.length_m,
+                params.beam_m,
+                params.freeboard_m,
+                hull.triangles.len() as f64,
+            ],
+            ShapeGeometry::Buoy { params } => vec![params.radius_m, params.height_m],
         };
         if let Some(bad) = sizes.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
             return Err(Error::invalid(
@@ -299,6 +308,17 @@ pub(super) fn build_object(i: usize, o: &ObjectSpec, base_dir: &Path) -> Result<
                 mesh: std::sync::Arc::new(mesh),
             }
         }
+        ShapeName::Vessel => {
+            ShapeGeometry::vessel(vessel_params(o, &f, need("length_m", o.length_m)?)?)
+        }
+        ShapeName::Buoy => ShapeGeometry::Buoy {
+            params: buoy_params(
+                o,
+                &f,
+                need("radius_m", o.radius_m)?,
+                need("height_m", o.height_m)?,
+            )?,
+        },
     };
     // Fields that this shape does not use are reported rather than silently ignored.
     let used: &[&str] = match shape {
@@ -309,6 +329,17 @@ pub(super) fn build_object(i: usize, o: &ObjectSpec, base_dir: &Path) -> Result<
         ShapeGeometry::Cylinder { .. } => &["radius_m", "height_m"],
         ShapeGeometry::Box { .. } => &["size_m"],
         ShapeGeometry::Mesh { .. } => &["mesh_file", "mesh_units", "mesh_scale"],
+        ShapeGeometry::Vessel { .. } => &[
+            "length_m",
+            "beam_m",
+            "freeboard_m",
+            "superstructure",
+            "superstructure_height_m",
+            "mast_height_m",
+        ],
+        ShapeGeometry::Buoy { .. } => {
+            &["radius_m", "height_m", "mast_height_m", "reflector_edge_m"]
+        }
     };
     let present = [
         ("rcs_m2", o.rcs_m2.is_some()),
@@ -320,6 +351,16 @@ pub(super) fn build_object(i: usize, o: &ObjectSpec, base_dir: &Path) -> Result<
         ("mesh_file", o.mesh_file.is_some()),
         ("mesh_units", o.mesh_units.is_some()),
         ("mesh_scale", o.mesh_scale.is_some()),
+        ("length_m", o.length_m.is_some()),
+        ("beam_m", o.beam_m.is_some()),
+        ("freeboard_m", o.freeboard_m.is_some()),
+        ("superstructure", o.superstructure.is_some()),
+        (
+            "superstructure_height_m",
+            o.superstructure_height_m.is_some(),
+        ),
+        ("mast_height_m", o.mast_height_m.is_some()),
+        ("reflector_edge_m", o.reflector_edge_m.is_some()),
     ];
     for (field, is_set) in present {
         if is_set && !used.contains(&field) {
@@ -381,6 +422,164 @@ pub(super) fn build_object(i: usize, o: &ObjectSpec, base_dir: &Path) -> Result<
         None => Ok(object),
         Some(m) => object.with_motion(m, position_m, object_frame(0.0, pitch, roll)),
     }
+}
+
+/// `value` (already finite and positive) within `lo ..= hi`, else an error naming `field`
+/// that says `why`.
+fn within(field: String, value: f64, lo: f64, hi: f64, why: &str) -> Result<f64> {
+    if (lo..=hi).contains(&value) {
+        Ok(value)
+    } else {
+        Err(Error::invalid(
+            Problem::OutOfRange,
+            field,
+            value,
+            format!("must be between {lo:.4} and {hi:.4} m ({why})"),
+        ))
+    }
+}
+
+/// The fields of a `vessel` (docs/formats.md): each finite, above zero and in proportion to
+/// the length.
+fn vessel_params(
+    o: &ObjectSpec,
+    f: &dyn Fn(&str) -> String,
+    length_m: f64,
+) -> Result<VesselParams> {
+    let l = within(
+        f("length_m"),
+        length_m,
+        1.0,
+        500.0,
+        "a vessel's length overall",
+    )?;
+    let mut p = VesselParams::new(l);
+    if let Some(b) = o.beam_m {
+        let b = positive(&f("beam_m"), b)?;
+        p.beam_m = within(
+            f("beam_m"),
+            b,
+            0.05 * l,
+            0.6 * l,
+            "0.05 to 0.6 times length_m",
+        )?;
+    }
+    if let Some(fb) = o.freeboard_m {
+        let fb = positive(&f("freeboard_m"), fb)?;
+        p.freeboard_m = within(
+            f("freeboard_m"),
+            fb,
+            0.01 * l,
+            0.25 * l,
+            "0.01 to 0.25 times length_m",
+        )?;
+    }
+    p.superstructure = o.superstructure.unwrap_or_default();
+    match (p.superstructure, o.superstructure_height_m) {
+        (Superstructure::None, Some(_)) => {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                f("superstructure_height_m"),
+                "(set)",
+                "needs a superstructure (\"cabin\", \"wheelhouse\", \"bridge-aft\", \"bridge-fore\" or \"decks\")",
+            ))
+        }
+        (_, Some(h)) => {
+            let h = positive(&f("superstructure_height_m"), h)?;
+            p.superstructure_height_m = within(
+                f("superstructure_height_m"),
+                h,
+                0.0,
+                0.5 * l,
+                "at most half of length_m",
+            )?;
+        }
+        (s, None) => {
+            p.superstructure_height_m = VesselParams::default_superstructure_height_m(s, p.beam_m)
+        }
+    }
+    if let Some(m) = o.mast_height_m {
+        let m = positive(&f("mast_height_m"), m)?;
+        // The funnels of bridge-aft and decks reach 1.2 times the structures' height.
+        let lowest = p.freeboard_m + 1.2 * p.superstructure_height_m;
+        if m <= lowest {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                f("mast_height_m"),
+                m,
+                format!("must be above {lowest:.4} m, the deck structures' top (freeboard + 1.2 × superstructure height)"),
+            ));
+        }
+        p.mast_height_m = Some(within(
+            f("mast_height_m"),
+            m,
+            lowest,
+            p.freeboard_m + 2.5 * l,
+            "above the deck structures (freeboard + 1.2 × superstructure height) and at most freeboard + 2.5 × length_m",
+        )?);
+    }
+    Ok(p)
+}
+
+/// The fields of a `buoy` (docs/formats.md).
+fn buoy_params(
+    o: &ObjectSpec,
+    f: &dyn Fn(&str) -> String,
+    radius_m: f64,
+    height_m: f64,
+) -> Result<BuoyParams> {
+    let radius_m = within(f("radius_m"), radius_m, 0.0, 10.0, "a buoy's float radius")?;
+    let height_m = within(
+        f("height_m"),
+        height_m,
+        0.0,
+        30.0,
+        "a buoy's float height above the waterline",
+    )?;
+    let reflector_edge_m = o
+        .reflector_edge_m
+        .map(|a| {
+            let a = positive(&f("reflector_edge_m"), a)?;
+            within(
+                f("reflector_edge_m"),
+                a,
+                0.0,
+                2.0 * radius_m,
+                "at most twice radius_m",
+            )
+        })
+        .transpose()?;
+    let mut p = BuoyParams {
+        radius_m,
+        height_m,
+        mast_height_m: None,
+        reflector_edge_m,
+    };
+    if let Some(m) = o.mast_height_m {
+        let m = positive(&f("mast_height_m"), m)?;
+        let lowest = p.top_m();
+        let floor = if reflector_edge_m.is_some() {
+            "the float's height plus the reflector's (4/√3 × reflector_edge_m)"
+        } else {
+            "above the float's height_m"
+        };
+        if m <= lowest {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                f("mast_height_m"),
+                m,
+                format!("must be above {lowest:.4} m ({floor})"),
+            ));
+        }
+        p.mast_height_m = Some(within(
+            f("mast_height_m"),
+            m,
+            lowest,
+            height_m + 30.0,
+            "at most 30 m above the float",
+        )?);
+    }
+    Ok(p)
 }
 
 /// The motion fields of an `[[object]]` (docs/formats.md, "Motion"); None when it has none.

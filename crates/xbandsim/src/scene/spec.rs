@@ -81,11 +81,16 @@ pub enum ShapeName {
     Box,
     /// A triangle mesh from a file (`mesh_file`, `mesh_units`, `mesh_scale`).
     Mesh,
+    /// A procedural vessel (`length_m`; `beam_m`, `freeboard_m`, `superstructure`,
+    /// `superstructure_height_m`, `mast_height_m`).
+    Vessel,
+    /// A procedural buoy (`radius_m`, `height_m`; `mast_height_m`, `reflector_edge_m`).
+    Buoy,
 }
 
 impl ShapeName {
     /// Every shape, in the order the documentation lists them.
-    pub const ALL: [ShapeName; 8] = [
+    pub const ALL: [ShapeName; 10] = [
         ShapeName::Point,
         ShapeName::Sphere,
         ShapeName::Plate,
@@ -94,6 +99,8 @@ impl ShapeName {
         ShapeName::Cylinder,
         ShapeName::Box,
         ShapeName::Mesh,
+        ShapeName::Vessel,
+        ShapeName::Buoy,
     ];
 
     /// The name as written in a scene file.
@@ -107,6 +114,8 @@ impl ShapeName {
             ShapeName::Cylinder => "cylinder",
             ShapeName::Box => "box",
             ShapeName::Mesh => "mesh",
+            ShapeName::Vessel => "vessel",
+            ShapeName::Buoy => "buoy",
         }
     }
 }
@@ -335,7 +344,8 @@ pub struct ObjectSpec {
     pub name: Option<String>,
     /// Class label for ML ground truth (default "object").
     pub class: Option<String>,
-    /// "point", "sphere", "plate", "trihedral", "dihedral", "cylinder", "box" or "mesh".
+    /// "point", "sphere", "plate", "trihedral", "dihedral", "cylinder", "box", "mesh",
+    /// "vessel" or "buoy".
     pub shape: Option<ShapeName>,
     /// Position in ENU metres (reference point of the shape, see docs/formats.md).
     pub position_m: Option<[f64; 3]>,
@@ -347,11 +357,11 @@ pub struct ObjectSpec {
     pub roll_deg: Option<f64>,
     /// point: radar cross-section, m².
     pub rcs_m2: Option<f64>,
-    /// sphere, cylinder: radius, m.
+    /// sphere, cylinder, buoy (its float): radius, m.
     pub radius_m: Option<f64>,
     /// plate, dihedral: width, m.
     pub width_m: Option<f64>,
-    /// plate, dihedral, cylinder: height, m.
+    /// plate, dihedral, cylinder: height, m; buoy: the float's height above the waterline, m.
     pub height_m: Option<f64>,
     /// trihedral: edge length, m.
     pub edge_m: Option<f64>,
@@ -363,6 +373,23 @@ pub struct ObjectSpec {
     pub mesh_units: Option<MeshUnit>,
     /// mesh: extra scale factor applied after the unit (default 1).
     pub mesh_scale: Option<f64>,
+    /// vessel: length overall, m.
+    pub length_m: Option<f64>,
+    /// vessel: beam (deck width), m (default 0.25 × length).
+    pub beam_m: Option<f64>,
+    /// vessel: height of the deck above the waterline, m (default 0.1 × length).
+    pub freeboard_m: Option<f64>,
+    /// vessel: deck structures, "none" (default), "cabin", "wheelhouse", "bridge-aft",
+    /// "bridge-fore" or "decks".
+    pub superstructure: Option<crate::geometry::Superstructure>,
+    /// vessel: height of the deck structures above the deck, m (default: a fraction of the
+    /// beam that depends on `superstructure`).
+    pub superstructure_height_m: Option<f64>,
+    /// vessel, buoy: height of the mast's (buoy: the structure's) top above the waterline, m
+    /// (default: no mast).
+    pub mast_height_m: Option<f64>,
+    /// buoy: edge of each corner of the octahedral radar reflector on top, m (default: none).
+    pub reflector_edge_m: Option<f64>,
     /// Speed over ground, knots (with `course_deg`).
     pub speed_kn: Option<f64>,
     /// Course over ground, nautical degrees (0 = north, 90 = east); the heading follows it
