@@ -40,6 +40,7 @@ pub mod rng;
 pub mod scattering;
 pub mod scene;
 pub mod special;
+pub mod targets;
 pub mod waveform;
 
 pub use engine::Simulation;

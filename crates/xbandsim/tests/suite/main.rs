@@ -18,3 +18,4 @@ mod pulse_modes;
 mod rcs;
 mod scene_errors;
 mod signal_chain;
+mod targets;
