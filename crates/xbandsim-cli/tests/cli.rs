@@ -329,7 +329,9 @@ fn schema_is_json_and_covers_the_format() {
             "dihedral",
             "cylinder",
             "box",
-            "mesh"
+            "mesh",
+            "vessel",
+            "buoy"
         ]
     );
     assert_eq!(choices("WindowName"), ["none", "hamming", "taylor"]);

@@ -1,9 +1,10 @@
 //! Drawing one sample: sample i's scene depends only on (spec, seed, i). Its generator is
 //! seeded from `splitmix64(splitmix64(seed) ^ i·0x9E3779B97F4A7C15)` and draws, in this fixed
 //! order: the render seed; every `[vary]` field in name order; the number of targets; then
-//! per target its class, range fraction, bearing, heading, speed, turn rate, `z_m` and its
-//! object fields in name order (positions redrawn, at most 50 times, to keep
-//! `min_separation_m`).
+//! per target its class, heading, speed, turn rate, `z_m`, a library class's size and its
+//! three proportion draws, its object fields in name order, and its range fraction and
+//! bearing (redrawn, at most 50 times, to keep `min_separation_m`; never nearer than the
+//! object's extent plus 20 m).
 
 use crate::error::{DatasetError, Result};
 use crate::spec::DatasetSpec;
@@ -27,6 +28,38 @@ pub fn sample_rng(seed: u64, index: u64) -> Pcg64Mcg {
     Pcg64Mcg::seed_from_u64(splitmix64(
         splitmix64(seed) ^ index.wrapping_mul(0x9E37_79B9_7F4A_7C15),
     ))
+}
+
+/// Clearance kept between the antenna and an object's extent, m.
+pub const MIN_CLEARANCE_M: f64 = 20.0;
+
+/// A generous extent of an object from its size fields, m: the largest of its lengths, radii,
+/// heights, edges and mast heights and its box's diagonal.
+fn extent_m(object: &toml::Table) -> f64 {
+    let mut extent: f64 = 0.0;
+    for key in [
+        "radius_m",
+        "height_m",
+        "width_m",
+        "edge_m",
+        "length_m",
+        "beam_m",
+        "mast_height_m",
+    ] {
+        if let Some(x) = object.get(key).and_then(as_f64) {
+            extent = extent.max(x.abs());
+        }
+    }
+    if let Some(a) = object.get("size_m").and_then(|v| v.as_array()) {
+        let d: f64 = a
+            .iter()
+            .filter_map(as_f64)
+            .map(|x| x * x)
+            .sum::<f64>()
+            .sqrt();
+        extent = extent.max(d);
+    }
+    extent
 }
 
 fn as_f64(v: &toml::Value) -> Option<f64> {
@@ -78,12 +111,53 @@ impl DatasetSpec {
                 u -= w;
             }
             let class = &t.classes[ci];
+            let prefix = format!("targets.class[{ci}].");
+            let heading = class
+                .heading_deg
+                .sample_f64(&format!("{prefix}heading_deg"), &mut rng)?;
+            let speed = class
+                .speed_kn
+                .sample_f64(&format!("{prefix}speed_kn"), &mut rng)?;
+            let turn = class
+                .turn_rate_deg_per_s
+                .sample_f64(&format!("{prefix}turn_rate_deg_per_s"), &mut rng)?;
+            let mut height = class.z_m.sample_f64(&format!("{prefix}z_m"), &mut rng)?;
+            let mut object = match &class.library {
+                // The library's object at a drawn size and proportions, floated at its z
+                // (plus z_m).
+                Some((library, size)) => {
+                    let field = format!("{prefix}size_m");
+                    let size_m = size.sample_f64(&field, &mut rng)?;
+                    let mut draws = [0.0; xbandsim::targets::TargetClass::DRAWS];
+                    for d in &mut draws {
+                        *d = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+                    }
+                    let mut o = crate::spec::library_object(*library, size_m, &draws, &field)?;
+                    if let Some(z) = o
+                        .remove("position_m")
+                        .and_then(|p| p.as_array().and_then(|a| a.get(2).and_then(as_f64)))
+                    {
+                        height += z;
+                    }
+                    o
+                }
+                None => toml::Table::new(),
+            };
+            object.insert("name".into(), format!("{}-{k}", class.name).into());
+            object.insert("class".into(), class.name.clone().into());
+            for (field, d) in &class.object {
+                object.insert(field.clone(), d.sample(&mut rng));
+            }
+            // No closer to the antenna than the object's extent and a margin (the loader
+            // refuses an antenna inside an object).
+            let min_range_m = extent_m(&object) + MIN_CLEARANCE_M;
             let mut position = (0.0, 0.0);
             for _attempt in 0..50 {
-                let r = t
+                let r = (t
                     .range_fraction
                     .sample_f64("targets.range_fraction", &mut rng)?
-                    * max_range_m;
+                    * max_range_m)
+                    .max(min_range_m);
                 let b = t
                     .bearing_deg
                     .sample_f64("targets.bearing_deg", &mut rng)?
@@ -97,23 +171,6 @@ impl DatasetSpec {
                 }
             }
             placed.push(position);
-            let prefix = format!("targets.class[{ci}].");
-            let heading = class
-                .heading_deg
-                .sample_f64(&format!("{prefix}heading_deg"), &mut rng)?;
-            let speed = class
-                .speed_kn
-                .sample_f64(&format!("{prefix}speed_kn"), &mut rng)?;
-            let turn = class
-                .turn_rate_deg_per_s
-                .sample_f64(&format!("{prefix}turn_rate_deg_per_s"), &mut rng)?;
-            let height = class.z_m.sample_f64(&format!("{prefix}z_m"), &mut rng)?;
-            let mut object = toml::Table::new();
-            object.insert("name".into(), format!("{}-{k}", class.name).into());
-            object.insert("class".into(), class.name.clone().into());
-            for (field, d) in &class.object {
-                object.insert(field.clone(), d.sample(&mut rng));
-            }
             object.insert(
                 "position_m".into(),
                 toml::Value::Array(vec![position.0.into(), position.1.into(), height.into()]),

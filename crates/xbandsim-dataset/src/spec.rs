@@ -63,8 +63,31 @@ pub struct TargetClass {
     pub turn_rate_deg_per_s: Dist,
     /// Height of the object's reference point above the sea, m (default 0).
     pub z_m: Dist,
-    /// The scene-file `[[object]]` fields (shape and dimensions), each fixed or drawn.
+    /// The scene-file `[[object]]` fields (shape and dimensions), each fixed or drawn; with a
+    /// library class, fields that override the library's.
     pub object: BTreeMap<String, Dist>,
+    /// A class of the target library (docs/targets.md) and its size law, m.
+    pub library: Option<(xbandsim::targets::TargetClass, Dist)>,
+}
+
+/// The object fields a library class gives for `size_m` and its proportion draws, as a
+/// scene-file table (its `position_m` z floats it).
+pub fn library_object(
+    class: xbandsim::targets::TargetClass,
+    size_m: f64,
+    draws: &[f64; xbandsim::targets::TargetClass::DRAWS],
+    field: &str,
+) -> Result<toml::Table> {
+    let spec = class
+        .object_spec(size_m, draws)
+        .map_err(|e| DatasetError::spec(field, e.to_string()))?;
+    match toml::Value::try_from(&spec) {
+        Ok(toml::Value::Table(t)) => Ok(t),
+        _ => Err(DatasetError::spec(
+            field,
+            "the library's object cannot be written as TOML".into(),
+        )),
+    }
 }
 
 fn table<'a>(t: &'a toml::Table, key: &str, field: &str) -> Result<Option<&'a toml::Table>> {
@@ -302,9 +325,30 @@ impl DatasetSpec {
                 "must be a number of degrees per second",
             )?;
             number("z_m", &c.z_m, &|_| true, "must be a number of metres")?;
+            if let Some((class, size)) = &c.library {
+                let field = format!("targets.class[{i}].size_m");
+                for v in extremes(size) {
+                    let x = v.as_float().or_else(|| v.as_integer().map(|i| i as f64));
+                    let x = x.ok_or_else(|| {
+                        DatasetError::spec(&field, format!("{v} is not a number of metres"))
+                    })?;
+                    library_object(*class, x, &[0.5; 3], &field)?;
+                }
+            }
             for (k, d) in &c.object {
                 for v in extremes(d) {
-                    let mut object = toml::Table::new();
+                    let mut object = match &c.library {
+                        Some((class, size)) => {
+                            let x = middle(size).as_float().unwrap_or(1.0);
+                            library_object(
+                                *class,
+                                x,
+                                &[0.5; 3],
+                                &format!("targets.class[{i}].size_m"),
+                            )?
+                        }
+                        None => toml::Table::new(),
+                    };
                     for (k2, d2) in &c.object {
                         object.insert(k2.clone(), if k2 == k { v.clone() } else { first(d2) });
                     }
@@ -341,15 +385,53 @@ fn parse_class(c: &toml::Table, prefix: &str) -> Result<TargetClass> {
             "turn_rate_deg_per_s",
             "z_m",
             "object",
+            "library",
+            "size_m",
         ],
         prefix,
     )?;
-    let name = c
-        .get("name")
-        .and_then(|v| v.as_str())
-        .filter(|s| !s.trim().is_empty())
-        .ok_or_else(|| DatasetError::spec(format!("{prefix}name"), "a class needs a name".into()))?
-        .to_string();
+    let library = match c.get("library") {
+        None => None,
+        Some(v) => {
+            let name = v.as_str().unwrap_or_default();
+            let class = xbandsim::targets::TargetClass::from_name(name).ok_or_else(|| {
+                let known: Vec<&str> = xbandsim::targets::TargetClass::all()
+                    .iter()
+                    .map(|c| c.name())
+                    .collect();
+                DatasetError::spec(
+                    format!("{prefix}library"),
+                    format!(
+                        "{v}: not a class of the target library (it has {})",
+                        known.join(", ")
+                    ),
+                )
+            })?;
+            let (lo, hi) = class.size_range_m();
+            let size = dist_or(c, "size_m", prefix, uniform(lo, hi))?;
+            Some((class, size))
+        }
+    };
+    if library.is_none() && c.contains_key("size_m") {
+        return Err(DatasetError::spec(
+            format!("{prefix}size_m"),
+            "only a library class has a size law (give the object's own size fields instead)"
+                .into(),
+        ));
+    }
+    let name = match (c.get("name"), &library) {
+        (None, Some((class, _))) => class.name().to_string(),
+        (name, _) => name
+            .and_then(|v| v.as_str())
+            .filter(|s| !s.trim().is_empty())
+            .ok_or_else(|| {
+                DatasetError::spec(
+                    format!("{prefix}name"),
+                    "a class needs a name (or a library class)".into(),
+                )
+            })?
+            .to_string(),
+    };
     let weight = match c.get("weight") {
         None => 1.0,
         Some(v) => v
@@ -360,15 +442,19 @@ fn parse_class(c: &toml::Table, prefix: &str) -> Result<TargetClass> {
                 DatasetError::spec(format!("{prefix}weight"), format!("{v}: must be above 0"))
             })?,
     };
-    let object_table = c
-        .get("object")
-        .and_then(|v| v.as_table())
-        .ok_or_else(|| {
-            DatasetError::spec(
+    let empty = toml::Table::new();
+    let object_table = match c.get("object") {
+        Some(v) => v.as_table().ok_or_else(|| {
+            DatasetError::spec(format!("{prefix}object"), "must be a table".into())
+        })?,
+        None if library.is_some() => &empty,
+        None => {
+            return Err(DatasetError::spec(
                 format!("{prefix}object"),
-                "a class needs an object table: the scene-file [[object]] fields of its shape (shape, sizes), each fixed or drawn".into(),
-            )
-        })?;
+                "a class needs a library class or an object table: the scene-file [[object]] fields of its shape (shape, sizes), each fixed or drawn".into(),
+            ))
+        }
+    };
     let placed = [
         "position_m",
         "name",
@@ -390,20 +476,28 @@ fn parse_class(c: &toml::Table, prefix: &str) -> Result<TargetClass> {
         }
         object.insert(k.clone(), Dist::parse(&format!("{prefix}object.{k}"), v)?);
     }
-    if !object.contains_key("shape") {
+    if library.is_none() && !object.contains_key("shape") {
         return Err(DatasetError::spec(
             format!("{prefix}object.shape"),
             "a class's object needs a shape".into(),
         ));
     }
+    let speed_default = match &library {
+        Some((class, _)) if !class.is_moored() => {
+            let (lo, hi) = class.speed_range_kn();
+            uniform(lo, hi)
+        }
+        _ => fixed(0.0),
+    };
     Ok(TargetClass {
         name,
         weight,
         heading_deg: dist_or(c, "heading_deg", prefix, uniform(0.0, 360.0))?,
-        speed_kn: dist_or(c, "speed_kn", prefix, fixed(0.0))?,
+        speed_kn: dist_or(c, "speed_kn", prefix, speed_default)?,
         turn_rate_deg_per_s: dist_or(c, "turn_rate_deg_per_s", prefix, fixed(0.0))?,
         z_m: dist_or(c, "z_m", prefix, fixed(0.0))?,
         object,
+        library,
     })
 }
 

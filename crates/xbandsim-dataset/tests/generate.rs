@@ -152,6 +152,58 @@ fn a_sample_re_renders_from_its_scene_file() {
     assert!(with_targets > 0);
 }
 
+/// Library classes (docs/targets.md): a sample's targets are the library's objects at drawn
+/// sizes, labelled with the library's names; an unknown class or a size outside the class's
+/// range is refused naming the field.
+#[test]
+fn library_classes_fill_samples() {
+    let text = SPEC.replace(
+        "[[targets.class]]\nname = \"buoy\"",
+        "[[targets.class]]\nlibrary = \"rib\"\n\n[[targets.class]]\nlibrary = \"navigation_buoy\"\n\n[[targets.class]]\nname = \"buoy\"",
+    );
+    let spec = DatasetSpec::parse(&text, Path::new(".")).unwrap();
+    let mut seen = std::collections::BTreeSet::new();
+    for i in 0..40 {
+        let s = spec.sample(3, i).unwrap();
+        let scene: toml::Table = toml::from_str(&s.scene_toml).unwrap();
+        for o in scene
+            .get("object")
+            .and_then(|o| o.as_array())
+            .into_iter()
+            .flatten()
+        {
+            let class = o["class"].as_str().unwrap().to_string();
+            if class == "rib" {
+                assert_eq!(o["shape"].as_str(), Some("vessel"));
+                let l = o["length_m"].as_float().unwrap();
+                let (lo, hi) = xbandsim::targets::TargetClass::Rib.size_range_m();
+                assert!((lo..=hi).contains(&l), "{l}");
+            }
+            seen.insert(class);
+        }
+    }
+    assert!(
+        seen.contains("rib") && seen.contains("navigation_buoy"),
+        "{seen:?}"
+    );
+    for (bad, field) in [
+        ("library = \"rib\"", "library = \"submarine\""),
+        (
+            "library = \"rib\"",
+            "library = \"rib\"\nsize_m = { uniform = [1.0, 900.0] }",
+        ),
+    ]
+    .iter()
+    .zip(["targets.class[0].library", "targets.class[0].size_m"])
+    .map(|((from, to), field)| (text.replace(from, to), field))
+    {
+        let err = DatasetSpec::parse(&bad, Path::new("."))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(field), "{field}: {err}");
+    }
+}
+
 #[test]
 fn bad_specs_name_the_field() {
     let cases = [
