@@ -18,9 +18,11 @@ fn target() -> ProgressDrawTarget {
 pub fn bar(len: u64, label: &str) -> ProgressBar {
     let pb = ProgressBar::with_draw_target(Some(len), target());
     pb.set_style(
-        ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} {elapsed} (eta {eta}) {msg}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> "),
+        ProgressStyle::with_template(
+            "{prefix} [{bar:30}] {pos}/{len} {per_sec} {elapsed} (eta {eta}) {msg}",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("=> "),
     );
     pb.set_prefix(label.to_string());
     pb.enable_steady_tick(Duration::from_millis(200));

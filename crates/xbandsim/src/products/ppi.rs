@@ -377,17 +377,7 @@ pub enum Orientation {
 }
 
 /// `display.motion`: what the PPI keeps fixed.
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Default,
-    serde::Deserialize,
-    serde::Serialize,
-    schemars::JsonSchema,
-)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Motion {
     /// Relative motion: the own ship (the antenna) at the image centre; the picture moves
@@ -397,6 +387,31 @@ pub enum Motion {
     /// True motion: the picture fixed to the ground, centred on the antenna's position at
     /// t = 0; the own ship moves across it.
     True,
+}
+
+/// Reads `"relative"` or `"true"`, and also the TOML booleans `true` and `false` (what
+/// `--set display.motion=true` writes), so that "true motion" reads as it is said.
+impl<'de> serde::Deserialize<'de> for Motion {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Motion, D::Error> {
+        #[derive(serde::Deserialize)]
+        #[serde(untagged)]
+        enum Raw {
+            Name(String),
+            Flag(bool),
+        }
+        match Raw::deserialize(d)? {
+            Raw::Flag(true) => Ok(Motion::True),
+            Raw::Flag(false) => Ok(Motion::Relative),
+            Raw::Name(name) => match name.as_str() {
+                "relative" => Ok(Motion::Relative),
+                "true" => Ok(Motion::True),
+                other => Err(serde::de::Error::unknown_variant(
+                    other,
+                    &["relative", "true"],
+                )),
+            },
+        }
+    }
 }
 
 /// Colour map for `ppi.png`.

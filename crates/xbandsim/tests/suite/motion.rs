@@ -608,3 +608,30 @@ fn true_motion_keeps_the_ground_still() {
         .to_string();
     assert!(err.contains("motion") && err.contains("sideways"), "{err}");
 }
+
+/// `motion = "true"`, and the booleans `true`/`false` that `--set display.motion=true` writes,
+/// read as true and relative motion; an unknown word names the allowed ones.
+#[test]
+fn display_motion_reads_words_and_booleans() {
+    use xbandsim::products::ppi::Motion;
+    let motion = |value: &str| {
+        let text = format!("[display]\nmotion = {value}\n");
+        xbandsim::LoadedSpec::from_toml(&text, "t", std::path::Path::new("."))
+            .and_then(|s| s.ppi_settings())
+            .map(|p| p.motion)
+    };
+    assert_eq!(motion("\"true\"").unwrap(), Motion::True);
+    assert_eq!(motion("true").unwrap(), Motion::True);
+    assert_eq!(motion("false").unwrap(), Motion::Relative);
+    assert_eq!(motion("\"relative\"").unwrap(), Motion::Relative);
+    let err = motion("\"sideways\"").map(|_| ()).unwrap_err().to_string();
+    assert!(
+        err.contains("sideways") && err.contains("relative"),
+        "{err}"
+    );
+    let set = xbandsim::LoadedSpec::from_toml("[display]\n", "t", std::path::Path::new("."))
+        .unwrap()
+        .with_overrides(&["display.motion=true"])
+        .unwrap();
+    assert_eq!(set.ppi_settings().unwrap().motion, Motion::True);
+}
