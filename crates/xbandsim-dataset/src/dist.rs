@@ -10,6 +10,16 @@ use rand::Rng;
 use rand_distr::{Distribution as _, StandardNormal};
 use rand_pcg::Pcg64Mcg;
 
+/// A TOML number (float or integer) as f64.
+pub fn as_f64(v: &toml::Value) -> Option<f64> {
+    v.as_float().or_else(|| v.as_integer().map(|i| i as f64))
+}
+
+/// A draw uniform in [0, 1) from the top 53 bits of the generator's next word.
+pub fn unit_draw(rng: &mut Pcg64Mcg) -> f64 {
+    (rand::RngCore::next_u64(rng) >> 11) as f64 / (1u64 << 53) as f64
+}
+
 /// One randomised field.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Dist {
@@ -90,8 +100,7 @@ impl Dist {
                     DatasetError::spec(&name, "must be a pair of numbers [a, b]".into())
                 })?;
             let num = |v: &toml::Value| {
-                v.as_float()
-                    .or_else(|| v.as_integer().map(|i| i as f64))
+                as_f64(v)
                     .filter(|x| x.is_finite())
                     .ok_or_else(|| DatasetError::spec(&name, format!("{v} is not a finite number")))
             };
@@ -100,13 +109,9 @@ impl Dist {
         let bound = |key: &str, default: f64| -> Result<f64> {
             match table.get(key) {
                 None => Ok(default),
-                Some(v) => v
-                    .as_float()
-                    .or_else(|| v.as_integer().map(|i| i as f64))
-                    .filter(|x| !x.is_nan())
-                    .ok_or_else(|| {
-                        DatasetError::spec(format!("{field}.{key}"), format!("{v} is not a number"))
-                    }),
+                Some(v) => as_f64(v).filter(|x| !x.is_nan()).ok_or_else(|| {
+                    DatasetError::spec(format!("{field}.{key}"), format!("{v} is not a number"))
+                }),
             }
         };
         match law {
@@ -195,13 +200,7 @@ impl Dist {
                     Some(w) => {
                         let w: Vec<f64> = w
                             .as_array()
-                            .and_then(|a| {
-                                a.iter()
-                                    .map(|v| {
-                                        v.as_float().or_else(|| v.as_integer().map(|i| i as f64))
-                                    })
-                                    .collect::<Option<Vec<f64>>>()
-                            })
+                            .and_then(|a| a.iter().map(as_f64).collect::<Option<Vec<f64>>>())
                             .ok_or_else(|| {
                                 DatasetError::spec(
                                     format!("{field}.weights"),
@@ -235,9 +234,7 @@ impl Dist {
     /// do not depend on them.
     pub fn sample_f64(&self, field: &str, rng: &mut Pcg64Mcg) -> Result<f64> {
         let v = self.sample(rng);
-        v.as_float()
-            .or_else(|| v.as_integer().map(|i| i as f64))
-            .ok_or_else(|| DatasetError::spec(field, format!("{v} is not a number")))
+        as_f64(&v).ok_or_else(|| DatasetError::spec(field, format!("{v} is not a number")))
     }
 
     /// A TOML value drawn from this distribution.

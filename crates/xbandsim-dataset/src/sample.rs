@@ -6,6 +6,7 @@
 //! bearing (redrawn, at most 50 times, to keep `min_separation_m`; never nearer than the
 //! object's extent plus 20 m).
 
+use crate::dist::{as_f64, unit_draw};
 use crate::error::{DatasetError, Result};
 use crate::spec::DatasetSpec;
 use rand::{RngCore, SeedableRng};
@@ -62,10 +63,6 @@ fn extent_m(object: &toml::Table) -> f64 {
     extent
 }
 
-fn as_f64(v: &toml::Value) -> Option<f64> {
-    v.as_float().or_else(|| v.as_integer().map(|i| i as f64))
-}
-
 impl DatasetSpec {
     /// Draws sample `index` of the dataset made with `seed`.
     pub fn sample(&self, seed: u64, index: u64) -> Result<SampleScene> {
@@ -101,7 +98,7 @@ impl DatasetSpec {
         let mut placed: Vec<(f64, f64)> = Vec::new();
         let mut objects = Vec::new();
         for k in 0..count.max(0) as usize {
-            let mut u = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 * total_weight;
+            let mut u = unit_draw(&mut rng) * total_weight;
             let mut ci = t.classes.len() - 1;
             for (i, w) in class_weights.iter().enumerate() {
                 if u < *w {
@@ -130,7 +127,7 @@ impl DatasetSpec {
                     let size_m = size.sample_f64(&field, &mut rng)?;
                     let mut draws = [0.0; xbandsim::targets::TargetClass::DRAWS];
                     for d in &mut draws {
-                        *d = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+                        *d = unit_draw(&mut rng);
                     }
                     let mut o = crate::spec::library_object(*library, size_m, &draws, &field)?;
                     if let Some(z) = o

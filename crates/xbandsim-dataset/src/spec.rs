@@ -3,7 +3,7 @@
 //! distribution ([`crate::dist`]). Parsed into validated, immutable values; every error names
 //! the field.
 
-use crate::dist::Dist;
+use crate::dist::{as_f64, Dist};
 use crate::error::{DatasetError, Result};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -186,9 +186,7 @@ impl DatasetSpec {
         let bearing_deg = dist_or(t, "bearing_deg", "targets.", uniform(0.0, 360.0))?;
         let min_separation_m = match t.get("min_separation_m") {
             None => 30.0,
-            Some(v) => v
-                .as_float()
-                .or_else(|| v.as_integer().map(|i| i as f64))
+            Some(v) => as_f64(v)
                 .filter(|x| x.is_finite() && *x >= 0.0)
                 .ok_or_else(|| {
                     DatasetError::spec(
@@ -252,7 +250,7 @@ impl DatasetSpec {
             }
         }
         for f in extremes(&self.targets.range_fraction) {
-            let x = f.as_float().or_else(|| f.as_integer().map(|i| i as f64));
+            let x = as_f64(&f);
             if !x.is_some_and(|x| x > 0.0 && x <= 1.0) {
                 return Err(DatasetError::spec(
                     "targets.range_fraction",
@@ -296,7 +294,7 @@ impl DatasetSpec {
         for (i, c) in self.targets.classes.iter().enumerate() {
             let number = |key: &str, d: &Dist, ok: &dyn Fn(f64) -> bool, why: &str| -> Result<()> {
                 for v in extremes(d) {
-                    let x = v.as_float().or_else(|| v.as_integer().map(|i| i as f64));
+                    let x = as_f64(&v);
                     if !x.is_some_and(|x| x.is_finite() && ok(x)) {
                         return Err(DatasetError::spec(
                             format!("targets.class[{i}].{key}"),
@@ -328,7 +326,7 @@ impl DatasetSpec {
             if let Some((class, size)) = &c.library {
                 let field = format!("targets.class[{i}].size_m");
                 for v in extremes(size) {
-                    let x = v.as_float().or_else(|| v.as_integer().map(|i| i as f64));
+                    let x = as_f64(&v);
                     let x = x.ok_or_else(|| {
                         DatasetError::spec(&field, format!("{v} is not a number of metres"))
                     })?;
@@ -434,9 +432,7 @@ fn parse_class(c: &toml::Table, prefix: &str) -> Result<TargetClass> {
     };
     let weight = match c.get("weight") {
         None => 1.0,
-        Some(v) => v
-            .as_float()
-            .or_else(|| v.as_integer().map(|i| i as f64))
+        Some(v) => as_f64(v)
             .filter(|w| w.is_finite() && *w > 0.0)
             .ok_or_else(|| {
                 DatasetError::spec(format!("{prefix}weight"), format!("{v}: must be above 0"))
