@@ -8,16 +8,21 @@ use xbandsim_dataset::{generate, DatasetSpec, Request, Shard};
 
 /// Options of `xbandsim dataset`.
 #[derive(clap::Args, Debug)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
 pub struct DatasetArgs {
+    /// Check or summarise a dataset instead of making one.
+    #[command(subcommand)]
+    pub action: Option<DatasetAction>,
     /// Dataset spec (TOML): base scene, fields drawn per sample, targets.
-    pub spec: PathBuf,
+    #[arg(required = true)]
+    pub spec: Option<PathBuf>,
     /// Output directory (created if missing; a run into a folder that holds the same dataset
     /// resumes it, skipping finished samples).
-    #[arg(long)]
-    pub out: PathBuf,
+    #[arg(long, required = true)]
+    pub out: Option<PathBuf>,
     /// Samples in the whole dataset.
-    #[arg(long)]
-    pub count: u64,
+    #[arg(long, required = true)]
+    pub count: Option<u64>,
     /// Dataset seed: sample i depends only on (spec, seed, i).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -29,30 +34,142 @@ pub struct DatasetArgs {
     pub jobs: usize,
 }
 
+/// What else `xbandsim dataset` does.
+#[derive(clap::Subcommand, Debug)]
+pub enum DatasetAction {
+    /// Report missing or corrupt samples (every file against its sample's files.sha256) and
+    /// missing index files; exits with status 1 when anything is wrong.
+    Verify {
+        /// Dataset folder.
+        dir: PathBuf,
+    },
+    /// Print objects and labels per class, the expected-SNR histogram and visibility
+    /// fractions, and draw a contact sheet of random samples with their boxes.
+    Stats {
+        /// Dataset folder.
+        dir: PathBuf,
+        /// Contact sheet to write (default DIR/contact_sheet.png).
+        #[arg(long)]
+        sheet: Option<PathBuf>,
+        /// Samples on the contact sheet.
+        #[arg(long, default_value_t = 16)]
+        samples: usize,
+        /// Side of each tile, px.
+        #[arg(long, default_value_t = 256)]
+        tile_px: usize,
+        /// Seed of the sheet's random choice.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+    },
+}
+
 /// Runs `xbandsim dataset`.
 pub fn run(a: &DatasetArgs) -> Result<()> {
+    match &a.action {
+        Some(DatasetAction::Verify { dir }) => return verify(dir),
+        Some(DatasetAction::Stats {
+            dir,
+            sheet,
+            samples,
+            tile_px,
+            seed,
+        }) => return stats(dir, sheet.as_deref(), *samples, *tile_px, *seed),
+        None => {}
+    }
+    // clap requires these without a subcommand.
+    let (Some(spec_path), Some(out), Some(count)) = (&a.spec, &a.out, a.count) else {
+        anyhow::bail!("xbandsim dataset needs SPEC, --out and --count");
+    };
+    make(a, spec_path, out, count)
+}
+
+fn verify(dir: &std::path::Path) -> Result<()> {
+    let (count, _) = xbandsim_dataset::stats::record(dir)
+        .with_context(|| format!("verifying the dataset in {}", dir.display()))?;
+    let progress = crate::progress::bar(count, "verify: samples");
+    let report = xbandsim_dataset::verify::verify(dir, &|| progress.inc(1))
+        .with_context(|| format!("verifying the dataset in {}", dir.display()))?;
+    progress.finish_and_clear();
+    for i in &report.missing {
+        crate::say!(
+            "missing: sample {i} ({})",
+            xbandsim_dataset::sample_dir(dir, *i).display()
+        );
+    }
+    for (i, problem) in &report.corrupt {
+        crate::say!("corrupt: sample {i}: {problem}");
+    }
+    for f in &report.missing_index_files {
+        crate::say!("missing index file: {}", dir.join(f).display());
+    }
+    let whole = report.count - report.missing.len() as u64 - report.corrupt.len() as u64;
+    crate::say!(
+        "{}: {whole} of {} samples whole, {} missing, {} corrupt, {} index files missing",
+        dir.display(),
+        report.count,
+        report.missing.len(),
+        report.corrupt.len(),
+        report.missing_index_files.len()
+    );
+    if !report.is_complete() {
+        if !report.corrupt.is_empty() {
+            crate::say!("delete the corrupt samples' folders and run the same `xbandsim dataset` command again to remake them");
+        }
+        std::process::exit(1);
+    }
+    Ok(())
+}
+
+fn stats(
+    dir: &std::path::Path,
+    sheet: Option<&std::path::Path>,
+    samples: usize,
+    tile_px: usize,
+    seed: u64,
+) -> Result<()> {
+    let s = xbandsim_dataset::stats::stats(dir)
+        .with_context(|| format!("reading the dataset in {}", dir.display()))?;
+    print!("{}", s.report());
+    if tile_px == 0 {
+        anyhow::bail!("--tile-px 0: a tile needs at least one pixel");
+    }
+    let (png, shown) = xbandsim_dataset::stats::contact_sheet(dir, samples, tile_px, seed)
+        .with_context(|| format!("drawing the contact sheet of {}", dir.display()))?;
+    let path = sheet.map_or_else(|| dir.join("contact_sheet.png"), |p| p.to_path_buf());
+    xbandsim::products::output::write_atomic(&path, &png)
+        .with_context(|| format!("writing {}", path.display()))?;
+    crate::say!("contact sheet of samples {shown:?} -> {}", path.display());
+    Ok(())
+}
+
+fn make(
+    a: &DatasetArgs,
+    spec_path: &std::path::Path,
+    out: &std::path::Path,
+    count: u64,
+) -> Result<()> {
     let t0 = Instant::now();
-    let spec = DatasetSpec::read(&a.spec)
-        .with_context(|| format!("reading the dataset spec {}", a.spec.display()))?;
+    let spec = DatasetSpec::read(spec_path)
+        .with_context(|| format!("reading the dataset spec {}", spec_path.display()))?;
     let shard = match &a.shard {
         Some(s) => Shard::parse(s)?,
         None => Shard::ALL,
     };
     let request = Request {
-        count: a.count,
+        count,
         seed: a.seed,
         shard,
         jobs: a.jobs,
     };
-    let in_shard = (0..a.count).filter(|&i| shard.holds(i)).count() as u64;
+    let in_shard = (0..count).filter(|&i| shard.holds(i)).count() as u64;
     let progress = crate::progress::bar(in_shard, "dataset: samples");
-    let summary = generate(&spec, &a.out, &request, &|| progress.inc(1))
-        .with_context(|| format!("making the dataset in {}", a.out.display()))?;
+    let summary = generate(&spec, out, &request, &|| progress.inc(1))
+        .with_context(|| format!("making the dataset in {}", out.display()))?;
     progress.finish_and_clear();
     let secs = t0.elapsed().as_secs_f64();
     crate::say!(
         "dataset {}: {} samples in shard {}/{}, {} already there, {} made in {:.1} s ({:.1} samples/s) -> {}",
-        a.spec.display(),
+        spec_path.display(),
         summary.in_shard,
         shard.index,
         shard.count,
@@ -60,7 +177,19 @@ pub fn run(a: &DatasetArgs) -> Result<()> {
         summary.made,
         secs,
         summary.made as f64 / secs.max(1e-9),
-        a.out.display()
+        out.display()
     );
+    match (&summary.assembled, summary.missing) {
+        (Some(x), _) => crate::say!(
+            "labels: {} images, {} detection labels, {} target rows -> annotations.json (COCO), yolo/ and yolo_obb/ (data.yaml), targets.jsonl, README.md",
+            x.images,
+            x.annotations,
+            x.targets
+        ),
+        (None, 0) => {}
+        (None, n) => crate::say!(
+            "{n} samples of other shards are not made yet: the dataset's index files (annotations.json, yolo/, targets.jsonl, README.md) are written by the run that completes it"
+        ),
+    }
     Ok(())
 }

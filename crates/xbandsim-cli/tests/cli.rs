@@ -685,16 +685,40 @@ fn dataset_killed_mid_run_resumes_to_the_same_bytes() {
     child.wait().unwrap();
     let done = finished_samples(&killed);
     assert!((3..60).contains(&done), "killed after {done} samples");
-    // Whatever is under samples/ is whole: each sample folder has all its files.
+    // Whatever is under samples/ is whole: each sample folder has all its files, and
+    // `dataset verify` finds samples missing but none corrupt.
     for (k, _) in dataset_files(&killed)
         .iter()
         .filter(|(k, _)| k.ends_with("truth.json"))
     {
         let d = killed.join(k).parent().unwrap().to_path_buf();
-        for f in ["scene.toml", "polar.npy", "ppi.png", "ppi_gray.png"] {
+        for f in [
+            "scene.toml",
+            "polar.npy",
+            "ppi_gray.png",
+            "files.sha256",
+            "coco.json",
+        ] {
             assert!(d.join(f).is_file(), "{} lacks {f}", d.display());
         }
     }
+    let verify = |dir: &Path| {
+        xbandsim()
+            .args(["dataset", "verify"])
+            .arg(dir)
+            .output()
+            .unwrap()
+    };
+    let v = verify(&killed);
+    let said = String::from_utf8_lossy(&v.stdout);
+    assert_eq!(v.status.code(), Some(1), "{said}");
+    assert!(
+        said.contains(&format!(
+            "{done} of 60 samples whole, {} missing, 0 corrupt",
+            60 - done
+        )),
+        "{said}"
+    );
     let out = run(&killed).output().unwrap();
     assert!(
         out.status.success(),
@@ -704,4 +728,6 @@ fn dataset_killed_mid_run_resumes_to_the_same_bytes() {
     let said = String::from_utf8_lossy(&out.stdout);
     assert!(said.contains(&format!("{done} already there")), "{said}");
     assert_eq!(dataset_files(&whole), dataset_files(&killed));
+    let v = verify(&killed);
+    assert!(v.status.success(), "{}", String::from_utf8_lossy(&v.stdout));
 }

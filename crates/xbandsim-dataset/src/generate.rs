@@ -14,11 +14,12 @@
 //! bytes depend only on (spec, seed, i), so shards, job counts and order do not change them.
 
 use crate::error::{DatasetError, Result};
+use crate::labels::{frame_labels, object_masks, FrameContext};
 use crate::spec::DatasetSpec;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use xbandsim::engine::Outputs;
-use xbandsim::products::frame_files::write_frame_files;
+use xbandsim::products::frame_files::encode_frame_files;
 use xbandsim::Simulation;
 
 /// Samples per group folder under `samples/`.
@@ -74,7 +75,7 @@ pub struct Request {
 }
 
 /// What a run did.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Summary {
     /// Samples of this shard.
     pub in_shard: u64,
@@ -82,6 +83,10 @@ pub struct Summary {
     pub skipped: u64,
     /// Made now.
     pub made: u64,
+    /// Samples of the whole dataset still missing (other shards').
+    pub missing: u64,
+    /// The index files, when the dataset is complete and they were (re)written.
+    pub assembled: Option<crate::assemble::Assembled>,
 }
 
 /// Folder of sample `index` under `out`.
@@ -154,10 +159,11 @@ pub fn generate(
         .copied()
         .filter(|&i| !sample_dir(out, i).is_dir())
         .collect();
-    let summary = Summary {
+    let mut summary = Summary {
         in_shard: indices.len() as u64,
         skipped: (indices.len() - pending.len()) as u64,
         made: pending.len() as u64,
+        ..Default::default()
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(request.jobs)
@@ -170,10 +176,35 @@ pub fn generate(
             Ok(())
         })
     })?;
+    // The index files, once every sample of every shard is in place.
+    summary.missing = (0..request.count)
+        .filter(|&i| !sample_dir(out, i).is_dir())
+        .count() as u64;
+    if summary.missing == 0 && (summary.made > 0 || !out.join("annotations.json").is_file()) {
+        summary.assembled = Some(crate::assemble::assemble(
+            spec,
+            out,
+            request.count,
+            request.seed,
+        )?);
+    }
     Ok(summary)
 }
 
-/// Renders sample `index` into `out/.partial/<index>/` and renames it into place.
+/// The folder of frame `frame` inside a sample's folder (the sample's folder itself when
+/// samples are single frames).
+pub fn frame_subdir(frames: u64, frame: u64) -> String {
+    if frames == 1 {
+        String::new()
+    } else {
+        format!("frame_{frame:04}")
+    }
+}
+
+/// Renders sample `index` into `out/.partial/<index>/` and renames it into place: per frame
+/// the polar record, the PPI image(s), truth.json, the labels (coco.json, yolo.txt,
+/// yolo_obb.txt, targets.jsonl; [`crate::labels`]); then scene.toml and files.sha256 (the
+/// sha256 of every other file, in `sha256sum -c` form).
 pub fn make_sample(spec: &DatasetSpec, out: &Path, seed: u64, index: u64) -> Result<()> {
     let sample = spec.sample(seed, index)?;
     let partial = out.join(".partial").join(format!("{index:09}"));
@@ -187,30 +218,72 @@ pub fn make_sample(spec: &DatasetSpec, out: &Path, seed: u64, index: u64) -> Res
     let scene = loaded.build().map_err(scene_err)?;
     let display = loaded.ppi_settings().map_err(scene_err)?;
     let sim = Simulation::new(scene);
+    let quiet = sim.targets_only();
     let outputs = Outputs {
         doppler_cube: spec.datacube,
         radial_velocity: display.doppler_colour,
         ..Default::default()
     };
     let name = format!("sample {index}");
+    let categories = spec.categories();
+    let sample_rel = sample_dir(Path::new(""), index);
+    let mut written: Vec<(String, Vec<u8>)> = Vec::new();
     for k in 0..spec.frames {
         let frame = sim
             .render_frame_outputs(sample.render_seed, k, outputs, &|| {})
             .map_err(scene_err)?;
-        let dir = if spec.frames == 1 {
-            partial.clone()
-        } else {
-            partial.join(format!("frame_{k:04}"))
-        };
-        write_frame_files(
+        let sub = frame_subdir(spec.frames, k);
+        let dir = partial.join(&sub);
+        let encoded = encode_frame_files(
             sim.scene().radar(),
             &display,
             &frame,
             &dir,
             &name,
             sample.render_seed,
+            spec.image.images(),
         )
         .map_err(scene_err)?;
+        let targets_only = quiet
+            .render_frame_outputs(sample.render_seed, k, Outputs::default(), &|| {})
+            .map_err(scene_err)?;
+        let masks = object_masks(
+            &encoded.objects,
+            &targets_only.polar_db,
+            frame.spokes,
+            frame.range_bins,
+            &encoded.converter,
+            spec.mask_threshold_db as f32,
+        );
+        let image = sample_rel.join(&sub).join(spec.image.labelled_file());
+        let labels = frame_labels(
+            &FrameContext {
+                sample: index,
+                frame: k,
+                frame_start_time_s: frame.start_time_s,
+                image: &image.to_string_lossy(),
+                size_px: encoded.converter.size_px() as usize,
+                categories: &categories,
+            },
+            &encoded.objects,
+            &masks,
+        );
+        let mut files = encoded.files;
+        files.push(("coco.json", json_line(&labels.coco)));
+        files.push(("yolo.txt", labels.yolo.into_bytes()));
+        files.push(("yolo_obb.txt", labels.yolo_obb.into_bytes()));
+        files.push(("targets.jsonl", labels.targets_jsonl.into_bytes()));
+        if !sub.is_empty() {
+            std::fs::create_dir_all(&dir).map_err(|e| DatasetError::io(&dir, e))?;
+        }
+        for (file, bytes) in files {
+            let rel = if sub.is_empty() {
+                file.to_string()
+            } else {
+                format!("{sub}/{file}")
+            };
+            written.push((rel, bytes));
+        }
     }
     let header = format!(
         "# xbandsim dataset sample {index}: re-render with\n#   xbandsim render scene.toml --seed {}{}\n",
@@ -221,10 +294,18 @@ pub fn make_sample(spec: &DatasetSpec, out: &Path, seed: u64, index: u64) -> Res
             String::new()
         }
     );
-    write_new(
-        &partial.join("scene.toml"),
-        format!("{header}{}", sample.scene_toml).as_bytes(),
-    )?;
+    written.push((
+        "scene.toml".into(),
+        format!("{header}{}", sample.scene_toml).into_bytes(),
+    ));
+    let mut manifest = String::new();
+    for (rel, bytes) in &written {
+        manifest.push_str(&format!("{}  {rel}\n", sha256_hex(bytes)));
+        let path = partial.join(rel);
+        std::fs::write(&path, bytes).map_err(|e| DatasetError::io(&path, e))?;
+    }
+    let manifest_path = partial.join(MANIFEST);
+    std::fs::write(&manifest_path, manifest).map_err(|e| DatasetError::io(&manifest_path, e))?;
     let dest = sample_dir(out, index);
     let parent = dest.parent().unwrap_or(out);
     std::fs::create_dir_all(parent).map_err(|e| DatasetError::io(parent, e))?;
@@ -236,4 +317,20 @@ pub fn make_sample(spec: &DatasetSpec, out: &Path, seed: u64, index: u64) -> Res
         }
         Err(e) => Err(DatasetError::io(&dest, e)),
     }
+}
+
+/// Each sample's list of its files' sha256, written last.
+pub const MANIFEST: &str = "files.sha256";
+
+/// Lower-case hex sha256 of `bytes`.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    use sha2::Digest;
+    let digest = sha2::Sha256::digest(bytes);
+    digest.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+fn json_line(v: &serde_json::Value) -> Vec<u8> {
+    let mut bytes = v.to_string().into_bytes();
+    bytes.push(b'\n');
+    bytes
 }

@@ -1,13 +1,20 @@
 //! Labelled training datasets from randomised xbandsim scenes (`xbandsim dataset`,
 //! docs/formats.md "Dataset spec" and "Dataset directory"): a spec of distributions
 //! ([`dist`], [`spec`]), each sample's scene drawn from (spec, seed, index) alone
-//! ([`sample`]), rendered and written atomically with resume ([`generate`]).
+//! ([`sample`]), rendered and written atomically with resume ([`generate`]), labelled in
+//! COCO, YOLO and table form with masks from the target-only render ([`labels`], docs/formats.md
+//! "Dataset labels"), indexed once complete ([`assemble`]), checked ([`verify`]) and
+//! summarised ([`stats`]).
 
+pub mod assemble;
 pub mod dist;
 pub mod error;
 pub mod generate;
+pub mod labels;
 pub mod sample;
 pub mod spec;
+pub mod stats;
+pub mod verify;
 
 pub use error::{DatasetError, Result};
 pub use generate::{generate, make_sample, sample_dir, Request, Shard, Summary};

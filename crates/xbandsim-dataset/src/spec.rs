@@ -25,12 +25,49 @@ pub struct DatasetSpec {
     pub frames: u64,
     /// Also write each frame's range-Doppler cube (needs pulse mode).
     pub datacube: bool,
+    /// Which PPI images each frame keeps (`[dataset] image`).
+    pub image: ImageKind,
+    /// Every `val_every`-th sample (index mod val_every = val_every − 1) is in the
+    /// validation split of the YOLO trees; 0: no validation split.
+    pub val_every: u64,
+    /// A pixel belongs to an object's mask when the target-only render there is at least
+    /// this, dB over the mean noise (`[dataset] mask_threshold_db`, default 0).
+    pub mask_threshold_db: f64,
     /// The scene every sample starts from.
     pub base_scene: toml::Table,
     /// Scene fields drawn per sample, by dotted path, in name order.
     pub vary: BTreeMap<String, Dist>,
     /// The targets.
     pub targets: Targets,
+}
+
+/// The PPI images of a dataset's frames.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ImageKind {
+    /// `ppi_gray.png` only (8-bit grayscale; the labels' image).
+    Gray,
+    /// `ppi.png` only (colour map, range rings; the labels' image).
+    Colour,
+    /// Both; the labels refer to `ppi_gray.png`.
+    Both,
+}
+
+impl ImageKind {
+    /// The file the labels refer to.
+    pub fn labelled_file(&self) -> &'static str {
+        match self {
+            ImageKind::Colour => "ppi.png",
+            _ => "ppi_gray.png",
+        }
+    }
+
+    /// Which images a frame's set holds.
+    pub fn images(&self) -> xbandsim::products::frame_files::Images {
+        xbandsim::products::frame_files::Images {
+            colour: *self != ImageKind::Gray,
+            gray: *self != ImageKind::Colour,
+        }
+    }
 }
 
 /// How targets are placed.
@@ -124,6 +161,42 @@ fn fixed(x: f64) -> Dist {
 }
 
 impl DatasetSpec {
+    /// The label categories: the target classes' names in the spec's order, then the classes
+    /// of the base scene's fixed objects ("object" when a fixed object names none). YOLO
+    /// class = position; COCO category id = position + 1.
+    pub fn categories(&self) -> Vec<String> {
+        let mut names: Vec<String> = Vec::new();
+        let fixed = self
+            .base_scene
+            .get("object")
+            .and_then(|v| v.as_array())
+            .into_iter()
+            .flatten()
+            .map(|o| {
+                o.get("class")
+                    .and_then(|c| c.as_str())
+                    .unwrap_or("object")
+                    .to_string()
+            });
+        for name in self
+            .targets
+            .classes
+            .iter()
+            .map(|c| c.name.clone())
+            .chain(fixed)
+        {
+            if !names.contains(&name) {
+                names.push(name);
+            }
+        }
+        names
+    }
+
+    /// Whether sample `index` is in the validation split.
+    pub fn is_validation(&self, index: u64) -> bool {
+        self.val_every > 0 && index % self.val_every == self.val_every - 1
+    }
+
     /// Reads a spec file (mesh files of its base scene are found relative to its folder).
     pub fn read(path: &Path) -> Result<DatasetSpec> {
         let text = std::fs::read_to_string(path).map_err(|e| DatasetError::io(path, e))?;
@@ -143,7 +216,49 @@ impl DatasetSpec {
         refuse_unknown(&doc, &["dataset", "scene", "vary", "targets"], "")?;
         let empty = toml::Table::new();
         let d = table(&doc, "dataset", "dataset")?.unwrap_or(&empty);
-        refuse_unknown(d, &["frames", "datacube"], "dataset.")?;
+        refuse_unknown(
+            d,
+            &[
+                "frames",
+                "datacube",
+                "image",
+                "val_every",
+                "mask_threshold_db",
+            ],
+            "dataset.",
+        )?;
+        let image = match d.get("image") {
+            None => ImageKind::Gray,
+            Some(v) => match v.as_str() {
+                Some("gray") | Some("grey") => ImageKind::Gray,
+                Some("colour") | Some("color") => ImageKind::Colour,
+                Some("both") => ImageKind::Both,
+                _ => {
+                    return Err(DatasetError::spec(
+                        "dataset.image",
+                        format!("{v}: must be \"gray\", \"colour\" or \"both\""),
+                    ))
+                }
+            },
+        };
+        let val_every = match d.get("val_every") {
+            None => 10,
+            Some(v) => v.as_integer().filter(|n| *n >= 0).ok_or_else(|| {
+                DatasetError::spec(
+                    "dataset.val_every",
+                    format!("{v}: must be a whole number, 0 (no validation split) or more"),
+                )
+            })? as u64,
+        };
+        let mask_threshold_db = match d.get("mask_threshold_db") {
+            None => 0.0,
+            Some(v) => as_f64(v).filter(|x| x.is_finite()).ok_or_else(|| {
+                DatasetError::spec(
+                    "dataset.mask_threshold_db",
+                    format!("{v}: must be a number of dB over the noise"),
+                )
+            })?,
+        };
         let frames = match d.get("frames") {
             None => 1,
             Some(v) => v
@@ -220,6 +335,9 @@ impl DatasetSpec {
             base_dir: base_dir.to_path_buf(),
             frames,
             datacube,
+            image,
+            val_every,
+            mask_threshold_db,
             base_scene,
             vary,
             targets,

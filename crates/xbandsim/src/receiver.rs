@@ -48,6 +48,14 @@ impl Receiver {
         }
     }
 
+    /// The same receiver without thermal noise.
+    pub fn without_noise(self) -> Receiver {
+        Receiver {
+            noise: false,
+            ..self
+        }
+    }
+
     /// Adds thermal noise.
     pub fn noise(&self) -> bool {
         self.noise

@@ -41,20 +41,24 @@ pub const MIN_GROUP_AMPLITUDE: f32 = 1e-4;
 pub const POLAR_FLOOR_DB: f32 = -120.0;
 
 /// A scene ready to render.
+#[derive(Clone)]
 pub struct Simulation {
     scene: Arc<Scene>,
     bvh: Arc<Bvh>,
     compressor: PulseCompressor,
     receiver: Receiver,
     kernel: FractionalDelayKernel,
-    cache: TraceCache,
+    cache: Arc<TraceCache>,
     doppler: Option<pulse::DopplerPlan>,
     short: Option<ShortChannel>,
+    /// Sea and rain clutter on (off in [`Simulation::targets_only`]).
+    clutter: bool,
 }
 
 /// The short pulse's receive channel in combined pulse mode (docs/physics.md §11): its own
 /// matched filter over the bins inside the long pulse's eclipse, its own noise, and the
 /// amplitude scale that gives its output the long pulse's calibration.
+#[derive(Clone)]
 struct ShortChannel {
     compressor: PulseCompressor,
     receiver: Receiver,
@@ -123,10 +127,26 @@ impl Simulation {
             compressor,
             receiver,
             kernel: FractionalDelayKernel::new(),
-            cache: TraceCache::default(),
+            cache: Arc::new(TraceCache::default()),
             doppler,
             short,
+            clutter: true,
         }
+    }
+
+    /// The same simulation without thermal noise and without sea and rain clutter: its frames
+    /// hold the objects' echoes alone as the receiver records them (blanked, compressed,
+    /// integrated; the same schedule, pulses and motion) — the target-only render from which
+    /// the dataset draws its masks (docs/formats.md, "Dataset labels"). It shares this
+    /// simulation's trace cache, so a frame rendered by both is traced once.
+    pub fn targets_only(&self) -> Simulation {
+        let mut s = self.clone();
+        s.receiver = s.receiver.without_noise();
+        if let Some(ch) = &mut s.short {
+            ch.receiver = ch.receiver.without_noise();
+        }
+        s.clutter = false;
+        s
     }
 
     /// Fresh buffers for one worker: the pulse compressor's, with the short-pulse channel's
@@ -531,6 +551,9 @@ impl Simulation {
     /// Sea and rain clutter of frame `frame` seen by `radar` (this scene's radar, carried to
     /// where the own ship has taken it).
     fn clutter_map_from(&self, radar: &Radar, seed: u64, frame: u64) -> Option<ClutterMap> {
+        if !self.clutter {
+            return None;
+        }
         ClutterMap::new(
             radar,
             self.scene.environment(),
@@ -740,7 +763,9 @@ impl Simulation {
         } else {
             &traced.revolution
         };
-        let clutter = if revolution.deck_moves() {
+        let clutter = if !self.clutter {
+            None
+        } else if revolution.deck_moves() {
             // Each spoke's beam tilted by the deck's roll and pitch when the antenna passes it.
             let scan = *self.scene.radar().scan();
             let tilts: Vec<f64> = (0..scan.spokes())

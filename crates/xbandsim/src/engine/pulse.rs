@@ -55,6 +55,7 @@ pub struct Mover {
 pub const MOVING_ECHO_FOLD_ERROR: f32 = 1e-3;
 
 /// The Doppler FFT of pulse mode, planned once.
+#[derive(Clone)]
 pub(crate) struct DopplerPlan {
     pub(crate) fft: Arc<dyn Fft<f32>>,
     pub(crate) window: Vec<f32>,

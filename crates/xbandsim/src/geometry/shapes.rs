@@ -120,8 +120,8 @@ impl ShapeGeometry {
         }
     }
 
-    /// Bounding box of the shape's primitives in object coordinates.
-    fn local_bounds(&self) -> Aabb {
+    /// Bounding box of the shape's primitives in object coordinates (empty for a point).
+    pub fn local_bounds(&self) -> Aabb {
         let mut b = Aabb::EMPTY;
         for p in self.primitives(DVec3::ZERO, DMat3::IDENTITY, 0) {
             let pb = p.bounds();

@@ -35,7 +35,8 @@ pub fn fast_fft_len(n: usize) -> usize {
     best
 }
 
-/// FFT plans and spectra for one waveform and record length.
+/// FFT plans and spectra for one waveform and record length (a clone shares the plans).
+#[derive(Clone)]
 pub struct PulseCompressor {
     fft_len: usize,
     pulse_len: usize,

@@ -7,7 +7,7 @@ use super::labels::ObjectTruth;
 use super::output::{
     json_bytes, npy_c64_bytes, npy_f32_bytes, npy_f64_bytes, png_bytes, write_set,
 };
-use super::ppi::{colour_image_marked, gray_image, PpiSettings};
+use super::ppi::{colour_image_marked, gray_image, PpiSettings, ScanConverter};
 use super::{Frame, FrameStats};
 use crate::error::{Error, Problem, Result};
 use crate::model::motion::KNOT_M_PER_S;
@@ -108,6 +108,34 @@ impl TraceCounts {
     }
 }
 
+/// Which PPI images a frame's set holds: `ppi.png` (colour, rings, Doppler colour) and
+/// `ppi_gray.png` (8-bit, no rings).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Images {
+    /// `ppi.png`.
+    pub colour: bool,
+    /// `ppi_gray.png`.
+    pub gray: bool,
+}
+
+impl Images {
+    /// Both images (what `xbandsim render` writes).
+    pub const BOTH: Images = Images {
+        colour: true,
+        gray: true,
+    };
+}
+
+/// A frame's files encoded but not yet written, with what products drawn on its image need.
+pub struct EncodedFrame {
+    /// File names and bytes, `truth.json` among them.
+    pub files: Vec<(&'static str, Vec<u8>)>,
+    /// The objects' truth labelled for the image (`ppi_box_px`, `ppi_footprint_px`).
+    pub objects: Vec<ObjectTruth>,
+    /// The image's scan converter (pixel to polar cell).
+    pub converter: ScanConverter,
+}
+
 /// Writes the four outputs of a frame into `out` as a set (all encoded first, then written
 /// together: a failure leaves the previous set in place and no temporary files), and the
 /// frame's optional products. With `[display] doppler_colour` the frame must carry its
@@ -120,6 +148,21 @@ pub fn write_frame_files(
     scene_name: &str,
     seed: u64,
 ) -> Result<()> {
+    let encoded = encode_frame_files(radar, display, frame, out, scene_name, seed, Images::BOTH)?;
+    write_set(out, &encoded.files)
+}
+
+/// Encodes the files [`write_frame_files`] writes, with only the PPI images `images` asks
+/// for; `out` names the files in errors.
+pub fn encode_frame_files(
+    radar: &Radar,
+    display: &PpiSettings,
+    frame: &Frame,
+    out: &Path,
+    scene_name: &str,
+    seed: u64,
+    images: Images,
+) -> Result<EncodedFrame> {
     let conv = display.frame_scan_converter(radar, frame.own_ship.as_ref());
     let geometry = conv.geometry();
     let size = conv.size_px();
@@ -144,28 +187,36 @@ pub fn write_frame_files(
         .filter(|_| d.doppler_colour)
         .map(|v| move |i: usize| v.approaching(i, threshold_db));
     let polar = npy_f32_bytes(&[frame.spokes, frame.range_bins], &frame.polar_db);
-    let colour = png_bytes(
-        &out.join("ppi.png"),
-        size,
-        size,
-        3,
-        &colour_image_marked(
-            &conv,
-            &ppi,
-            approaching.as_ref().map(|f| f as &dyn Fn(usize) -> bool),
-            d.colormap,
-            d.min_db,
-            d.max_db,
-            d.range_ring_spacing_m,
-        ),
-    )?;
-    let gray = png_bytes(
-        &out.join("ppi_gray.png"),
-        size,
-        size,
-        1,
-        &gray_image(&ppi, d.min_db, d.max_db),
-    )?;
+    let colour = if images.colour {
+        Some(png_bytes(
+            &out.join("ppi.png"),
+            size,
+            size,
+            3,
+            &colour_image_marked(
+                &conv,
+                &ppi,
+                approaching.as_ref().map(|f| f as &dyn Fn(usize) -> bool),
+                d.colormap,
+                d.min_db,
+                d.max_db,
+                d.range_ring_spacing_m,
+            ),
+        )?)
+    } else {
+        None
+    };
+    let gray = if images.gray {
+        Some(png_bytes(
+            &out.join("ppi_gray.png"),
+            size,
+            size,
+            1,
+            &gray_image(&ppi, d.min_db, d.max_db),
+        )?)
+    } else {
+        None
+    };
     let truth = TruthFile {
         scene: scene_name.to_string(),
         seed,
@@ -207,12 +258,14 @@ pub fn write_frame_files(
         trace: TraceCounts::of(&frame.stats),
     };
     let truth = json_bytes(&out.join("truth.json"), &truth)?;
-    let mut files = vec![
-        ("polar.npy", polar),
-        ("ppi.png", colour),
-        ("ppi_gray.png", gray),
-        ("truth.json", truth),
-    ];
+    let mut files = vec![("polar.npy", polar)];
+    if let Some(png) = colour {
+        files.push(("ppi.png", png));
+    }
+    if let Some(png) = gray {
+        files.push(("ppi_gray.png", png));
+    }
+    files.push(("truth.json", truth));
     if let Some(c) = &frame.doppler_cube {
         files.push((
             "doppler_cube.npy",
@@ -238,6 +291,9 @@ pub fn write_frame_files(
             .collect();
         files.push(("iq_pulses.npy", npy_f64_bytes(&[q.pulses, 3], &columns)));
     }
-    write_set(out, &files)?;
-    Ok(())
+    Ok(EncodedFrame {
+        files,
+        objects,
+        converter: conv,
+    })
 }

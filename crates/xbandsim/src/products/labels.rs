@@ -214,9 +214,52 @@ pub struct ObjectTruth {
     /// its image): a frame's truth from the engine has none, since the image size is a
     /// display setting and not part of the scene.
     pub ppi_box_px: Option<[f64; 4]>,
+    /// Edges of its bounding box in its own frame, m: across (x, to starboard), along (y, to
+    /// the bow) and height (z); zeros for a `point`.
+    pub size_m: [f64; 3],
+    /// The horizontal corners of that box at the beam crossing, ENU `[east, north]` m, in
+    /// the order bow-starboard, bow-port, stern-port, stern-starboard: the object's true
+    /// extent and heading on the sea (the oriented box of the dataset's YOLO-OBB labels).
+    pub footprint_m: [[f64; 2]; 4],
+    /// The same corners in PPI pixels `[x, y]` (not clipped); null when `ppi_box_px` is
+    /// null. Set with `ppi_box_px`.
+    pub ppi_footprint_px: Option<[[f64; 2]; 4]>,
     /// Where its echo can lie (None when it leaves no echo); products draw boxes from it.
     #[serde(skip)]
     pub echo_region: Option<EchoRegion>,
+    /// `footprint_m` from the antenna, `[east, north]` m (for products' pixel coordinates).
+    #[serde(skip)]
+    pub footprint_from_radar_m: [[f64; 2]; 4],
+}
+
+/// The bounding box `bounds` (object frame) of an object at `position_m` turned by
+/// `rotation`: its edges and its four horizontal corners in ENU (bow-starboard, bow-port,
+/// stern-port, stern-starboard), taken at the box's mid height. A point (empty box) has
+/// zero size and all four corners at its position.
+pub fn footprint_of(
+    bounds: &crate::geometry::Aabb,
+    position_m: DVec3,
+    rotation: glam::DMat3,
+) -> ([f64; 3], [[f64; 2]; 4]) {
+    if !(bounds.min.is_finite() && bounds.max.is_finite()) {
+        let p = [position_m.x, position_m.y];
+        return ([0.0; 3], [p; 4]);
+    }
+    let (lo, hi) = (bounds.min, bounds.max);
+    let z = 0.5 * (lo.z + hi.z);
+    let corner = |x: f64, y: f64| {
+        let w = position_m + rotation * DVec3::new(x, y, z);
+        [w.x, w.y]
+    };
+    (
+        (hi - lo).to_array(),
+        [
+            corner(hi.x, hi.y),
+            corner(lo.x, hi.y),
+            corner(lo.x, lo.y),
+            corner(hi.x, lo.y),
+        ],
+    )
 }
 
 /// Fraction of the matched-filter peak amplitude received from an echo at `delay_samples`
@@ -467,6 +510,10 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
             });
             let polar_box =
                 echo_region.and_then(|e| e.polar_box(bin_m, radar.num_range_bins(), spokes));
+            let (size_m, footprint_m) =
+                footprint_of(&o.shape().local_bounds(), o.position_m(), o.rotation());
+            let antenna = radar.position_m();
+            let footprint_from_radar_m = footprint_m.map(|[e, n]| [e - antenna.x, n - antenna.y]);
             ObjectTruth {
                 id: i as u32,
                 track_id: i as u32,
@@ -497,7 +544,11 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
                 po_tubes: set.tube_budgets.get(i).copied().flatten(),
                 polar_box,
                 ppi_box_px: None,
+                size_m,
+                footprint_m,
+                ppi_footprint_px: None,
                 echo_region,
+                footprint_from_radar_m,
             }
         })
         .collect()

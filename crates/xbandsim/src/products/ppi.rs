@@ -95,10 +95,17 @@ impl PpiGeometry {
         (clipped[2] > clipped[0] && clipped[3] > clipped[1]).then_some(clipped)
     }
 
-    /// Sets every object's `ppi_box_px` for this image from its echo region.
+    /// Sets every object's `ppi_box_px` for this image from its echo region, and its
+    /// `ppi_footprint_px` where it has a box.
     pub fn label(&self, truth: &mut [ObjectTruth]) {
         for t in truth {
             t.ppi_box_px = t.echo_region.and_then(|r| self.pixel_box(&r));
+            t.ppi_footprint_px = t.ppi_box_px.map(|_| {
+                t.footprint_from_radar_m.map(|[e, n]| {
+                    let (x, y) = self.pixel_of(e, n);
+                    [x, y]
+                })
+            });
         }
     }
 }

@@ -1,0 +1,414 @@
+//! A frame's labels in the formats detectors train with (docs/formats.md, "Dataset labels"):
+//! COCO annotations with run-length-encoded instance masks, YOLO detect and YOLO oriented-box
+//! lines, and one row per target for the targets table.
+//!
+//! The rule (docs/formats.md): every object of the scene is a row of the table, with its
+//! visibility reason; an object gets a detection label (COCO annotation, YOLO line) only when
+//! it is `visible` or `partially_eclipsed`, its echo box lies in the image, and its mask is
+//! not empty. Its mask is the set of image pixels whose cell lies in its polar box and where
+//! the target-only render (the same frame without noise and clutter,
+//! [`xbandsim::Simulation::targets_only`]) is at least the threshold, 0 dB over the mean
+//! noise by default: the pixels where its own echo is as strong as the receiver's noise. A
+//! pixel whose cell lies in several objects' polar boxes belongs to the one whose box centre
+//! is nearest (in box half-widths).
+
+use serde::Serialize;
+use serde_json::{json, Value};
+use xbandsim::products::labels::{ObjectTruth, PolarBox, Visibility};
+use xbandsim::products::ppi::ScanConverter;
+
+/// An object's instance mask on the image: row-major pixel flags.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Mask {
+    /// Image width, px.
+    pub width: usize,
+    /// Image height, px.
+    pub height: usize,
+    /// `width·height` flags, row-major.
+    pub pixels: Vec<bool>,
+}
+
+impl Mask {
+    /// The tight pixel box of the set pixels, `[x_min, y_min, x_max, y_max]` in pixel edges
+    /// (a single pixel (x, y) gives `[x, y, x + 1, y + 1]`); None when empty.
+    pub fn bounds(&self) -> Option<[f64; 4]> {
+        let mut b: Option<[usize; 4]> = None;
+        for (i, _) in self.pixels.iter().enumerate().filter(|(_, &p)| p) {
+            let (x, y) = (i % self.width, i / self.width);
+            b = Some(match b {
+                None => [x, y, x, y],
+                Some([x0, y0, x1, y1]) => [x0.min(x), y0.min(y), x1.max(x), y1.max(y)],
+            });
+        }
+        b.map(|[x0, y0, x1, y1]| [x0 as f64, y0 as f64, (x1 + 1) as f64, (y1 + 1) as f64])
+    }
+
+    /// Pixels set.
+    pub fn area(&self) -> usize {
+        self.pixels.iter().filter(|&&p| p).count()
+    }
+
+    /// COCO's run lengths: column-major (down each column, left to right), starting with a
+    /// run of zeros (possibly empty), alternating.
+    pub fn rle_counts(&self) -> Vec<u64> {
+        let mut counts = Vec::new();
+        let mut current = false;
+        let mut run = 0u64;
+        for x in 0..self.width {
+            for y in 0..self.height {
+                let p = self.pixels[y * self.width + x];
+                if p != current {
+                    counts.push(run);
+                    run = 0;
+                    current = p;
+                }
+                run += 1;
+            }
+        }
+        counts.push(run);
+        counts
+    }
+}
+
+/// COCO's compressed RLE string of run lengths (the LEB128-like text form pycocotools reads:
+/// from the third count on, each is stored as its difference from the count two before; six
+/// bits per character, five of value and a continuation bit, offset by 48).
+pub fn rle_string(counts: &[u64]) -> String {
+    let mut s = String::new();
+    for i in 0..counts.len() {
+        let mut x = counts[i] as i64;
+        if i > 2 {
+            x -= counts[i - 2] as i64;
+        }
+        loop {
+            let mut c = x & 0x1f;
+            x >>= 5;
+            let more = if c & 0x10 != 0 { x != -1 } else { x != 0 };
+            if more {
+                c |= 0x20;
+            }
+            s.push((c as u8 + 48) as char);
+            if !more {
+                break;
+            }
+        }
+    }
+    s
+}
+
+/// Whether an object's visibility lets it have a detection label (it is seen above the noise).
+pub fn is_seen(visibility: Visibility) -> bool {
+    matches!(
+        visibility,
+        Visibility::Visible | Visibility::PartiallyEclipsed
+    )
+}
+
+fn box_contains(b: &PolarBox, spoke: usize, bin: usize) -> bool {
+    let in_spokes = if b.spoke_min <= b.spoke_max {
+        (b.spoke_min..=b.spoke_max).contains(&spoke)
+    } else {
+        spoke >= b.spoke_min || spoke <= b.spoke_max
+    };
+    in_spokes && (b.bin_min..=b.bin_max).contains(&bin)
+}
+
+/// Distance of a cell from a polar box's centre in half-widths (spokes wrap).
+fn box_distance(b: &PolarBox, spoke: usize, bin: usize, spokes: usize) -> f64 {
+    let width = (b.spoke_max + spokes - b.spoke_min) % spokes + 1;
+    let centre = (b.spoke_min as f64 + (width as f64 - 1.0) / 2.0) % spokes as f64;
+    let mut ds = (spoke as f64 - centre).abs();
+    ds = ds.min(spokes as f64 - ds);
+    let bin_centre = 0.5 * (b.bin_min + b.bin_max) as f64;
+    let half_bins = 0.5 * (b.bin_max - b.bin_min + 1) as f64;
+    ds / (0.5 * width as f64) + (bin as f64 - bin_centre).abs() / half_bins
+}
+
+/// Every object's mask on the image of `conv` (None for objects without a polar box) from
+/// the frame's target-only record `targets_only_db` (spokes × bins, dB over the mean noise)
+/// at `threshold_db`.
+pub fn object_masks(
+    objects: &[ObjectTruth],
+    targets_only_db: &[f32],
+    spokes: usize,
+    bins: usize,
+    conv: &ScanConverter,
+    threshold_db: f32,
+) -> Vec<Option<Mask>> {
+    let size = conv.size_px() as usize;
+    let mut ppi = vec![0f32; size * size];
+    conv.convert(targets_only_db, f32::NAN, &mut ppi);
+    let mut masks: Vec<Option<Mask>> = objects
+        .iter()
+        .map(|o| {
+            o.polar_box.map(|_| Mask {
+                width: size,
+                height: size,
+                pixels: vec![false; size * size],
+            })
+        })
+        .collect();
+    for (pixel, value) in ppi.iter().enumerate() {
+        if value.is_nan() || *value < threshold_db {
+            continue;
+        }
+        let Some(cell) = conv.nearest_cell(pixel) else {
+            continue;
+        };
+        let (spoke, bin) = (cell / bins, cell % bins);
+        if spoke >= spokes {
+            continue;
+        }
+        let owner = objects
+            .iter()
+            .enumerate()
+            .filter_map(|(i, o)| {
+                let b = o.polar_box.as_ref()?;
+                box_contains(b, spoke, bin).then(|| (i, box_distance(b, spoke, bin, spokes)))
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(i, _)| i);
+        if let Some(mask) = owner.and_then(|i| masks[i].as_mut()) {
+            mask.pixels[pixel] = true;
+        }
+    }
+    masks
+}
+
+/// The flags of the targets table, one per physical reason an object is or is not seen.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct VisibilityFlags {
+    /// Wholly inside the blanked range, or its SNR taken below 0 dB by the eclipse.
+    pub eclipsed: bool,
+    /// Seen with only part of its pulse received.
+    pub partially_eclipsed: bool,
+    /// No echo: the line of sight is blocked by another object.
+    pub shadowed: bool,
+    /// Its expected SNR is below 0 dB.
+    pub below_noise: bool,
+    /// Wholly below the radar horizon.
+    pub beyond_horizon: bool,
+    /// Farther than the radar's maximum range.
+    pub beyond_max_range: bool,
+}
+
+impl VisibilityFlags {
+    fn of(v: Visibility) -> VisibilityFlags {
+        VisibilityFlags {
+            eclipsed: v == Visibility::Eclipsed,
+            partially_eclipsed: v == Visibility::PartiallyEclipsed,
+            shadowed: v == Visibility::Shadowed,
+            below_noise: v == Visibility::BelowNoise,
+            beyond_horizon: v == Visibility::BeyondHorizon,
+            beyond_max_range: v == Visibility::BeyondMaxRange,
+        }
+    }
+}
+
+/// What the labels of one frame are drawn against.
+pub struct FrameContext<'a> {
+    /// Sample index.
+    pub sample: u64,
+    /// Frame within the sample.
+    pub frame: u64,
+    /// Start of the frame's revolution, s.
+    pub frame_start_time_s: f64,
+    /// The image the labels refer to, relative to the dataset folder.
+    pub image: &'a str,
+    /// Image side, px.
+    pub size_px: usize,
+    /// Category names; an object's category is its class's position here (YOLO class
+    /// index; COCO id = index + 1).
+    pub categories: &'a [String],
+}
+
+/// One frame's labels, encoded.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameLabels {
+    /// COCO image and annotations (annotation ids and the image id are given when the
+    /// dataset is assembled): `{"image": {...}, "annotations": [...]}`.
+    pub coco: Value,
+    /// YOLO detect lines: `class x_centre y_centre width height`, normalised.
+    pub yolo: String,
+    /// YOLO oriented-box lines: `class x1 y1 x2 y2 x3 y3 x4 y4`, normalised.
+    pub yolo_obb: String,
+    /// Targets-table rows, one JSON object per line.
+    pub targets_jsonl: String,
+    /// Detection labels given.
+    pub labelled: usize,
+}
+
+fn round6(x: f64) -> f64 {
+    (x * 1e6).round() / 1e6
+}
+
+/// Labels of a frame's objects (labelled for its image) with their masks.
+pub fn frame_labels(
+    ctx: &FrameContext,
+    objects: &[ObjectTruth],
+    masks: &[Option<Mask>],
+) -> FrameLabels {
+    let s = ctx.size_px as f64;
+    let mut annotations = Vec::new();
+    let mut yolo = String::new();
+    let mut yolo_obb = String::new();
+    let mut rows = String::new();
+    let mut labelled = 0;
+    for (o, mask) in objects.iter().zip(masks) {
+        let category = ctx.categories.iter().position(|c| *c == o.class);
+        let area = mask.as_ref().map_or(0, Mask::area);
+        // The label's box is its mask's tight box (COCO's convention); the echo box of
+        // truth.json (`ppi_box_px`, where the echo can lie) must be in the image.
+        let detection = match (category, o.ppi_box_px, mask.as_ref().and_then(Mask::bounds)) {
+            (Some(c), Some(_), Some(b)) if is_seen(o.visibility) => Some((c, b)),
+            _ => None,
+        };
+        let mut obb = None;
+        if let (Some((c, b)), Some(mask)) = (detection, mask) {
+            labelled += 1;
+            let [x0, y0, x1, y1] = b;
+            annotations.push(json!({
+                "category_id": c + 1,
+                "track_id": o.track_id,
+                "bbox": [round6(x0), round6(y0), round6(x1 - x0), round6(y1 - y0)],
+                "area": area,
+                "segmentation": {
+                    "size": [mask.height, mask.width],
+                    "counts": rle_string(&mask.rle_counts()),
+                },
+                "iscrowd": 0,
+            }));
+            yolo.push_str(&format!(
+                "{c} {:.6} {:.6} {:.6} {:.6}\n",
+                0.5 * (x0 + x1) / s,
+                0.5 * (y0 + y1) / s,
+                (x1 - x0) / s,
+                (y1 - y0) / s
+            ));
+            if let Some(corners) = o.ppi_footprint_px {
+                let inside = corners
+                    .iter()
+                    .all(|[x, y]| (0.0..=s).contains(x) && (0.0..=s).contains(y));
+                if inside {
+                    let mut line = c.to_string();
+                    for [x, y] in corners {
+                        line.push_str(&format!(" {:.6} {:.6}", x / s, y / s));
+                    }
+                    yolo_obb.push_str(&line);
+                    yolo_obb.push('\n');
+                    obb = Some(corners);
+                }
+            }
+        }
+        let row = json!({
+            "sample": ctx.sample,
+            "frame": ctx.frame,
+            "image": ctx.image,
+            "time_s": ctx.frame_start_time_s + o.beam_time_s,
+            "track_id": o.track_id,
+            "name": o.name,
+            "class": o.class,
+            "category_id": category.map(|c| c + 1),
+            "range_m": o.range_m,
+            "azimuth_deg": o.azimuth_deg,
+            "size_m": o.size_m,
+            "heading_deg": o.heading_deg,
+            "course_deg": o.course_deg,
+            "speed_kn": o.speed_kn,
+            "radial_velocity_mps": o.radial_velocity_mps,
+            "rcs_dbsm": o.rcs_dbsm,
+            "expected_snr_db": o.expected_snr_db,
+            "visibility": o.visibility,
+            "flags": VisibilityFlags::of(o.visibility),
+            "labelled": detection.is_some(),
+            "mask_area_px": detection.map(|_| area),
+            "polar_box": o.polar_box,
+            "ppi_box_px": o.ppi_box_px,
+            "ppi_obb_px": obb,
+        });
+        rows.push_str(&row.to_string());
+        rows.push('\n');
+    }
+    FrameLabels {
+        coco: json!({
+            "image": {
+                "file_name": ctx.image,
+                "width": ctx.size_px,
+                "height": ctx.size_px,
+                "sample": ctx.sample,
+                "frame": ctx.frame,
+            },
+            "annotations": annotations,
+        }),
+        yolo,
+        yolo_obb,
+        targets_jsonl: rows,
+        labelled,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Naive decoder of the compressed string (pycocotools' rleFrString, rewritten).
+    fn decode(s: &str) -> Vec<u64> {
+        let bytes = s.as_bytes();
+        let mut counts: Vec<i64> = Vec::new();
+        let mut p = 0;
+        while p < bytes.len() {
+            let mut x: i64 = 0;
+            let mut k = 0;
+            loop {
+                let c = (bytes[p] - 48) as i64;
+                x |= (c & 0x1f) << (5 * k);
+                let more = c & 0x20 != 0;
+                p += 1;
+                k += 1;
+                if !more {
+                    if c & 0x10 != 0 {
+                        x |= -1i64 << (5 * k);
+                    }
+                    break;
+                }
+            }
+            let m = counts.len();
+            if m > 2 {
+                x += counts[m - 2];
+            }
+            counts.push(x);
+        }
+        counts.into_iter().map(|c| c as u64).collect()
+    }
+
+    #[test]
+    fn rle_string_round_trips_and_matches_coco_examples() {
+        // Two runs: "0" codes 0 and "1" codes 1 (48 + value).
+        assert_eq!(rle_string(&[0, 1]), "01");
+        for counts in [
+            vec![5u64, 3, 100, 2, 7, 1000, 1, 0, 4096, 33],
+            vec![0, 262144],
+            vec![131072, 5, 131067],
+        ] {
+            assert_eq!(decode(&rle_string(&counts)), counts);
+        }
+    }
+
+    #[test]
+    fn rle_counts_are_column_major_starting_with_zeros() {
+        // 3 x 2 image (width 3, height 2): pixels (x=1, y=0) and (x=1, y=1) and (x=2, y=1).
+        let mut m = Mask {
+            width: 3,
+            height: 2,
+            pixels: vec![false; 6],
+        };
+        m.pixels[1] = true; // y0 x1
+        m.pixels[4] = true; // y1 x1
+        m.pixels[5] = true; // y1 x2
+                            // Column order: (0,0) (0,1) (1,0) (1,1) (2,0) (2,1) = 0 0 1 1 0 1.
+        assert_eq!(m.rle_counts(), vec![2, 2, 1, 1]);
+        assert_eq!(m.area(), 3);
+        m.pixels = vec![true; 6];
+        assert_eq!(m.rle_counts(), vec![0, 6]);
+    }
+}

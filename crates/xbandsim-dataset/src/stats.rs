@@ -1,0 +1,265 @@
+//! `xbandsim dataset stats DIR`: what a dataset holds (objects and labels per class, the
+//! expected-SNR histogram, visibility fractions) from its samples' targets tables, and a
+//! contact sheet of random samples with their boxes drawn.
+
+use crate::error::{DatasetError, Result};
+use crate::generate::{frame_subdir, sample_dir};
+use rand::seq::SliceRandom;
+use rand::SeedableRng;
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Lower edges of the SNR histogram's bins, dB (the first bin holds everything below 0 dB,
+/// the last everything from 60 dB up).
+pub const SNR_BIN_EDGES_DB: [f64; 7] = [0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0];
+
+/// Counts over a dataset's targets tables.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Stats {
+    /// Samples present.
+    pub samples: u64,
+    /// Frames read.
+    pub frames: u64,
+    /// Per class: (objects, detection labels).
+    pub per_class: BTreeMap<String, (u64, u64)>,
+    /// Objects per visibility reason.
+    pub per_visibility: BTreeMap<String, u64>,
+    /// Expected SNR histogram: below 0 dB, then one bin per [`SNR_BIN_EDGES_DB`] edge.
+    pub snr_histogram: [u64; 8],
+    /// Objects without an expected SNR (no calibrated return).
+    pub snr_null: u64,
+    /// Frames with no detection label.
+    pub empty_frames: u64,
+}
+
+impl Stats {
+    /// The report `xbandsim dataset stats` prints.
+    pub fn report(&self) -> String {
+        let objects: u64 = self.per_class.values().map(|v| v.0).sum();
+        let labelled: u64 = self.per_class.values().map(|v| v.1).sum();
+        let mut s = format!(
+            "{} samples, {} frames ({} with no detection label), {objects} objects, {labelled} labelled\n\nclass                 objects  labelled\n",
+            self.samples, self.frames, self.empty_frames
+        );
+        for (c, (n, l)) in &self.per_class {
+            let _ = writeln!(s, "{c:<20} {n:>8} {l:>9}");
+        }
+        s.push_str("\nvisibility              objects  fraction\n");
+        for (v, n) in &self.per_visibility {
+            let _ = writeln!(
+                s,
+                "{v:<20} {n:>10} {:>9.3}",
+                *n as f64 / objects.max(1) as f64
+            );
+        }
+        s.push_str("\nexpected SNR, dB        objects\n");
+        let peak = self.snr_histogram.iter().copied().max().unwrap_or(0).max(1);
+        for (i, n) in self.snr_histogram.iter().enumerate() {
+            let label = match i {
+                0 => "< 0".to_string(),
+                7 => ">= 60".to_string(),
+                _ => format!(
+                    "{:.0} to {:.0}",
+                    SNR_BIN_EDGES_DB[i - 1],
+                    SNR_BIN_EDGES_DB[i]
+                ),
+            };
+            let bar = "#".repeat((40 * n / peak) as usize);
+            let _ = writeln!(s, "{label:<14} {n:>10}  {bar}");
+        }
+        let _ = writeln!(s, "{:<14} {:>10}", "null", self.snr_null);
+        s
+    }
+}
+
+fn bad_data(path: &Path, message: String) -> DatasetError {
+    DatasetError::io(
+        path,
+        std::io::Error::new(std::io::ErrorKind::InvalidData, message),
+    )
+}
+
+/// The sample count and frames per sample of the dataset in `out`, from its dataset.json.
+pub fn record(out: &Path) -> Result<(u64, u64)> {
+    let path = out.join("dataset.json");
+    let bytes = std::fs::read(&path).map_err(|e| DatasetError::io(&path, e))?;
+    let v: serde_json::Value =
+        serde_json::from_slice(&bytes).map_err(|e| bad_data(&path, e.to_string()))?;
+    match (v["count"].as_u64(), v["frames_per_sample"].as_u64()) {
+        (Some(c), Some(f)) => Ok((c, f)),
+        _ => Err(bad_data(&path, "not an xbandsim dataset record".into())),
+    }
+}
+
+/// Counts over every present sample of the dataset in `out`.
+pub fn stats(out: &Path) -> Result<Stats> {
+    let (count, frames) = record(out)?;
+    let mut s = Stats::default();
+    for i in 0..count {
+        let dir = sample_dir(out, i);
+        if !dir.is_dir() {
+            continue;
+        }
+        s.samples += 1;
+        for k in 0..frames {
+            let path = dir.join(frame_subdir(frames, k)).join("targets.jsonl");
+            let text = std::fs::read_to_string(&path).map_err(|e| DatasetError::io(&path, e))?;
+            s.frames += 1;
+            let mut any = false;
+            for line in text.lines().filter(|l| !l.is_empty()) {
+                let row: serde_json::Value =
+                    serde_json::from_str(line).map_err(|e| bad_data(&path, e.to_string()))?;
+                let labelled = row["labelled"].as_bool().unwrap_or(false);
+                any |= labelled;
+                let entry = s
+                    .per_class
+                    .entry(row["class"].as_str().unwrap_or("?").to_string())
+                    .or_default();
+                entry.0 += 1;
+                entry.1 += u64::from(labelled);
+                *s.per_visibility
+                    .entry(row["visibility"].as_str().unwrap_or("?").to_string())
+                    .or_default() += 1;
+                match row["expected_snr_db"].as_f64() {
+                    None => s.snr_null += 1,
+                    Some(snr) => {
+                        let bin = SNR_BIN_EDGES_DB.iter().filter(|&&e| snr >= e).count();
+                        s.snr_histogram[bin] += 1;
+                    }
+                }
+            }
+            if !any {
+                s.empty_frames += 1;
+            }
+        }
+    }
+    Ok(s)
+}
+
+/// A colour per category for boxes.
+fn category_colour(category: u64) -> [u8; 3] {
+    const PALETTE: [[u8; 3]; 8] = [
+        [255, 64, 64],
+        [64, 255, 64],
+        [80, 140, 255],
+        [255, 220, 0],
+        [255, 64, 255],
+        [0, 230, 230],
+        [255, 150, 40],
+        [200, 200, 200],
+    ];
+    PALETTE[(category as usize) % PALETTE.len()]
+}
+
+/// Decodes an 8-bit gray or RGB PNG into RGB.
+fn read_rgb(path: &Path) -> Result<(usize, usize, Vec<u8>)> {
+    let file = std::fs::File::open(path).map_err(|e| DatasetError::io(path, e))?;
+    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
+        .read_info()
+        .map_err(|e| bad_data(path, e.to_string()))?;
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader
+        .next_frame(&mut buf)
+        .map_err(|e| bad_data(path, e.to_string()))?;
+    let (w, h) = (info.width as usize, info.height as usize);
+    let rgb = match (info.color_type, info.bit_depth) {
+        (png::ColorType::Grayscale, png::BitDepth::Eight) => {
+            buf[..w * h].iter().flat_map(|&g| [g, g, g]).collect()
+        }
+        (png::ColorType::Rgb, png::BitDepth::Eight) => buf[..w * h * 3].to_vec(),
+        other => return Err(bad_data(path, format!("unexpected PNG format {other:?}"))),
+    };
+    Ok((w, h, rgb))
+}
+
+/// Draws a contact sheet of `n` samples of `out` chosen at random (`seed`), frame 0 of each,
+/// with every detection box in its category's colour, tiles of `tile_px`, into PNG bytes.
+/// Returns the bytes and the samples shown.
+pub fn contact_sheet(
+    out: &Path,
+    n: usize,
+    tile_px: usize,
+    seed: u64,
+) -> Result<(Vec<u8>, Vec<u64>)> {
+    let (count, frames) = record(out)?;
+    let mut present: Vec<u64> = (0..count)
+        .filter(|&i| sample_dir(out, i).is_dir())
+        .collect();
+    present.shuffle(&mut rand_pcg::Pcg64Mcg::seed_from_u64(seed));
+    present.truncate(n.max(1));
+    present.sort_unstable();
+    let cols = (present.len() as f64).sqrt().ceil().max(1.0) as usize;
+    let rows = present.len().div_ceil(cols).max(1);
+    let (sw, sh) = (cols * tile_px, rows * tile_px);
+    let mut sheet = vec![0u8; sw * sh * 3];
+    for (t, &i) in present.iter().enumerate() {
+        let dir = sample_dir(out, i).join(frame_subdir(frames, 0));
+        let fragment_path = dir.join("coco.json");
+        let fragment: serde_json::Value = serde_json::from_slice(
+            &std::fs::read(&fragment_path).map_err(|e| DatasetError::io(&fragment_path, e))?,
+        )
+        .map_err(|e| bad_data(&fragment_path, e.to_string()))?;
+        let image = fragment["image"]["file_name"].as_str().unwrap_or_default();
+        let (w, h, rgb) = read_rgb(&out.join(image))?;
+        let (ox, oy) = ((t % cols) * tile_px, (t / cols) * tile_px);
+        let scale = w.max(h) as f64 / tile_px as f64;
+        // Nearest-pixel scaling of the image into its tile.
+        for y in 0..tile_px {
+            for x in 0..tile_px {
+                let (sx, sy) = ((x as f64 * scale) as usize, (y as f64 * scale) as usize);
+                if sx < w && sy < h {
+                    let src = (sy * w + sx) * 3;
+                    let dst = ((oy + y) * sw + ox + x) * 3;
+                    sheet[dst..dst + 3].copy_from_slice(&rgb[src..src + 3]);
+                }
+            }
+        }
+        let mut put = |x: f64, y: f64, c: [u8; 3]| {
+            let (x, y) = ((x / scale) as isize, (y / scale) as isize);
+            if (0..tile_px as isize).contains(&x) && (0..tile_px as isize).contains(&y) {
+                let dst = ((oy + y as usize) * sw + ox + x as usize) * 3;
+                sheet[dst..dst + 3].copy_from_slice(&c);
+            }
+        };
+        for a in fragment["annotations"].as_array().into_iter().flatten() {
+            let c = category_colour(a["category_id"].as_u64().unwrap_or(0));
+            let b: Vec<f64> = a["bbox"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .filter_map(|v| v.as_f64())
+                .collect();
+            if b.len() != 4 {
+                continue;
+            }
+            // One tile pixel outside the box, so the echo stays visible.
+            let pad = scale;
+            let (x0, y0, x1, y1) = (b[0] - pad, b[1] - pad, b[0] + b[2] + pad, b[1] + b[3] + pad);
+            let steps = ((x1 - x0).max(y1 - y0) / scale * 2.0).ceil().max(2.0) as usize;
+            for s in 0..=steps {
+                let f = s as f64 / steps as f64;
+                put(x0 + f * (x1 - x0), y0, c);
+                put(x0 + f * (x1 - x0), y1, c);
+                put(x0, y0 + f * (y1 - y0), c);
+                put(x1, y0 + f * (y1 - y0), c);
+            }
+        }
+        // A one-pixel gray frame between tiles.
+        for k in 0..tile_px {
+            for (x, y) in [(ox + k, oy), (ox, oy + k)] {
+                let dst = (y * sw + x) * 3;
+                sheet[dst..dst + 3].copy_from_slice(&[90, 90, 90]);
+            }
+        }
+    }
+    let png = xbandsim::products::output::png_bytes(
+        &out.join("contact_sheet.png"),
+        sw as u32,
+        sh as u32,
+        3,
+        &sheet,
+    )
+    .map_err(|e| bad_data(&out.join("contact_sheet.png"), e.to_string()))?;
+    Ok((png, present))
+}

@@ -1,0 +1,405 @@
+//! The dataset's labels against what they describe (docs/formats.md, "Dataset labels"):
+//! masks are exactly the target-only render's pixels at or above the threshold inside each
+//! target's polar box, boxes are the masks' tight boxes, and on echoes of the image itself; the visibility
+//! rule; the COCO file's structure and RLE; the YOLO files against the ultralytics format
+//! (a checker written here from its documentation: one `class x y w h` or
+//! `class x1 y1 … x4 y4` line per object, class an integer below `nc`, coordinates
+//! normalised to [0, 1]; labels/ beside images/ with the same stems; data.yaml's names);
+//! `verify` finds missing and damaged samples.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
+use xbandsim_dataset::{generate, sample_dir, DatasetSpec, Request, Shard};
+
+const SPEC: &str = r#"
+[dataset]
+val_every = 3
+
+[scene.radar]
+spokes = 180
+max_range_m = 750.0
+position_m = [0.0, 0.0, 8.0]
+
+[scene.environment]
+clutter = true
+sea_state = 2.0
+
+[scene.display]
+image_size_px = 192
+
+[targets]
+count = { uniform_int = [2, 5] }
+range_fraction = { uniform = [0.15, 0.9] }
+min_separation_m = 60.0
+
+[[targets.class]]
+library = "navigation_buoy"
+
+[[targets.class]]
+library = "fishing_vessel"
+
+[[targets.class]]
+library = "lobster_pot"
+"#;
+
+fn make(dir: &Path, count: u64) -> DatasetSpec {
+    let spec = DatasetSpec::parse(SPEC, Path::new(".")).unwrap();
+    let request = Request {
+        count,
+        seed: 3,
+        shard: Shard::ALL,
+        jobs: 2,
+    };
+    let s = generate(&spec, dir, &request, &|| {}).unwrap();
+    assert!(s.assembled.is_some());
+    spec
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
+}
+
+/// pycocotools' rleFrString, rewritten from its description: six-bit characters from 48,
+/// five value bits and a continuation bit, sign-extended; counts from the third on are
+/// differences from the count two before.
+fn rle_decode(s: &str, height: usize, width: usize) -> Vec<bool> {
+    let bytes = s.as_bytes();
+    let mut counts: Vec<i64> = Vec::new();
+    let mut p = 0;
+    while p < bytes.len() {
+        let (mut x, mut k) = (0i64, 0);
+        loop {
+            let c = (bytes[p] - 48) as i64;
+            x |= (c & 0x1f) << (5 * k);
+            p += 1;
+            k += 1;
+            if c & 0x20 == 0 {
+                if c & 0x10 != 0 {
+                    x |= -1i64 << (5 * k);
+                }
+                break;
+            }
+        }
+        if counts.len() > 2 {
+            x += counts[counts.len() - 2];
+        }
+        counts.push(x);
+    }
+    // Column-major runs, zeros first, into a row-major mask.
+    let mut mask = vec![false; height * width];
+    let (mut at, mut value) = (0usize, false);
+    for c in counts {
+        for i in at..at + c as usize {
+            let (x, y) = (i / height, i % height);
+            mask[y * width + x] = value;
+        }
+        at += c as usize;
+        value = !value;
+    }
+    assert_eq!(at, height * width, "RLE covers the image");
+    mask
+}
+
+fn read_gray(path: &Path) -> (usize, Vec<u8>) {
+    let decoder = png::Decoder::new(std::fs::File::open(path).unwrap());
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(info.color_type, png::ColorType::Grayscale);
+    (info.width as usize, buf)
+}
+
+/// Masks are the target-only render's pixels at or above 0 dB inside the object's polar box,
+/// all inside the object's box; masks of one frame do not overlap; the image is brighter on
+/// the mask than around it; objects below the noise get no label but stay in the table.
+#[test]
+fn masks_and_boxes_land_on_the_targets() {
+    let tmp = tempfile::tempdir().unwrap();
+    make(tmp.path(), 6);
+    let coco = json(&tmp.path().join("annotations.json"));
+    let mut labelled = 0;
+    let mut brighter = 0;
+    for i in 0..6 {
+        let dir = sample_dir(tmp.path(), i);
+        // The target-only render of the sample's scene, on its own.
+        let text = std::fs::read_to_string(dir.join("scene.toml")).unwrap();
+        let seed: u64 = text
+            .lines()
+            .find_map(|l| l.split("--seed ").nth(1))
+            .and_then(|s| s.trim().parse().ok())
+            .unwrap();
+        let loaded = xbandsim::LoadedSpec::from_toml(&text, "scene.toml", Path::new(".")).unwrap();
+        let sim = xbandsim::Simulation::new(loaded.build().unwrap());
+        let quiet = sim.targets_only().render(seed);
+        let display = loaded.ppi_settings().unwrap();
+        let conv = display.frame_scan_converter(sim.scene().radar(), quiet.own_ship.as_ref());
+        let size = conv.size_px() as usize;
+        let mut ppi = vec![0f32; size * size];
+        conv.convert(&quiet.polar_db, f32::NAN, &mut ppi);
+        let truth = json(&dir.join("truth.json"));
+        let objects = truth["objects"].as_array().unwrap();
+        let fragment = json(&dir.join("coco.json"));
+        let (_, image) = read_gray(&dir.join("ppi_gray.png"));
+        let mut union = vec![false; size * size];
+        for a in fragment["annotations"].as_array().unwrap() {
+            labelled += 1;
+            let track = a["track_id"].as_u64().unwrap() as usize;
+            let o = &objects[track];
+            assert!(["visible", "partially_eclipsed"].contains(&o["visibility"].as_str().unwrap()));
+            let seg = &a["segmentation"];
+            let mask = rle_decode(seg["counts"].as_str().unwrap(), size, size);
+            let area = mask.iter().filter(|&&m| m).count();
+            assert_eq!(a["area"].as_u64().unwrap() as usize, area);
+            assert!(area > 0);
+            let b: Vec<f64> = a["bbox"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_f64().unwrap())
+                .collect();
+            let pb = &o["polar_box"];
+            let (s0, s1) = (
+                pb["spoke_min"].as_u64().unwrap() as usize,
+                pb["spoke_max"].as_u64().unwrap() as usize,
+            );
+            let (b0, b1) = (
+                pb["bin_min"].as_u64().unwrap() as usize,
+                pb["bin_max"].as_u64().unwrap() as usize,
+            );
+            let bins = quiet.range_bins;
+            let (mut on, mut on_n) = (0f64, 0usize);
+            let mut bounds = [f64::INFINITY, f64::INFINITY, 0.0, 0.0];
+            for p in 0..size * size {
+                let (x, y) = ((p % size) as f64, (p / size) as f64);
+                let cell = conv.nearest_cell(p);
+                let in_polar_box = cell.is_some_and(|c| {
+                    let (s, r) = (c / bins, c % bins);
+                    let in_s = if s0 <= s1 {
+                        (s0..=s1).contains(&s)
+                    } else {
+                        s >= s0 || s <= s1
+                    };
+                    in_s && (b0..=b1).contains(&r)
+                });
+                if mask[p] {
+                    // On the target-only render at the threshold, in its polar box and box.
+                    assert!(
+                        ppi[p] >= 0.0,
+                        "sample {i} track {track}: mask pixel at {} dB",
+                        ppi[p]
+                    );
+                    assert!(in_polar_box);
+                    assert!(
+                        x >= b[0] && x + 1.0 <= b[0] + b[2] && y >= b[1] && y + 1.0 <= b[1] + b[3],
+                        "sample {i} track {track}: mask pixel ({x}, {y}) outside box {b:?}"
+                    );
+                    bounds = [
+                        bounds[0].min(x),
+                        bounds[1].min(y),
+                        bounds[2].max(x + 1.0),
+                        bounds[3].max(y + 1.0),
+                    ];
+                    assert!(!union[p], "masks overlap");
+                    union[p] = true;
+                    on += image[p] as f64;
+                    on_n += 1;
+                }
+            }
+            // The box is the mask's tight box.
+            assert_eq!(bounds, [b[0], b[1], b[0] + b[2], b[1] + b[3]]);
+            // The image itself is brighter on the mask than over the whole picture.
+            let mean_all = image.iter().map(|&v| v as f64).sum::<f64>() / image.len() as f64;
+            if on / on_n as f64 > mean_all {
+                brighter += 1;
+            }
+        }
+        // Every pixel at or above the threshold inside some labelled object's polar box is in
+        // a mask (nothing of a target's own echo is left out).
+        let labelled_tracks: BTreeSet<u64> = fragment["annotations"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|a| a["track_id"].as_u64().unwrap())
+            .collect();
+        for p in 0..size * size {
+            if ppi[p].is_nan() || ppi[p] < 0.0 || union[p] {
+                continue;
+            }
+            let Some(c) = conv.nearest_cell(p) else {
+                continue;
+            };
+            let (s, r) = (c / quiet.range_bins, c % quiet.range_bins);
+            for o in objects {
+                let Some(pb) = o["polar_box"].as_object() else {
+                    continue;
+                };
+                let (s0, s1) = (
+                    pb["spoke_min"].as_u64().unwrap() as usize,
+                    pb["spoke_max"].as_u64().unwrap() as usize,
+                );
+                let in_s = if s0 <= s1 {
+                    (s0..=s1).contains(&s)
+                } else {
+                    s >= s0 || s <= s1
+                };
+                let inside = in_s
+                    && (pb["bin_min"].as_u64().unwrap() as usize
+                        ..=pb["bin_max"].as_u64().unwrap() as usize)
+                        .contains(&r);
+                assert!(
+                    !(inside && labelled_tracks.contains(&o["track_id"].as_u64().unwrap())),
+                    "sample {i}: pixel {p} of track {} left out of its mask",
+                    o["track_id"]
+                );
+            }
+        }
+        // The table holds every object; the unlabelled ones say why.
+        let rows: Vec<serde_json::Value> = std::fs::read_to_string(dir.join("targets.jsonl"))
+            .unwrap()
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
+        assert_eq!(rows.len(), objects.len());
+        for r in &rows {
+            let seen =
+                ["visible", "partially_eclipsed"].contains(&r["visibility"].as_str().unwrap());
+            if r["labelled"].as_bool().unwrap() {
+                assert!(seen);
+            } else {
+                assert!(r["mask_area_px"].is_null());
+            }
+            if r["visibility"] == "below_noise" {
+                assert_eq!(r["flags"]["below_noise"], true);
+                assert_eq!(r["labelled"], false);
+            }
+        }
+    }
+    assert!(labelled >= 6, "only {labelled} labels in 6 samples");
+    assert_eq!(
+        brighter, labelled,
+        "every labelled echo is brighter than the picture's mean"
+    );
+    assert_eq!(coco["annotations"].as_array().unwrap().len(), labelled);
+}
+
+/// The COCO file: unique ids, every annotation on an image and a category, images named by
+/// existing files, categories in the spec's order.
+#[test]
+fn coco_file_is_consistent() {
+    let tmp = tempfile::tempdir().unwrap();
+    make(tmp.path(), 5);
+    let coco = json(&tmp.path().join("annotations.json"));
+    let names: Vec<&str> = coco["categories"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["navigation_buoy", "fishing_vessel", "lobster_pot"]);
+    let images: BTreeMap<u64, &serde_json::Value> = coco["images"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|im| (im["id"].as_u64().unwrap(), im))
+        .collect();
+    assert_eq!(images.len(), 5);
+    for im in images.values() {
+        assert!(tmp.path().join(im["file_name"].as_str().unwrap()).is_file());
+    }
+    let mut ids = BTreeSet::new();
+    for a in coco["annotations"].as_array().unwrap() {
+        assert!(ids.insert(a["id"].as_u64().unwrap()), "duplicate id");
+        assert!(images.contains_key(&a["image_id"].as_u64().unwrap()));
+        let c = a["category_id"].as_u64().unwrap();
+        assert!((1..=3).contains(&c));
+        assert_eq!(a["iscrowd"], 0);
+        let b = a["bbox"].as_array().unwrap();
+        assert!(b[2].as_f64().unwrap() > 0.0 && b[3].as_f64().unwrap() > 0.0);
+    }
+}
+
+/// Checks a YOLO tree against the ultralytics format; returns the label lines.
+fn check_yolo_tree(root: &Path, numbers_per_line: usize, nc: usize) -> usize {
+    let yaml = std::fs::read_to_string(root.join("data.yaml")).unwrap();
+    assert!(yaml.contains("train: images/train"));
+    assert!(yaml.contains(&format!("nc: {nc}")));
+    for i in 0..nc {
+        assert!(yaml.contains(&format!("  {i}: ")), "names lacks {i}");
+    }
+    let mut lines = 0;
+    for split in ["train", "val"] {
+        let images: BTreeSet<String> = std::fs::read_dir(root.join("images").join(split))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().replace(".png", ""))
+            .collect();
+        let labels: BTreeSet<String> = std::fs::read_dir(root.join("labels").join(split))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().replace(".txt", ""))
+            .collect();
+        assert_eq!(images, labels, "{split}: every image has its label file");
+        for stem in &labels {
+            let text = std::fs::read_to_string(
+                root.join("labels").join(split).join(format!("{stem}.txt")),
+            )
+            .unwrap();
+            for line in text.lines() {
+                lines += 1;
+                let f: Vec<&str> = line.split(' ').collect();
+                assert_eq!(f.len(), 1 + numbers_per_line, "{line}");
+                let class: usize = f[0].parse().expect("integer class");
+                assert!(class < nc);
+                let v: Vec<f64> = f[1..].iter().map(|x| x.parse().unwrap()).collect();
+                assert!(v.iter().all(|x| (0.0..=1.0).contains(x)), "{line}");
+                if numbers_per_line == 4 {
+                    assert!(v[2] > 0.0 && v[3] > 0.0, "{line}");
+                }
+            }
+        }
+    }
+    lines
+}
+
+/// The YOLO detect and oriented-box trees follow the ultralytics layout and line formats;
+/// the split follows `val_every`; every COCO annotation is a detect line.
+#[test]
+fn yolo_trees_follow_the_ultralytics_format() {
+    let tmp = tempfile::tempdir().unwrap();
+    make(tmp.path(), 6);
+    let detect = check_yolo_tree(&tmp.path().join("yolo"), 4, 3);
+    check_yolo_tree(&tmp.path().join("yolo_obb"), 8, 3);
+    let coco = json(&tmp.path().join("annotations.json"));
+    assert_eq!(detect, coco["annotations"].as_array().unwrap().len());
+    // val_every = 3: samples 2 and 5.
+    let val: BTreeSet<String> = std::fs::read_dir(tmp.path().join("yolo/images/val"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+        .collect();
+    assert_eq!(
+        val,
+        BTreeSet::from(["000000002.png".into(), "000000005.png".into()])
+    );
+    let card = std::fs::read_to_string(tmp.path().join("README.md")).unwrap();
+    assert!(card.contains("| fishing_vessel | 2 | 1 |"), "{card}");
+}
+
+/// `verify` passes a whole dataset and names missing and damaged samples.
+#[test]
+fn verify_finds_missing_and_corrupt_samples() {
+    let tmp = tempfile::tempdir().unwrap();
+    make(tmp.path(), 4);
+    let r = xbandsim_dataset::verify::verify(tmp.path(), &|| {}).unwrap();
+    assert!(r.is_complete(), "{r:?}");
+    std::fs::remove_dir_all(sample_dir(tmp.path(), 1)).unwrap();
+    let polar = sample_dir(tmp.path(), 2).join("polar.npy");
+    let mut bytes = std::fs::read(&polar).unwrap();
+    let n = bytes.len();
+    bytes[n - 1] ^= 1;
+    std::fs::write(&polar, bytes).unwrap();
+    std::fs::remove_file(sample_dir(tmp.path(), 3).join("yolo.txt")).unwrap();
+    let r = xbandsim_dataset::verify::verify(tmp.path(), &|| {}).unwrap();
+    assert_eq!(r.missing, [1]);
+    assert_eq!(r.corrupt.len(), 2);
+    assert!(r.corrupt[0].1.contains("polar.npy"), "{:?}", r.corrupt);
+    assert!(r.corrupt[1].1.contains("yolo.txt"), "{:?}", r.corrupt);
+    assert!(!r.is_complete());
+}

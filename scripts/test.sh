@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# The README's test command (and CI's): every Rust test — the physics against closed forms,
+# the labels, the CLI, `xbandsim validate`'s checks, the golden hashes —, then a dataset's
+# label files through a real COCO client (pycocotools in a virtual environment under target/,
+# installed from PyPI on first use; scripts/check_labels.py).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+cargo test --workspace
+
+echo "== labels through pycocotools (scripts/check_labels.py)"
+venv=target/check-venv
+if [ ! -x "$venv/bin/python" ]; then
+  python3 -m venv "$venv"
+fi
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r scripts/requirements-check.txt
+cargo build --release --quiet -p xbandsim-cli
+rm -rf target/check-labels
+target/release/xbandsim dataset datasets/detection.toml --out target/check-labels --count 24 --seed 7
+"$venv/bin/python" scripts/check_labels.py target/check-labels
