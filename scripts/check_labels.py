@@ -3,6 +3,8 @@
 "Dataset labels"): annotations.json loads in pycocotools; every mask decodes to its `area`
 and its box is the mask's tight box; COCOeval of the annotations scored against
 themselves gives AP = 1.0 for boxes and masks; the YOLO detect lines are the COCO boxes.
+A dataset in WebDataset shards is read with the webdataset package: every sample of
+every shard, with its files under one key.
 
 Usage: check_labels.py DATASET_DIR   (exit status 1 on any failure)
 """
@@ -10,6 +12,9 @@ import contextlib
 import io
 import os
 import sys
+
+import glob
+import json
 
 import numpy as np
 from pycocotools.coco import COCO
@@ -44,11 +49,30 @@ def main(root):
         ap = float(e.stats[0])
         assert ap == 1.0, f"{kind} AP {ap}"
         results.append(f"{kind} AP {ap:.3f}")
+    # WebDataset shards through the webdataset reader: samples keyed by index.
+    shards = sorted(glob.glob(os.path.join(root, "shards", "*.tar")))
+    members = {}
+    if shards:
+        import webdataset as wds
+
+        for sample in wds.WebDataset(shards, shardshuffle=False):
+            for ext, value in sample.items():
+                if not ext.startswith("__"):
+                    members[f"{sample['__key__']}.{ext}"] = value
+        record = json.load(open(os.path.join(root, "dataset.json")))
+        keys = {m.split(".")[0] for m in members}
+        assert len(keys) == record["count"], (len(keys), record["count"])
+        results.append(f"{len(shards)} shards read by webdataset")
     # YOLO detect lines are the COCO boxes, normalised.
     n_yolo = 0
     for img in gt.loadImgs(gt.getImgIds()):
-        stem = os.path.join(root, os.path.dirname(img["file_name"]), "yolo.txt")
-        lines = [l.split() for l in open(stem).read().splitlines()]
+        if "shard" in img:
+            name = img["file_name"].replace("ppi_gray.png", "yolo.txt").replace("ppi.png", "yolo.txt")
+            assert img["file_name"] in members, img["file_name"]
+            text = members[name].decode()
+        else:
+            text = open(os.path.join(root, os.path.dirname(img["file_name"]), "yolo.txt")).read()
+        lines = [l.split() for l in text.splitlines()]
         boxes = [a["bbox"] for a in gt.loadAnns(gt.getAnnIds(imgIds=[img["id"]]))]
         assert len(lines) == len(boxes), img["file_name"]
         for l, (x, y, w, h) in zip(lines, boxes):

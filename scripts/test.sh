@@ -18,3 +18,6 @@ cargo build --release --quiet -p xbandsim-cli
 rm -rf target/check-labels
 target/release/xbandsim dataset datasets/detection.toml --out target/check-labels --count 24 --seed 7
 "$venv/bin/python" scripts/check_labels.py target/check-labels
+rm -rf target/check-shards
+target/release/xbandsim dataset datasets/detection.toml --out target/check-shards --count 12 --seed 7 --format webdataset --shard-samples 5
+"$venv/bin/python" scripts/check_labels.py target/check-shards

@@ -4,7 +4,7 @@
 use anyhow::{Context, Result};
 use std::path::PathBuf;
 use std::time::Instant;
-use xbandsim_dataset::{generate, DatasetSpec, Request, Shard};
+use xbandsim_dataset::{generate, DatasetSpec, Format, Request, Shard};
 
 /// Options of `xbandsim dataset`.
 #[derive(clap::Args, Debug)]
@@ -32,6 +32,23 @@ pub struct DatasetArgs {
     /// Samples rendered at once (default: one per core).
     #[arg(long, default_value_t = 0)]
     pub jobs: usize,
+    /// Storage: `dir` (a folder per sample, YOLO trees) or `webdataset` (tar shards of
+    /// --shard-samples samples with sha256 manifests, for 10^6 samples and more; --shard I/K
+    /// then splits the tar shards).
+    #[arg(long, value_enum, default_value_t = StorageFormat::Dir)]
+    pub format: StorageFormat,
+    /// Samples per tar shard with --format webdataset.
+    #[arg(long, default_value_t = 200)]
+    pub shard_samples: u64,
+}
+
+/// How `xbandsim dataset` stores samples.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StorageFormat {
+    /// A folder per sample.
+    Dir,
+    /// WebDataset tar shards.
+    Webdataset,
 }
 
 /// What else `xbandsim dataset` does.
@@ -90,30 +107,41 @@ fn verify(dir: &std::path::Path) -> Result<()> {
     let report = xbandsim_dataset::verify::verify(dir, &|| progress.inc(1))
         .with_context(|| format!("verifying the dataset in {}", dir.display()))?;
     progress.finish_and_clear();
+    let (unit, units) = if report.shards > 0 {
+        ("shard", report.shards)
+    } else {
+        ("sample", report.count)
+    };
     for i in &report.missing {
-        crate::say!(
-            "missing: sample {i} ({})",
-            xbandsim_dataset::sample_dir(dir, *i).display()
-        );
+        if report.shards > 0 {
+            crate::say!(
+                "missing: shard {i} ({})",
+                xbandsim_dataset::webdataset::shard_path(dir, *i).display()
+            );
+        } else {
+            crate::say!(
+                "missing: sample {i} ({})",
+                xbandsim_dataset::sample_dir(dir, *i).display()
+            );
+        }
     }
     for (i, problem) in &report.corrupt {
-        crate::say!("corrupt: sample {i}: {problem}");
+        crate::say!("corrupt: {unit} {i}: {problem}");
     }
     for f in &report.missing_index_files {
         crate::say!("missing index file: {}", dir.join(f).display());
     }
-    let whole = report.count - report.missing.len() as u64 - report.corrupt.len() as u64;
+    let whole = units - report.missing.len() as u64 - report.corrupt.len() as u64;
     crate::say!(
-        "{}: {whole} of {} samples whole, {} missing, {} corrupt, {} index files missing",
+        "{}: {whole} of {units} {unit}s whole, {} missing, {} corrupt, {} index files missing",
         dir.display(),
-        report.count,
         report.missing.len(),
         report.corrupt.len(),
         report.missing_index_files.len()
     );
     if !report.is_complete() {
         if !report.corrupt.is_empty() {
-            crate::say!("delete the corrupt samples' folders and run the same `xbandsim dataset` command again to remake them");
+            crate::say!("delete the corrupt {unit}s (a sample's folder; a shard's tar and manifest) and run the same `xbandsim dataset` command again to remake them");
         }
         std::process::exit(1);
     }
@@ -155,13 +183,20 @@ fn make(
         Some(s) => Shard::parse(s)?,
         None => Shard::ALL,
     };
+    let format = match a.format {
+        StorageFormat::Dir => Format::Dir,
+        StorageFormat::Webdataset => Format::WebDataset {
+            samples_per_shard: a.shard_samples,
+        },
+    };
     let request = Request {
+        format,
         count,
         seed: a.seed,
         shard,
         jobs: a.jobs,
     };
-    let in_shard = (0..count).filter(|&i| shard.holds(i)).count() as u64;
+    let in_shard = request.samples_in_shard();
     let progress = crate::progress::bar(in_shard, "dataset: samples");
     let summary = generate(&spec, out, &request, &|| progress.inc(1))
         .with_context(|| format!("making the dataset in {}", out.display()))?;
@@ -181,10 +216,15 @@ fn make(
     );
     match (&summary.assembled, summary.missing) {
         (Some(x), _) => crate::say!(
-            "labels: {} images, {} detection labels, {} target rows -> annotations.json (COCO), yolo/ and yolo_obb/ (data.yaml), targets.jsonl, README.md",
+            "labels: {} images, {} detection labels, {} target rows -> annotations.json (COCO), {}targets.jsonl, README.md",
             x.images,
             x.annotations,
-            x.targets
+            x.targets,
+            if format == Format::Dir {
+                "yolo/ and yolo_obb/ (data.yaml), "
+            } else {
+                ""
+            }
         ),
         (None, 0) => {}
         (None, n) => crate::say!(

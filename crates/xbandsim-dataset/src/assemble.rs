@@ -11,11 +11,14 @@
 //! DIR/README.md             the dataset card: spec, seed, version, counts
 //! ```
 //!
+//! With WebDataset shards the labels come from the shards' members, and there are no YOLO
+//! trees (each sample's yolo.txt and yolo_obb.txt are in its shard).
+//!
 //! The YOLO trees hold hard links to the samples' images (copies where the file system
 //! cannot link), named `<index>.png` or `<index>_<frame>.png`.
 
 use crate::error::{DatasetError, Result};
-use crate::generate::{frame_subdir, sample_dir};
+use crate::generate::{frame_subdir, sample_dir, Format};
 use crate::spec::DatasetSpec;
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -38,16 +41,6 @@ pub struct Assembled {
 
 fn io<T>(path: &Path, r: std::io::Result<T>) -> Result<T> {
     r.map_err(|e| DatasetError::io(path, e))
-}
-
-fn read_json(path: &Path) -> Result<serde_json::Value> {
-    let bytes = io(path, std::fs::read(path))?;
-    serde_json::from_slice(&bytes).map_err(|e| {
-        DatasetError::io(
-            path,
-            std::io::Error::new(std::io::ErrorKind::InvalidData, e.to_string()),
-        )
-    })
 }
 
 /// Writes `path` through a temporary file and a rename.
@@ -99,19 +92,122 @@ fn data_yaml(categories: &[String], has_val: bool, kind: &str, count: u64, seed:
     y
 }
 
+/// The COCO file and the targets table being written, with the counts.
+struct Writer {
+    coco: AtomicFile,
+    anns_path: PathBuf,
+    anns: std::io::BufWriter<std::fs::File>,
+    targets: AtomicFile,
+    summary: Assembled,
+    annotation_id: u64,
+}
+
+impl Writer {
+    /// One frame's COCO fragment as image `image_id`, with `extra` fields on the image.
+    fn add_coco(
+        &mut self,
+        path: &Path,
+        bytes: &[u8],
+        image_id: u64,
+        extra: Option<(&str, serde_json::Value)>,
+    ) -> Result<()> {
+        let mut fragment: serde_json::Value = serde_json::from_slice(bytes).map_err(|e| {
+            DatasetError::io(
+                path,
+                std::io::Error::new(std::io::ErrorKind::InvalidData, e.to_string()),
+            )
+        })?;
+        let mut image = fragment["image"].take();
+        image["id"] = image_id.into();
+        if let Some((k, v)) = extra {
+            image[k] = v;
+        }
+        if self.summary.images > 0 {
+            self.coco.write(b",")?;
+        }
+        self.coco.write(image.to_string().as_bytes())?;
+        self.summary.images += 1;
+        if let Some(list) = fragment["annotations"].as_array_mut() {
+            for a in list {
+                self.annotation_id += 1;
+                a["id"] = self.annotation_id.into();
+                a["image_id"] = image_id.into();
+                if let Some(c) = a["category_id"].as_u64() {
+                    if let Some(entry) = self
+                        .summary
+                        .labelled_per_category
+                        .get_mut((c as usize).wrapping_sub(1))
+                    {
+                        entry.1 += 1;
+                    }
+                }
+                if self.annotation_id > 1 {
+                    io(&self.anns_path, self.anns.write_all(b","))?;
+                }
+                io(
+                    &self.anns_path,
+                    self.anns.write_all(a.to_string().as_bytes()),
+                )?;
+            }
+        }
+        Ok(())
+    }
+
+    /// One frame's targets-table rows.
+    fn add_rows(&mut self, rows: &[u8]) -> Result<()> {
+        for line in rows.split(|&b| b == b'\n').filter(|l| !l.is_empty()) {
+            self.summary.targets += 1;
+            if let Ok(v) = serde_json::from_slice::<serde_json::Value>(line) {
+                if let Some(reason) = v["visibility"].as_str() {
+                    *self
+                        .summary
+                        .rows_per_visibility
+                        .entry(reason.to_string())
+                        .or_default() += 1;
+                }
+            }
+        }
+        self.targets.write(rows)
+    }
+
+    fn finish(mut self) -> Result<Assembled> {
+        self.summary.annotations = self.annotation_id;
+        io(&self.anns_path, self.anns.flush())?;
+        drop(self.anns);
+        self.coco.write(b"],\"annotations\":[")?;
+        let mut f = io(&self.anns_path, std::fs::File::open(&self.anns_path))?;
+        io(&self.anns_path, std::io::copy(&mut f, &mut self.coco.file))?;
+        io(&self.anns_path, std::fs::remove_file(&self.anns_path))?;
+        self.coco.write(b"]}\n")?;
+        self.coco.finish()?;
+        self.targets.finish()?;
+        Ok(self.summary)
+    }
+}
+
 /// Writes the index files of the complete dataset in `out` (made with `seed`, `count`
-/// samples). Every sample must be present.
-pub fn assemble(spec: &DatasetSpec, out: &Path, count: u64, seed: u64) -> Result<Assembled> {
+/// samples, stored as `format`). Every sample must be present. Tar shards get no YOLO trees
+/// (their samples carry yolo.txt and yolo_obb.txt).
+pub fn assemble(
+    spec: &DatasetSpec,
+    out: &Path,
+    count: u64,
+    seed: u64,
+    format: Format,
+) -> Result<Assembled> {
     let categories = spec.categories();
-    let mut summary = Assembled {
-        labelled_per_category: categories.iter().map(|c| (c.clone(), 0)).collect(),
-        ..Default::default()
-    };
-    // COCO: images streamed to the file, annotations to a second one appended after.
-    let mut coco = AtomicFile::create(&out.join("annotations.json"))?;
     let anns_path = out.join("annotations.json.annotations");
-    let mut anns = std::io::BufWriter::new(io(&anns_path, std::fs::File::create(&anns_path))?);
-    let mut targets = AtomicFile::create(&out.join("targets.jsonl"))?;
+    let mut w = Writer {
+        coco: AtomicFile::create(&out.join("annotations.json"))?,
+        anns: std::io::BufWriter::new(io(&anns_path, std::fs::File::create(&anns_path))?),
+        anns_path,
+        targets: AtomicFile::create(&out.join("targets.jsonl"))?,
+        summary: Assembled {
+            labelled_per_category: categories.iter().map(|c| (c.clone(), 0)).collect(),
+            ..Default::default()
+        },
+        annotation_id: 0,
+    };
     let cats: Vec<serde_json::Value> = categories
         .iter()
         .enumerate()
@@ -124,13 +220,62 @@ pub fn assemble(spec: &DatasetSpec, out: &Path, count: u64, seed: u64) -> Result
         "samples": count,
         "frames_per_sample": spec.frames,
     });
-    coco.write(
+    w.coco.write(
         format!(
             "{{\"info\":{info},\"licenses\":[],\"categories\":{},\"images\":[",
             serde_json::Value::Array(cats)
         )
         .as_bytes(),
     )?;
+    match format {
+        Format::Dir => assemble_dirs(spec, out, count, seed, &categories, &mut w)?,
+        Format::WebDataset { samples_per_shard } => {
+            for t in 0..crate::webdataset::shard_count(count, samples_per_shard) {
+                let shard = crate::webdataset::shard_path(out, t);
+                let shard_name = format!("shards/shard-{t:06}.tar");
+                crate::webdataset::for_each_member(
+                    &shard,
+                    &|n| n.ends_with(".coco.json") || n.ends_with(".targets.jsonl"),
+                    &mut |name, bytes| {
+                        // <index>[.frame_KKKK].coco.json
+                        let mut parts = name.split('.');
+                        let index: u64 = parts.next().and_then(|p| p.parse().ok()).unwrap_or(0);
+                        let frame: u64 = parts
+                            .next()
+                            .and_then(|p| p.strip_prefix("frame_"))
+                            .and_then(|k| k.parse().ok())
+                            .unwrap_or(0);
+                        if name.ends_with(".coco.json") {
+                            w.add_coco(
+                                &shard,
+                                &bytes,
+                                index * spec.frames + frame + 1,
+                                Some(("shard", shard_name.clone().into())),
+                            )
+                        } else {
+                            w.add_rows(&bytes)
+                        }
+                    },
+                )?;
+            }
+        }
+    }
+    let summary = w.finish()?;
+    let mut card = AtomicFile::create(&out.join("README.md"))?;
+    card.write(dataset_card(spec, count, seed, &summary, format).as_bytes())?;
+    card.finish()?;
+    Ok(summary)
+}
+
+/// The sample folders' labels, and the YOLO trees.
+fn assemble_dirs(
+    spec: &DatasetSpec,
+    out: &Path,
+    count: u64,
+    seed: u64,
+    categories: &[String],
+    w: &mut Writer,
+) -> Result<()> {
     let trees = ["yolo", "yolo_obb"];
     let staging: Vec<PathBuf> = trees
         .iter()
@@ -148,7 +293,6 @@ pub fn assemble(spec: &DatasetSpec, out: &Path, count: u64, seed: u64) -> Result
             }
         }
     }
-    let mut annotation_id = 0u64;
     for i in 0..count {
         let split = if spec.is_validation(i) {
             "val"
@@ -157,44 +301,12 @@ pub fn assemble(spec: &DatasetSpec, out: &Path, count: u64, seed: u64) -> Result
         };
         for k in 0..spec.frames {
             let frame_dir = sample_dir(out, i).join(frame_subdir(spec.frames, k));
-            let image_id = i * spec.frames + k + 1;
-            let mut fragment = read_json(&frame_dir.join("coco.json"))?;
-            let mut image = fragment["image"].take();
-            image["id"] = image_id.into();
-            if image_id > 1 {
-                coco.write(b",")?;
-            }
-            coco.write(image.to_string().as_bytes())?;
-            if let Some(list) = fragment["annotations"].as_array_mut() {
-                for a in list {
-                    annotation_id += 1;
-                    a["id"] = annotation_id.into();
-                    a["image_id"] = image_id.into();
-                    if let Some(c) = a["category_id"].as_u64() {
-                        if let Some(entry) = summary.labelled_per_category.get_mut(c as usize - 1) {
-                            entry.1 += 1;
-                        }
-                    }
-                    if annotation_id > 1 {
-                        io(&anns_path, anns.write_all(b","))?;
-                    }
-                    io(&anns_path, anns.write_all(a.to_string().as_bytes()))?;
-                }
-            }
+            let coco_path = frame_dir.join("coco.json");
+            let bytes = io(&coco_path, std::fs::read(&coco_path))?;
+            w.add_coco(&coco_path, &bytes, i * spec.frames + k + 1, None)?;
             let rows_path = frame_dir.join("targets.jsonl");
             let rows = io(&rows_path, std::fs::read(&rows_path))?;
-            for line in rows.split(|&b| b == b'\n').filter(|l| !l.is_empty()) {
-                summary.targets += 1;
-                if let Ok(v) = serde_json::from_slice::<serde_json::Value>(line) {
-                    if let Some(reason) = v["visibility"].as_str() {
-                        *summary
-                            .rows_per_visibility
-                            .entry(reason.to_string())
-                            .or_default() += 1;
-                    }
-                }
-            }
-            targets.write(&rows)?;
+            w.add_rows(&rows)?;
             let stem = if spec.frames == 1 {
                 format!("{i:09}")
             } else {
@@ -210,24 +322,13 @@ pub fn assemble(spec: &DatasetSpec, out: &Path, count: u64, seed: u64) -> Result
                 let to = dir.join("labels").join(split).join(format!("{stem}.txt"));
                 io(&to, std::fs::copy(&from, &to))?;
             }
-            summary.images += 1;
         }
     }
-    summary.annotations = annotation_id;
-    io(&anns_path, anns.flush())?;
-    drop(anns);
-    coco.write(b"],\"annotations\":[")?;
-    let mut f = io(&anns_path, std::fs::File::open(&anns_path))?;
-    io(&anns_path, std::io::copy(&mut f, &mut coco.file))?;
-    io(&anns_path, std::fs::remove_file(&anns_path))?;
-    coco.write(b"]}\n")?;
-    coco.finish()?;
-    targets.finish()?;
     for ((tree, dir), kind) in trees.iter().zip(&staging).zip(["detect", "oriented boxes"]) {
         let yaml = dir.join("data.yaml");
         io(
             &yaml,
-            std::fs::write(&yaml, data_yaml(&categories, has_val, kind, count, seed)),
+            std::fs::write(&yaml, data_yaml(categories, has_val, kind, count, seed)),
         )?;
         let dest = out.join(tree);
         if dest.exists() {
@@ -235,20 +336,30 @@ pub fn assemble(spec: &DatasetSpec, out: &Path, count: u64, seed: u64) -> Result
         }
         io(&dest, std::fs::rename(dir, &dest))?;
     }
-    let mut card = AtomicFile::create(&out.join("README.md"))?;
-    card.write(dataset_card(spec, count, seed, &summary).as_bytes())?;
-    card.finish()?;
-    Ok(summary)
+    Ok(())
 }
 
 /// The dataset card: what the dataset is, how it was made and what it holds.
-fn dataset_card(spec: &DatasetSpec, count: u64, seed: u64, s: &Assembled) -> String {
+fn dataset_card(
+    spec: &DatasetSpec,
+    count: u64,
+    seed: u64,
+    s: &Assembled,
+    format: Format,
+) -> String {
+    let storage = match format {
+        Format::Dir => "a folder per sample under `samples/`; YOLO trees `yolo/` and `yolo_obb/`".to_string(),
+        Format::WebDataset { samples_per_shard } => format!(
+            "WebDataset tar shards of {samples_per_shard} samples under `shards/` (members `<index>.<file>`), each with a manifest of sha256; every sample carries its yolo.txt and yolo_obb.txt"
+        ),
+    };
     let mut c = format!(
         "# xbandsim radar dataset\n\n\
          Synthetic X-band marine radar PPI frames with ground truth, made by xbandsim {} \
          (`xbandsim dataset SPEC --count {count} --seed {seed}`). Every sample re-renders bit for \
          bit from its `scene.toml` (`xbandsim render scene.toml --seed <its seed>`).\n\n\
          - samples: {count}, frames per sample: {}, images: {}\n\
+         - storage: {storage}\n\
          - image: `{}` ({}), one per frame\n\
          - detection labels: {} (COCO `annotations.json`, YOLO `yolo/`, oriented boxes \
          `yolo_obb/`); every object of every frame: {} rows in `targets.jsonl`\n\

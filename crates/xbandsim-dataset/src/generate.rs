@@ -1,4 +1,6 @@
-//! Generating a dataset into a directory (docs/formats.md, "Dataset directory"):
+//! Generating a dataset into a directory (docs/formats.md, "Dataset directory"), as sample
+//! folders ([`Format::Dir`]) or WebDataset tar shards ([`Format::WebDataset`],
+//! [`crate::webdataset`]):
 //!
 //! ```text
 //! DIR/dataset.json                       the spec, seed, count and software version
@@ -72,6 +74,61 @@ pub struct Request {
     pub shard: Shard,
     /// Samples rendered at once (threads of the run's pool); 0: one per core.
     pub jobs: usize,
+    /// How the samples are stored.
+    pub format: Format,
+}
+
+impl Request {
+    /// Samples this run's shard holds: samples `i mod K = I` in folders, the samples of tar
+    /// shards `t mod K = I` in WebDataset shards.
+    pub fn samples_in_shard(&self) -> u64 {
+        match self.format {
+            Format::Dir => (0..self.count).filter(|&i| self.shard.holds(i)).count() as u64,
+            Format::WebDataset { samples_per_shard } => {
+                (0..crate::webdataset::shard_count(self.count, samples_per_shard))
+                    .filter(|&t| self.shard.holds(t))
+                    .map(|t| {
+                        crate::webdataset::shard_samples(t, samples_per_shard, self.count).count()
+                            as u64
+                    })
+                    .sum()
+            }
+        }
+    }
+}
+
+/// How a dataset's samples are stored.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// A folder per sample under `samples/`.
+    Dir,
+    /// WebDataset tar shards of `samples_per_shard` consecutive samples under `shards/`.
+    WebDataset {
+        /// Samples per tar shard.
+        samples_per_shard: u64,
+    },
+}
+
+impl Format {
+    /// Where sample `index`'s image of frame `frame` is, as its labels name it: a path
+    /// relative to the dataset folder, or a tar member's name.
+    pub fn image_name(&self, index: u64, frames: u64, frame: u64, file: &str) -> String {
+        let sub = frame_subdir(frames, frame);
+        match self {
+            Format::Dir => {
+                let rel = sample_dir(Path::new(""), index).join(&sub).join(file);
+                rel.to_string_lossy().replace('\\', "/")
+            }
+            Format::WebDataset { .. } => crate::webdataset::member_name(
+                index,
+                &if sub.is_empty() {
+                    file.to_string()
+                } else {
+                    format!("{sub}/{file}")
+                },
+            ),
+        }
+    }
 }
 
 /// What a run did.
@@ -99,12 +156,26 @@ pub fn sample_dir(out: &Path, index: u64) -> PathBuf {
 /// The record of what the dataset is, `dataset.json`: the same spec, seed and count give the
 /// same bytes, so separate shard runs into one folder agree.
 fn dataset_record(spec: &DatasetSpec, request: &Request) -> Result<Vec<u8>> {
+    let (format, layout, per_shard) = match request.format {
+        Format::Dir => (
+            "dir",
+            "samples/<index / 1000 as 6 digits>/<index as 9 digits>/".to_string(),
+            None,
+        ),
+        Format::WebDataset { samples_per_shard } => (
+            "webdataset",
+            "shards/shard-<shard as 6 digits>.tar with <shard>.manifest.json; members <index as 9 digits>.<file>".to_string(),
+            Some(samples_per_shard),
+        ),
+    };
     let record = serde_json::json!({
         "generator": format!("xbandsim {}", env!("CARGO_PKG_VERSION")),
         "count": request.count,
         "seed": request.seed,
         "frames_per_sample": spec.frames,
-        "layout": "samples/<index / 1000 as 6 digits>/<index as 9 digits>/",
+        "format": format,
+        "samples_per_shard": per_shard,
+        "layout": layout,
         "spec": spec.text,
     });
     serde_json::to_vec_pretty(&record)
@@ -144,13 +215,50 @@ pub fn generate(
         Ok(existing) if existing != record => {
             return Err(DatasetError::Mismatch {
                 path: record_path,
-                message: "this folder holds a dataset made with another spec, seed or count; use a new --out folder (or delete this one)".into(),
+                message: "this folder holds a dataset made with another spec, seed, count or format; use a new --out folder (or delete this one)".into(),
             })
         }
         Ok(_) => {}
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => write_new(&record_path, &record)?,
         Err(e) => return Err(DatasetError::io(&record_path, e)),
     }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(request.jobs)
+        .build()
+        .map_err(|e| DatasetError::spec("--jobs", e.to_string()))?;
+    let mut summary = match request.format {
+        Format::Dir => pool.install(|| make_dir_samples(spec, out, request, sample_done))?,
+        Format::WebDataset { samples_per_shard } => pool.install(|| {
+            crate::webdataset::make_shards(spec, out, request, samples_per_shard, sample_done)
+        })?,
+    };
+    // The index files, once every sample of every shard is in place.
+    summary.missing = match request.format {
+        Format::Dir => (0..request.count)
+            .filter(|&i| !sample_dir(out, i).is_dir())
+            .count() as u64,
+        Format::WebDataset { samples_per_shard } => {
+            crate::webdataset::missing_samples(out, request.count, samples_per_shard)
+        }
+    };
+    if summary.missing == 0 && (summary.made > 0 || !out.join("annotations.json").is_file()) {
+        summary.assembled = Some(crate::assemble::assemble(
+            spec,
+            out,
+            request.count,
+            request.seed,
+            request.format,
+        )?);
+    }
+    Ok(summary)
+}
+
+fn make_dir_samples(
+    spec: &DatasetSpec,
+    out: &Path,
+    request: &Request,
+    sample_done: &(dyn Fn() + Sync),
+) -> Result<Summary> {
     let indices: Vec<u64> = (0..request.count)
         .filter(|&i| request.shard.holds(i))
         .collect();
@@ -159,36 +267,17 @@ pub fn generate(
         .copied()
         .filter(|&i| !sample_dir(out, i).is_dir())
         .collect();
-    let mut summary = Summary {
+    pending.par_iter().try_for_each(|&i| {
+        make_sample(spec, out, request.seed, i)?;
+        sample_done();
+        Ok::<(), DatasetError>(())
+    })?;
+    Ok(Summary {
         in_shard: indices.len() as u64,
         skipped: (indices.len() - pending.len()) as u64,
         made: pending.len() as u64,
         ..Default::default()
-    };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(request.jobs)
-        .build()
-        .map_err(|e| DatasetError::spec("--jobs", e.to_string()))?;
-    pool.install(|| {
-        pending.par_iter().try_for_each(|&i| {
-            make_sample(spec, out, request.seed, i)?;
-            sample_done();
-            Ok(())
-        })
-    })?;
-    // The index files, once every sample of every shard is in place.
-    summary.missing = (0..request.count)
-        .filter(|&i| !sample_dir(out, i).is_dir())
-        .count() as u64;
-    if summary.missing == 0 && (summary.made > 0 || !out.join("annotations.json").is_file()) {
-        summary.assembled = Some(crate::assemble::assemble(
-            spec,
-            out,
-            request.count,
-            request.seed,
-        )?);
-    }
-    Ok(summary)
+    })
 }
 
 /// The folder of frame `frame` inside a sample's folder (the sample's folder itself when
@@ -201,17 +290,18 @@ pub fn frame_subdir(frames: u64, frame: u64) -> String {
     }
 }
 
-/// Renders sample `index` into `out/.partial/<index>/` and renames it into place: per frame
-/// the polar record, the PPI image(s), truth.json, the labels (coco.json, yolo.txt,
-/// yolo_obb.txt, targets.jsonl; [`crate::labels`]); then scene.toml and files.sha256 (the
-/// sha256 of every other file, in `sha256sum -c` form).
-pub fn make_sample(spec: &DatasetSpec, out: &Path, seed: u64, index: u64) -> Result<()> {
+/// Renders sample `index` of the dataset made with `seed` into its files, in the order they
+/// are stored (relative names, `frame_KKKK/` for sequences): per frame the polar record, the
+/// PPI image(s), truth.json and the labels (coco.json, yolo.txt, yolo_obb.txt,
+/// targets.jsonl; [`crate::labels`]); then scene.toml. The labels name the image as
+/// `format` stores it.
+pub fn render_sample(
+    spec: &DatasetSpec,
+    seed: u64,
+    index: u64,
+    format: Format,
+) -> Result<Vec<(String, Vec<u8>)>> {
     let sample = spec.sample(seed, index)?;
-    let partial = out.join(".partial").join(format!("{index:09}"));
-    if partial.exists() {
-        std::fs::remove_dir_all(&partial).map_err(|e| DatasetError::io(&partial, e))?;
-    }
-    std::fs::create_dir_all(&partial).map_err(|e| DatasetError::io(&partial, e))?;
     let scene_err = |source| DatasetError::Scene { index, source };
     let loaded = xbandsim::LoadedSpec::from_toml(&sample.scene_toml, "scene.toml", &spec.base_dir)
         .map_err(scene_err)?;
@@ -226,19 +316,17 @@ pub fn make_sample(spec: &DatasetSpec, out: &Path, seed: u64, index: u64) -> Res
     };
     let name = format!("sample {index}");
     let categories = spec.categories();
-    let sample_rel = sample_dir(Path::new(""), index);
     let mut written: Vec<(String, Vec<u8>)> = Vec::new();
     for k in 0..spec.frames {
         let frame = sim
             .render_frame_outputs(sample.render_seed, k, outputs, &|| {})
             .map_err(scene_err)?;
         let sub = frame_subdir(spec.frames, k);
-        let dir = partial.join(&sub);
         let encoded = encode_frame_files(
             sim.scene().radar(),
             &display,
             &frame,
-            &dir,
+            Path::new(&sub),
             &name,
             sample.render_seed,
             spec.image.images(),
@@ -255,13 +343,13 @@ pub fn make_sample(spec: &DatasetSpec, out: &Path, seed: u64, index: u64) -> Res
             &encoded.converter,
             spec.mask_threshold_db as f32,
         );
-        let image = sample_rel.join(&sub).join(spec.image.labelled_file());
+        let image = format.image_name(index, spec.frames, k, spec.image.labelled_file());
         let labels = frame_labels(
             &FrameContext {
                 sample: index,
                 frame: k,
                 frame_start_time_s: frame.start_time_s,
-                image: &image.to_string_lossy(),
+                image: &image,
                 size_px: encoded.converter.size_px() as usize,
                 categories: &categories,
             },
@@ -273,9 +361,6 @@ pub fn make_sample(spec: &DatasetSpec, out: &Path, seed: u64, index: u64) -> Res
         files.push(("yolo.txt", labels.yolo.into_bytes()));
         files.push(("yolo_obb.txt", labels.yolo_obb.into_bytes()));
         files.push(("targets.jsonl", labels.targets_jsonl.into_bytes()));
-        if !sub.is_empty() {
-            std::fs::create_dir_all(&dir).map_err(|e| DatasetError::io(&dir, e))?;
-        }
         for (file, bytes) in files {
             let rel = if sub.is_empty() {
                 file.to_string()
@@ -298,10 +383,26 @@ pub fn make_sample(spec: &DatasetSpec, out: &Path, seed: u64, index: u64) -> Res
         "scene.toml".into(),
         format!("{header}{}", sample.scene_toml).into_bytes(),
     ));
+    Ok(written)
+}
+
+/// Renders sample `index` ([`render_sample`]) into `out/.partial/<index>/` with its
+/// files.sha256 (the sha256 of every other file, in `sha256sum -c` form, written last) and
+/// renames it into place.
+pub fn make_sample(spec: &DatasetSpec, out: &Path, seed: u64, index: u64) -> Result<()> {
+    let written = render_sample(spec, seed, index, Format::Dir)?;
+    let partial = out.join(".partial").join(format!("{index:09}"));
+    if partial.exists() {
+        std::fs::remove_dir_all(&partial).map_err(|e| DatasetError::io(&partial, e))?;
+    }
+    std::fs::create_dir_all(&partial).map_err(|e| DatasetError::io(&partial, e))?;
     let mut manifest = String::new();
     for (rel, bytes) in &written {
         manifest.push_str(&format!("{}  {rel}\n", sha256_hex(bytes)));
         let path = partial.join(rel);
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent).map_err(|e| DatasetError::io(parent, e))?;
+        }
         std::fs::write(&path, bytes).map_err(|e| DatasetError::io(&path, e))?;
     }
     let manifest_path = partial.join(MANIFEST);

@@ -15,7 +15,10 @@ pub mod sample;
 pub mod spec;
 pub mod stats;
 pub mod verify;
+pub mod webdataset;
 
 pub use error::{DatasetError, Result};
-pub use generate::{generate, make_sample, sample_dir, Request, Shard, Summary};
+pub use generate::{
+    generate, make_sample, render_sample, sample_dir, Format, Request, Shard, Summary,
+};
 pub use spec::DatasetSpec;

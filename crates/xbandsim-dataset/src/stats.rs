@@ -3,7 +3,7 @@
 //! contact sheet of random samples with their boxes drawn.
 
 use crate::error::{DatasetError, Result};
-use crate::generate::{frame_subdir, sample_dir};
+use crate::generate::{frame_subdir, sample_dir, Format};
 use rand::seq::SliceRandom;
 use rand::SeedableRng;
 use std::collections::BTreeMap;
@@ -82,20 +82,78 @@ fn bad_data(path: &Path, message: String) -> DatasetError {
 
 /// The sample count and frames per sample of the dataset in `out`, from its dataset.json.
 pub fn record(out: &Path) -> Result<(u64, u64)> {
+    record_format(out).map(|(c, f, _)| (c, f))
+}
+
+/// The sample count, frames per sample and storage format of the dataset in `out`.
+pub fn record_format(out: &Path) -> Result<(u64, u64, Format)> {
     let path = out.join("dataset.json");
     let bytes = std::fs::read(&path).map_err(|e| DatasetError::io(&path, e))?;
     let v: serde_json::Value =
         serde_json::from_slice(&bytes).map_err(|e| bad_data(&path, e.to_string()))?;
+    let format = match (v["format"].as_str(), v["samples_per_shard"].as_u64()) {
+        (Some("webdataset"), Some(n)) => Format::WebDataset {
+            samples_per_shard: n,
+        },
+        _ => Format::Dir,
+    };
     match (v["count"].as_u64(), v["frames_per_sample"].as_u64()) {
-        (Some(c), Some(f)) => Ok((c, f)),
+        (Some(c), Some(f)) => Ok((c, f, format)),
         _ => Err(bad_data(&path, "not an xbandsim dataset record".into())),
     }
 }
 
-/// Counts over every present sample of the dataset in `out`.
+impl Stats {
+    fn add_rows(&mut self, path: &Path, text: &str) -> Result<bool> {
+        let mut any = false;
+        for line in text.lines().filter(|l| !l.is_empty()) {
+            let row: serde_json::Value =
+                serde_json::from_str(line).map_err(|e| bad_data(path, e.to_string()))?;
+            let labelled = row["labelled"].as_bool().unwrap_or(false);
+            any |= labelled;
+            let entry = self
+                .per_class
+                .entry(row["class"].as_str().unwrap_or("?").to_string())
+                .or_default();
+            entry.0 += 1;
+            entry.1 += u64::from(labelled);
+            *self
+                .per_visibility
+                .entry(row["visibility"].as_str().unwrap_or("?").to_string())
+                .or_default() += 1;
+            match row["expected_snr_db"].as_f64() {
+                None => self.snr_null += 1,
+                Some(snr) => {
+                    let bin = SNR_BIN_EDGES_DB.iter().filter(|&&e| snr >= e).count();
+                    self.snr_histogram[bin] += 1;
+                }
+            }
+        }
+        Ok(any)
+    }
+}
+
+/// Counts over every present sample of the dataset in `out` (tar shards: over its
+/// targets.jsonl, written when the dataset is complete).
 pub fn stats(out: &Path) -> Result<Stats> {
-    let (count, frames) = record(out)?;
+    let (count, frames, format) = record_format(out)?;
     let mut s = Stats::default();
+    if let Format::WebDataset { .. } = format {
+        let path = out.join("targets.jsonl");
+        let text = std::fs::read_to_string(&path).map_err(|e| DatasetError::io(&path, e))?;
+        let mut labelled_frames = std::collections::BTreeSet::new();
+        for line in text.lines().filter(|l| !l.is_empty()) {
+            if s.add_rows(&path, line)? {
+                let row: serde_json::Value =
+                    serde_json::from_str(line).map_err(|e| bad_data(&path, e.to_string()))?;
+                labelled_frames.insert((row["sample"].as_u64(), row["frame"].as_u64()));
+            }
+        }
+        s.samples = count;
+        s.frames = count * frames;
+        s.empty_frames = s.frames - labelled_frames.len() as u64;
+        return Ok(s);
+    }
     for i in 0..count {
         let dir = sample_dir(out, i);
         if !dir.is_dir() {
@@ -106,30 +164,7 @@ pub fn stats(out: &Path) -> Result<Stats> {
             let path = dir.join(frame_subdir(frames, k)).join("targets.jsonl");
             let text = std::fs::read_to_string(&path).map_err(|e| DatasetError::io(&path, e))?;
             s.frames += 1;
-            let mut any = false;
-            for line in text.lines().filter(|l| !l.is_empty()) {
-                let row: serde_json::Value =
-                    serde_json::from_str(line).map_err(|e| bad_data(&path, e.to_string()))?;
-                let labelled = row["labelled"].as_bool().unwrap_or(false);
-                any |= labelled;
-                let entry = s
-                    .per_class
-                    .entry(row["class"].as_str().unwrap_or("?").to_string())
-                    .or_default();
-                entry.0 += 1;
-                entry.1 += u64::from(labelled);
-                *s.per_visibility
-                    .entry(row["visibility"].as_str().unwrap_or("?").to_string())
-                    .or_default() += 1;
-                match row["expected_snr_db"].as_f64() {
-                    None => s.snr_null += 1,
-                    Some(snr) => {
-                        let bin = SNR_BIN_EDGES_DB.iter().filter(|&&e| snr >= e).count();
-                        s.snr_histogram[bin] += 1;
-                    }
-                }
-            }
-            if !any {
+            if !s.add_rows(&path, &text)? {
                 s.empty_frames += 1;
             }
         }
@@ -152,10 +187,9 @@ fn category_colour(category: u64) -> [u8; 3] {
     PALETTE[(category as usize) % PALETTE.len()]
 }
 
-/// Decodes an 8-bit gray or RGB PNG into RGB.
-fn read_rgb(path: &Path) -> Result<(usize, usize, Vec<u8>)> {
-    let file = std::fs::File::open(path).map_err(|e| DatasetError::io(path, e))?;
-    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
+/// Decodes an 8-bit gray or RGB PNG (`path` names it in errors) into RGB.
+fn read_rgb(path: &Path, png_bytes: &[u8]) -> Result<(usize, usize, Vec<u8>)> {
+    let mut reader = png::Decoder::new(std::io::Cursor::new(png_bytes))
         .read_info()
         .map_err(|e| bad_data(path, e.to_string()))?;
     let mut buf = vec![0; reader.output_buffer_size()];
@@ -182,26 +216,98 @@ pub fn contact_sheet(
     tile_px: usize,
     seed: u64,
 ) -> Result<(Vec<u8>, Vec<u64>)> {
-    let (count, frames) = record(out)?;
-    let mut present: Vec<u64> = (0..count)
-        .filter(|&i| sample_dir(out, i).is_dir())
-        .collect();
+    let (count, frames, format) = record_format(out)?;
+    let mut present: Vec<u64> = match format {
+        Format::Dir => (0..count)
+            .filter(|&i| sample_dir(out, i).is_dir())
+            .collect(),
+        Format::WebDataset { samples_per_shard } => (0..count)
+            .filter(|&i| crate::webdataset::manifest_path(out, i / samples_per_shard).is_file())
+            .collect(),
+    };
     present.shuffle(&mut rand_pcg::Pcg64Mcg::seed_from_u64(seed));
     present.truncate(n.max(1));
     present.sort_unstable();
+    // Each chosen sample's first frame: its coco.json fragment and image bytes.
+    let first = frame_subdir(frames, 0);
+    let rel = |f: &str| {
+        if first.is_empty() {
+            f.to_string()
+        } else {
+            format!("{first}/{f}")
+        }
+    };
+    let mut inputs: Vec<(u64, Vec<u8>, Option<Vec<u8>>)> = Vec::new();
+    match format {
+        Format::Dir => {
+            for &i in &present {
+                let p = sample_dir(out, i).join(rel("coco.json"));
+                let coco = std::fs::read(&p).map_err(|e| DatasetError::io(&p, e))?;
+                inputs.push((i, coco, None));
+            }
+        }
+        Format::WebDataset { samples_per_shard } => {
+            let mut by_shard: BTreeMap<u64, Vec<u64>> = BTreeMap::new();
+            for &i in &present {
+                by_shard.entry(i / samples_per_shard).or_default().push(i);
+            }
+            for (t, list) in by_shard {
+                let names: Vec<String> = list
+                    .iter()
+                    .map(|&i| crate::webdataset::member_name(i, &rel("coco.json")))
+                    .collect();
+                let mut cocos: BTreeMap<String, Vec<u8>> = BTreeMap::new();
+                let shard = crate::webdataset::shard_path(out, t);
+                crate::webdataset::for_each_member(
+                    &shard,
+                    &|m| names.iter().any(|n| n == m),
+                    &mut |name, bytes| {
+                        cocos.insert(name, bytes);
+                        Ok(())
+                    },
+                )?;
+                let mut images: BTreeMap<String, Vec<u8>> = BTreeMap::new();
+                let wanted: Vec<String> = cocos
+                    .values()
+                    .filter_map(|b| serde_json::from_slice::<serde_json::Value>(b).ok())
+                    .filter_map(|v| v["image"]["file_name"].as_str().map(String::from))
+                    .collect();
+                crate::webdataset::for_each_member(
+                    &shard,
+                    &|m| wanted.iter().any(|n| n == m),
+                    &mut |name, bytes| {
+                        images.insert(name, bytes);
+                        Ok(())
+                    },
+                )?;
+                for (&i, name) in list.iter().zip(&names) {
+                    let coco = cocos
+                        .remove(name)
+                        .ok_or_else(|| bad_data(&shard, format!("{name} is not in the shard")))?;
+                    let image = serde_json::from_slice::<serde_json::Value>(&coco)
+                        .ok()
+                        .and_then(|v| v["image"]["file_name"].as_str().map(String::from))
+                        .and_then(|f| images.remove(&f));
+                    inputs.push((i, coco, image));
+                }
+            }
+        }
+    }
     let cols = (present.len() as f64).sqrt().ceil().max(1.0) as usize;
     let rows = present.len().div_ceil(cols).max(1);
     let (sw, sh) = (cols * tile_px, rows * tile_px);
     let mut sheet = vec![0u8; sw * sh * 3];
-    for (t, &i) in present.iter().enumerate() {
-        let dir = sample_dir(out, i).join(frame_subdir(frames, 0));
-        let fragment_path = dir.join("coco.json");
-        let fragment: serde_json::Value = serde_json::from_slice(
-            &std::fs::read(&fragment_path).map_err(|e| DatasetError::io(&fragment_path, e))?,
-        )
-        .map_err(|e| bad_data(&fragment_path, e.to_string()))?;
+    for (t, (i, coco, image_bytes)) in inputs.into_iter().enumerate() {
+        let fragment_path = sample_dir(out, i).join(rel("coco.json"));
+        let fragment: serde_json::Value =
+            serde_json::from_slice(&coco).map_err(|e| bad_data(&fragment_path, e.to_string()))?;
         let image = fragment["image"]["file_name"].as_str().unwrap_or_default();
-        let (w, h, rgb) = read_rgb(&out.join(image))?;
+        let image_path = out.join(image);
+        let bytes = match image_bytes {
+            Some(b) => b,
+            None => std::fs::read(&image_path).map_err(|e| DatasetError::io(&image_path, e))?,
+        };
+        let (w, h, rgb) = read_rgb(&image_path, &bytes)?;
         let (ox, oy) = ((t % cols) * tile_px, (t / cols) * tile_px);
         let scale = w.max(h) as f64 / tile_px as f64;
         // Nearest-pixel scaling of the image into its tile.

@@ -13,6 +13,9 @@ use std::path::Path;
 pub struct VerifyReport {
     /// Samples the dataset should hold.
     pub count: u64,
+    /// Tar shards (WebDataset format; 0 for sample folders): `missing` and `corrupt` then
+    /// name shards, not samples.
+    pub shards: u64,
     /// Frames per sample.
     pub frames: u64,
     /// Samples whose folder is missing.
@@ -116,6 +119,41 @@ pub fn verify(out: &Path, sample_done: &(dyn Fn() + Sync)) -> Result<VerifyRepor
     };
     let count = field("count")?;
     let frames = field("frames_per_sample")?;
+    if record["format"] == "webdataset" {
+        let per_shard = field("samples_per_shard")?;
+        let shards = crate::webdataset::shard_count(count, per_shard);
+        let mut report = VerifyReport {
+            count,
+            shards,
+            frames,
+            ..Default::default()
+        };
+        let results: Vec<(u64, Option<Option<String>>)> = (0..shards)
+            .into_par_iter()
+            .map(|t| {
+                let r = crate::webdataset::manifest_path(out, t)
+                    .is_file()
+                    .then(|| crate::webdataset::check_shard(out, t));
+                for _ in crate::webdataset::shard_samples(t, per_shard, count) {
+                    sample_done();
+                }
+                (t, r)
+            })
+            .collect();
+        for (t, r) in results {
+            match r {
+                None => report.missing.push(t),
+                Some(Some(problem)) => report.corrupt.push((t, problem)),
+                Some(None) => {}
+            }
+        }
+        report.missing_index_files = ["annotations.json", "targets.jsonl", "README.md"]
+            .iter()
+            .filter(|f| !out.join(f).is_file())
+            .map(|f| f.to_string())
+            .collect();
+        return Ok(report);
+    }
     let results: Vec<(u64, Option<Option<String>>)> = (0..count)
         .into_par_iter()
         .map(|i| {

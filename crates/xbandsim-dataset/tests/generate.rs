@@ -4,7 +4,7 @@
 
 use std::collections::BTreeMap;
 use std::path::Path;
-use xbandsim_dataset::{generate, sample_dir, DatasetError, DatasetSpec, Request, Shard};
+use xbandsim_dataset::{generate, sample_dir, DatasetError, DatasetSpec, Format, Request, Shard};
 
 const SPEC: &str = r#"
 [dataset]
@@ -71,6 +71,7 @@ fn request(count: u64, seed: u64, shard: Shard, jobs: usize) -> Request {
         seed,
         shard,
         jobs,
+        format: Format::Dir,
     }
 }
 

@@ -9,7 +9,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
-use xbandsim_dataset::{generate, sample_dir, DatasetSpec, Request, Shard};
+use xbandsim_dataset::{generate, sample_dir, DatasetSpec, Format, Request, Shard};
 
 const SPEC: &str = r#"
 [dataset]
@@ -49,6 +49,7 @@ fn make(dir: &Path, count: u64) -> DatasetSpec {
         seed: 3,
         shard: Shard::ALL,
         jobs: 2,
+        format: Format::Dir,
     };
     let s = generate(&spec, dir, &request, &|| {}).unwrap();
     assert!(s.assembled.is_some());
@@ -402,4 +403,92 @@ fn verify_finds_missing_and_corrupt_samples() {
     assert!(r.corrupt[0].1.contains("polar.npy"), "{:?}", r.corrupt);
     assert!(r.corrupt[1].1.contains("yolo.txt"), "{:?}", r.corrupt);
     assert!(!r.is_complete());
+}
+
+/// WebDataset shards: two shard runs equal one run byte for byte; the samples' members are
+/// the sample folders' files (the labels naming the image as the shard stores it); a stale
+/// partial tar is redone; `verify` passes whole shards and names a damaged one.
+#[test]
+fn webdataset_shards_hold_the_same_samples() {
+    let spec = DatasetSpec::parse(SPEC, Path::new(".")).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let format = Format::WebDataset {
+        samples_per_shard: 2,
+    };
+    let request = |shard| Request {
+        count: 5,
+        seed: 3,
+        shard,
+        jobs: 2,
+        format,
+    };
+    let one = tmp.path().join("one");
+    let s = generate(&spec, &one, &request(Shard::ALL), &|| {}).unwrap();
+    assert_eq!((s.in_shard, s.made), (5, 5));
+    let two = tmp.path().join("two");
+    // A partial tar left by a killed run is replaced.
+    std::fs::create_dir_all(two.join("shards")).unwrap();
+    std::fs::write(two.join("shards/shard-000001.tar.partial"), b"half").unwrap();
+    for i in [1, 0] {
+        let s = generate(&spec, &two, &request(Shard { index: i, count: 2 }), &|| {}).unwrap();
+        assert_eq!(s.in_shard, if i == 0 { 3 } else { 2 });
+    }
+    let read = |dir: &Path| {
+        let mut m = BTreeMap::new();
+        for t in 0..3 {
+            let p = xbandsim_dataset::webdataset::shard_path(dir, t);
+            m.insert(format!("shard {t}"), std::fs::read(&p).unwrap());
+            let p = xbandsim_dataset::webdataset::manifest_path(dir, t);
+            m.insert(format!("manifest {t}"), std::fs::read(&p).unwrap());
+        }
+        for f in [
+            "annotations.json",
+            "targets.jsonl",
+            "README.md",
+            "dataset.json",
+        ] {
+            m.insert(f.to_string(), std::fs::read(dir.join(f)).unwrap());
+        }
+        m
+    };
+    assert_eq!(read(&one), read(&two));
+    // The same samples as folders: every member equals the folder's file, but for the
+    // image's name in the labels.
+    let dirs = tmp.path().join("dirs");
+    make(&dirs, 5);
+    let mut members = 0;
+    for t in 0..3 {
+        xbandsim_dataset::webdataset::for_each_member(
+            &xbandsim_dataset::webdataset::shard_path(&one, t),
+            &|_| true,
+            &mut |name, bytes| {
+                let (index, file) = name.split_once('.').unwrap();
+                let i: u64 = index.parse().unwrap();
+                let folder = std::fs::read(sample_dir(&dirs, i).join(file)).unwrap();
+                let member = String::from_utf8_lossy(&bytes).replace(
+                    &format!("{index}.ppi_gray.png"),
+                    &format!("samples/000000/{index}/ppi_gray.png"),
+                );
+                if file.ends_with(".json") || file.ends_with(".jsonl") {
+                    assert_eq!(member.as_bytes(), folder.as_slice(), "{name}");
+                } else {
+                    assert_eq!(bytes, folder, "{name}");
+                }
+                members += 1;
+                Ok(())
+            },
+        )
+        .unwrap();
+    }
+    assert_eq!(members, 5 * 8);
+    let r = xbandsim_dataset::verify::verify(&one, &|| {}).unwrap();
+    assert!(r.is_complete(), "{r:?}");
+    assert_eq!(r.shards, 3);
+    let p = xbandsim_dataset::webdataset::shard_path(&one, 1);
+    let mut bytes = std::fs::read(&p).unwrap();
+    bytes[700] ^= 1;
+    std::fs::write(&p, bytes).unwrap();
+    let r = xbandsim_dataset::verify::verify(&one, &|| {}).unwrap();
+    assert_eq!(r.corrupt.len(), 1, "{r:?}");
+    assert_eq!(r.corrupt[0].0, 1);
 }

@@ -1,0 +1,300 @@
+//! WebDataset tar shards (`--format webdataset`; docs/formats.md, "Dataset directory"):
+//! shard t holds samples `[t·N, (t+1)·N)` in index order. A sample's files are members
+//! named `<index as 9 digits>.<file>`, a sequence's `frame_KKKK/` written `frame_KKKK.`
+//! (`000000042.frame_0000.ppi_gray.png`), so WebDataset's key, the name up to its first dot,
+//! is the sample. Every header is fixed (mode 0644, mtime 0, uid and gid 0, no user names),
+//! so the same samples give the same bytes.
+//!
+//! A shard is written to `shards/shard-TTTTTT.tar.partial` with its manifest
+//! (`shard-TTTTTT.manifest.json`: its samples, every member's size and sha256, the tar's own
+//! sha256 and size); the tar is renamed into place, then the manifest, and a shard is done
+//! when its manifest is there. A run stopped at any moment redoes only unfinished shards.
+
+use crate::error::{DatasetError, Result};
+use crate::generate::{render_sample, Format, Request, Summary};
+use crate::spec::DatasetSpec;
+use rayon::prelude::*;
+use sha2::Digest;
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+
+/// A sample file's member name in its shard.
+pub fn member_name(index: u64, rel: &str) -> String {
+    format!("{index:09}.{}", rel.replace('/', "."))
+}
+
+/// Shards of a dataset of `count` samples, `per_shard` to a shard.
+pub fn shard_count(count: u64, per_shard: u64) -> u64 {
+    count.div_ceil(per_shard.max(1))
+}
+
+/// Shard t's tar file.
+pub fn shard_path(out: &Path, t: u64) -> PathBuf {
+    out.join("shards").join(format!("shard-{t:06}.tar"))
+}
+
+/// Shard t's manifest.
+pub fn manifest_path(out: &Path, t: u64) -> PathBuf {
+    out.join("shards")
+        .join(format!("shard-{t:06}.manifest.json"))
+}
+
+/// The samples of shard t.
+pub fn shard_samples(t: u64, per_shard: u64, count: u64) -> std::ops::Range<u64> {
+    t * per_shard..((t + 1) * per_shard).min(count)
+}
+
+/// Samples in shards not finished yet.
+pub fn missing_samples(out: &Path, count: u64, per_shard: u64) -> u64 {
+    (0..shard_count(count, per_shard))
+        .filter(|&t| !manifest_path(out, t).is_file())
+        .map(|t| shard_samples(t, per_shard, count).count() as u64)
+        .sum()
+}
+
+/// A writer that hashes and counts what passes through.
+struct Hashing<W: Write> {
+    inner: W,
+    hasher: sha2::Sha256,
+    bytes: u64,
+}
+
+impl<W: Write> Write for Hashing<W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.inner.write(buf)?;
+        self.hasher.update(&buf[..n]);
+        self.bytes += n as u64;
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.inner.flush()
+    }
+}
+
+/// Makes the shards of `request.shard` (shard t belongs to run `t mod K`) that are not done.
+pub fn make_shards(
+    spec: &DatasetSpec,
+    out: &Path,
+    request: &Request,
+    per_shard: u64,
+    sample_done: &(dyn Fn() + Sync),
+) -> Result<Summary> {
+    if per_shard == 0 {
+        return Err(DatasetError::spec(
+            "--shard-samples",
+            "0: a shard needs at least one sample".into(),
+        ));
+    }
+    let count = request.count;
+    let mine: Vec<u64> = (0..shard_count(count, per_shard))
+        .filter(|&t| request.shard.holds(t))
+        .collect();
+    let samples = |t: &u64| shard_samples(*t, per_shard, count).count() as u64;
+    let mut summary = Summary {
+        in_shard: mine.iter().map(samples).sum(),
+        ..Default::default()
+    };
+    for t in mine {
+        if manifest_path(out, t).is_file() {
+            summary.skipped += samples(&t);
+            continue;
+        }
+        write_shard(spec, out, request.seed, t, per_shard, count, sample_done)?;
+        summary.made += samples(&t);
+    }
+    Ok(summary)
+}
+
+fn io<T>(path: &Path, r: std::io::Result<T>) -> Result<T> {
+    r.map_err(|e| DatasetError::io(path, e))
+}
+
+fn write_shard(
+    spec: &DatasetSpec,
+    out: &Path,
+    seed: u64,
+    t: u64,
+    per_shard: u64,
+    count: u64,
+    sample_done: &(dyn Fn() + Sync),
+) -> Result<()> {
+    let path = shard_path(out, t);
+    let dir = path.parent().unwrap_or(out).to_path_buf();
+    io(&dir, std::fs::create_dir_all(&dir))?;
+    let tmp = path.with_extension("tar.partial");
+    let file = io(&tmp, std::fs::File::create(&tmp))?;
+    let mut builder = tar::Builder::new(Hashing {
+        inner: std::io::BufWriter::new(file),
+        hasher: sha2::Sha256::new(),
+        bytes: 0,
+    });
+    let format = Format::WebDataset {
+        samples_per_shard: per_shard,
+    };
+    let indices: Vec<u64> = shard_samples(t, per_shard, count).collect();
+    let mut members = Vec::new();
+    // A few samples per worker at a time, appended in index order: memory stays bounded.
+    let chunk = (rayon::current_num_threads() * 2).max(1);
+    for block in indices.chunks(chunk) {
+        let rendered: Vec<Result<Vec<(String, Vec<u8>)>>> = block
+            .par_iter()
+            .map(|&i| {
+                let r = render_sample(spec, seed, i, format);
+                sample_done();
+                r
+            })
+            .collect();
+        for (&i, files) in block.iter().zip(rendered) {
+            for (rel, bytes) in files? {
+                let name = member_name(i, &rel);
+                let mut header = tar::Header::new_ustar();
+                io(&tmp, header.set_path(&name))?;
+                header.set_size(bytes.len() as u64);
+                header.set_mode(0o644);
+                header.set_mtime(0);
+                header.set_uid(0);
+                header.set_gid(0);
+                header.set_entry_type(tar::EntryType::Regular);
+                header.set_cksum();
+                io(&tmp, builder.append(&header, bytes.as_slice()))?;
+                members.push(serde_json::json!({
+                    "name": name,
+                    "size": bytes.len(),
+                    "sha256": crate::generate::sha256_hex(&bytes),
+                }));
+            }
+        }
+    }
+    let mut hashing = io(&tmp, builder.into_inner())?;
+    io(&tmp, hashing.flush())?;
+    let tar_sha: String = hashing
+        .hasher
+        .finalize()
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect();
+    let manifest = serde_json::json!({
+        "shard": t,
+        "file": path.file_name().map(|f| f.to_string_lossy().to_string()),
+        "samples": [indices.first(), indices.last()],
+        "tar_bytes": hashing.bytes,
+        "tar_sha256": tar_sha,
+        "members": members,
+    });
+    let manifest_file = manifest_path(out, t);
+    let manifest_tmp = manifest_file.with_extension("json.partial");
+    let mut text = serde_json::to_vec_pretty(&manifest)
+        .map_err(|e| DatasetError::spec("(manifest)", e.to_string()))?;
+    text.push(b'\n');
+    io(&manifest_tmp, std::fs::write(&manifest_tmp, text))?;
+    io(&path, std::fs::rename(&tmp, &path))?;
+    io(
+        &manifest_file,
+        std::fs::rename(&manifest_tmp, &manifest_file),
+    )
+}
+
+/// Calls `f(member name, bytes)` for every member of the tar at `path` that `want` accepts,
+/// in order (the others are skipped unread).
+pub fn for_each_member(
+    path: &Path,
+    want: &dyn Fn(&str) -> bool,
+    f: &mut dyn FnMut(String, Vec<u8>) -> Result<()>,
+) -> Result<()> {
+    let file = io(path, std::fs::File::open(path))?;
+    let mut archive = tar::Archive::new(std::io::BufReader::new(file));
+    for entry in io(path, archive.entries())? {
+        let mut entry = io(path, entry)?;
+        let name = io(path, entry.path())?.to_string_lossy().to_string();
+        if !want(&name) {
+            continue;
+        }
+        let mut bytes = Vec::with_capacity(entry.size() as usize);
+        io(path, entry.read_to_end(&mut bytes))?;
+        f(name, bytes)?;
+    }
+    Ok(())
+}
+
+/// A reader that hashes what passes through.
+struct HashingReader<R: Read> {
+    inner: R,
+    hasher: sha2::Sha256,
+}
+
+impl<R: Read> Read for HashingReader<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.hasher.update(&buf[..n]);
+        Ok(n)
+    }
+}
+
+/// What is wrong with shard t, if anything: its tar and manifest present, every member's
+/// sha256 and the tar's own as the manifest says, no member more or less (read as a stream).
+pub fn check_shard(out: &Path, t: u64) -> Option<String> {
+    let manifest: serde_json::Value = match std::fs::read(manifest_path(out, t))
+        .map_err(|e| e.to_string())
+        .and_then(|b| serde_json::from_slice(&b).map_err(|e| e.to_string()))
+    {
+        Ok(m) => m,
+        Err(e) => return Some(format!("manifest: {e}")),
+    };
+    let path = shard_path(out, t);
+    let file = match std::fs::File::open(&path) {
+        Ok(f) => f,
+        Err(e) => return Some(format!("{}: {e}", path.display())),
+    };
+    let mut reader = HashingReader {
+        inner: std::io::BufReader::new(file),
+        hasher: sha2::Sha256::new(),
+    };
+    let listed = manifest["members"].as_array().cloned().unwrap_or_default();
+    let mut k = 0;
+    {
+        let mut archive = tar::Archive::new(&mut reader);
+        let entries = match archive.entries() {
+            Ok(e) => e,
+            Err(e) => return Some(format!("{}: {e}", path.display())),
+        };
+        for entry in entries {
+            let mut entry = match entry {
+                Ok(e) => e,
+                Err(e) => return Some(format!("{}: {e}", path.display())),
+            };
+            let name = entry
+                .path()
+                .map(|p| p.to_string_lossy().to_string())
+                .unwrap_or_default();
+            let mut data = Vec::new();
+            if let Err(e) = entry.read_to_end(&mut data) {
+                return Some(format!("{name}: {e}"));
+            }
+            let Some(m) = listed.get(k) else {
+                return Some(format!("{name}: not in the manifest"));
+            };
+            if m["name"].as_str() != Some(name.as_str())
+                || m["sha256"].as_str() != Some(crate::generate::sha256_hex(&data).as_str())
+            {
+                return Some(format!("{name}: differs from the manifest"));
+            }
+            k += 1;
+        }
+    }
+    if k != listed.len() {
+        return Some(format!("{} members missing", listed.len() - k));
+    }
+    // The rest of the file (the end-of-archive blocks) into the hash.
+    if let Err(e) = std::io::copy(&mut reader, &mut std::io::sink()) {
+        return Some(format!("{}: {e}", path.display()));
+    }
+    let sha: String = reader
+        .hasher
+        .finalize()
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect();
+    (Some(sha.as_str()) != manifest["tar_sha256"].as_str())
+        .then(|| format!("{}: sha256 differs from the manifest", path.display()))
+}
