@@ -290,6 +290,9 @@ pub fn frame_subdir(frames: u64, frame: u64) -> String {
     }
 }
 
+/// A sample's files: relative names and bytes, in storage order.
+pub type SampleFiles = Vec<(String, Vec<u8>)>;
+
 /// Renders sample `index` of the dataset made with `seed` into its files, in the order they
 /// are stored (relative names, `frame_KKKK/` for sequences): per frame the polar record, the
 /// PPI image(s), truth.json and the labels (coco.json, yolo.txt, yolo_obb.txt,
@@ -300,7 +303,7 @@ pub fn render_sample(
     seed: u64,
     index: u64,
     format: Format,
-) -> Result<Vec<(String, Vec<u8>)>> {
+) -> Result<SampleFiles> {
     let sample = spec.sample(seed, index)?;
     let scene_err = |source| DatasetError::Scene { index, source };
     let loaded = xbandsim::LoadedSpec::from_toml(&sample.scene_toml, "scene.toml", &spec.base_dir)

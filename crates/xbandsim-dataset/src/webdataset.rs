@@ -11,7 +11,7 @@
 //! when its manifest is there. A run stopped at any moment redoes only unfinished shards.
 
 use crate::error::{DatasetError, Result};
-use crate::generate::{render_sample, Format, Request, Summary};
+use crate::generate::{render_sample, Format, Request, SampleFiles, Summary};
 use crate::spec::DatasetSpec;
 use rayon::prelude::*;
 use sha2::Digest;
@@ -137,7 +137,7 @@ fn write_shard(
     // A few samples per worker at a time, appended in index order: memory stays bounded.
     let chunk = (rayon::current_num_threads() * 2).max(1);
     for block in indices.chunks(chunk) {
-        let rendered: Vec<Result<Vec<(String, Vec<u8>)>>> = block
+        let rendered: Vec<Result<SampleFiles>> = block
             .par_iter()
             .map(|&i| {
                 let r = render_sample(spec, seed, i, format);
