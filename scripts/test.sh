@@ -21,3 +21,5 @@ target/release/xbandsim dataset datasets/detection.toml --out target/check-label
 rm -rf target/check-shards
 target/release/xbandsim dataset datasets/detection.toml --out target/check-shards --count 12 --seed 7 --format webdataset --shard-samples 5
 "$venv/bin/python" scripts/check_labels.py target/check-shards
+target/release/xbandsim dataset schema > target/dataset-spec.schema.json
+"$venv/bin/python" scripts/check_schema.py target/dataset-spec.schema.json datasets/*.toml

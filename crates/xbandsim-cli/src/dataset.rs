@@ -60,6 +60,8 @@ pub enum DatasetAction {
         /// Dataset folder.
         dir: PathBuf,
     },
+    /// Print the JSON Schema of the dataset spec (draft 2020-12).
+    Schema,
     /// Print objects and labels per class, the expected-SNR histogram and visibility
     /// fractions, and draw a contact sheet of random samples with their boxes.
     Stats {
@@ -84,6 +86,10 @@ pub enum DatasetAction {
 pub fn run(a: &DatasetArgs) -> Result<()> {
     match &a.action {
         Some(DatasetAction::Verify { dir }) => return verify(dir),
+        Some(DatasetAction::Schema) => {
+            print!("{}", xbandsim_dataset::spec::JSON_SCHEMA);
+            return Ok(());
+        }
         Some(DatasetAction::Stats {
             dir,
             sheet,

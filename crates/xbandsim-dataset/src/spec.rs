@@ -41,6 +41,41 @@ pub struct DatasetSpec {
     pub targets: Targets,
 }
 
+/// The spec's top-level tables.
+pub const TOP_FIELDS: [&str; 4] = ["dataset", "scene", "vary", "targets"];
+/// The fields of `[dataset]`.
+pub const DATASET_FIELDS: [&str; 5] = [
+    "frames",
+    "datacube",
+    "image",
+    "val_every",
+    "mask_threshold_db",
+];
+/// The fields of `[targets]`.
+pub const TARGETS_FIELDS: [&str; 5] = [
+    "count",
+    "range_fraction",
+    "bearing_deg",
+    "min_separation_m",
+    "class",
+];
+/// The fields of a `[[targets.class]]`.
+pub const CLASS_FIELDS: [&str; 9] = [
+    "name",
+    "weight",
+    "heading_deg",
+    "speed_kn",
+    "turn_rate_deg_per_s",
+    "z_m",
+    "object",
+    "library",
+    "size_m",
+];
+
+/// The JSON Schema (draft 2020-12) of the dataset spec, as TOML reads into JSON
+/// (`xbandsim dataset schema`; docs/formats.md, "Dataset spec").
+pub const JSON_SCHEMA: &str = include_str!("dataset-spec.schema.json");
+
 /// The PPI images of a dataset's frames.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ImageKind {
@@ -213,7 +248,7 @@ impl DatasetSpec {
     pub fn parse(text: &str, base_dir: &Path) -> Result<DatasetSpec> {
         let doc: toml::Table = toml::from_str(text)
             .map_err(|e| DatasetError::spec("(file)", e.to_string().trim_end().to_string()))?;
-        refuse_unknown(&doc, &["dataset", "scene", "vary", "targets"], "")?;
+        refuse_unknown(&doc, &TOP_FIELDS, "")?;
         let empty = toml::Table::new();
         let d = table(&doc, "dataset", "dataset")?.unwrap_or(&empty);
         refuse_unknown(
@@ -285,17 +320,7 @@ impl DatasetSpec {
             }
         }
         let t = table(&doc, "targets", "targets")?.unwrap_or(&empty);
-        refuse_unknown(
-            t,
-            &[
-                "count",
-                "range_fraction",
-                "bearing_deg",
-                "min_separation_m",
-                "class",
-            ],
-            "targets.",
-        )?;
+        refuse_unknown(t, &TARGETS_FIELDS, "targets.")?;
         let count = dist_or(t, "count", "targets.", Dist::Fixed(toml::Value::Integer(0)))?;
         let range_fraction = dist_or(t, "range_fraction", "targets.", uniform(0.05, 0.95))?;
         let bearing_deg = dist_or(t, "bearing_deg", "targets.", uniform(0.0, 360.0))?;
@@ -491,21 +516,7 @@ impl DatasetSpec {
 }
 
 fn parse_class(c: &toml::Table, prefix: &str) -> Result<TargetClass> {
-    refuse_unknown(
-        c,
-        &[
-            "name",
-            "weight",
-            "heading_deg",
-            "speed_kn",
-            "turn_rate_deg_per_s",
-            "z_m",
-            "object",
-            "library",
-            "size_m",
-        ],
-        prefix,
-    )?;
+    refuse_unknown(c, &CLASS_FIELDS, prefix)?;
     let library = match c.get("library") {
         None => None,
         Some(v) => {
@@ -649,5 +660,51 @@ pub fn extremes(d: &Dist) -> Vec<toml::Value> {
             vec![toml::Value::Integer(*low), toml::Value::Integer(*high)]
         }
         Dist::Choice { values, .. } => values.clone(),
+    }
+}
+
+#[cfg(test)]
+mod schema_tests {
+    use super::*;
+
+    fn keys(v: &serde_json::Value) -> Vec<String> {
+        let mut k: Vec<String> = v["properties"]
+            .as_object()
+            .expect("properties")
+            .keys()
+            .cloned()
+            .collect();
+        k.sort();
+        k
+    }
+
+    fn sorted(fields: &[&str]) -> Vec<String> {
+        let mut k: Vec<String> = fields.iter().map(|s| s.to_string()).collect();
+        k.sort();
+        k
+    }
+
+    /// The schema names exactly the fields the parser reads (so they cannot drift apart),
+    /// and its library classes are the catalogue's.
+    #[test]
+    fn schema_matches_the_parser() {
+        let schema: serde_json::Value = serde_json::from_str(JSON_SCHEMA).unwrap();
+        assert_eq!(keys(&schema), sorted(&TOP_FIELDS));
+        let p = &schema["properties"];
+        assert_eq!(keys(&p["dataset"]), sorted(&DATASET_FIELDS));
+        assert_eq!(keys(&p["targets"]), sorted(&TARGETS_FIELDS));
+        let class = &p["targets"]["properties"]["class"]["items"];
+        assert_eq!(keys(class), sorted(&CLASS_FIELDS));
+        let library: Vec<&str> = class["properties"]["library"]["enum"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_str().unwrap())
+            .collect();
+        let catalogue: Vec<&str> = xbandsim::targets::TargetClass::all()
+            .iter()
+            .map(|c| c.name())
+            .collect();
+        assert_eq!(library, catalogue);
     }
 }
