@@ -381,6 +381,9 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         t,
         "s",
     );
+    // 5. Labelled dataset frames (issue 10): datasets/detection.toml (512 x 512 gray PPI, 0-10
+    //    library targets, sea clutter, rain in a third), written with labels and manifests.
+    dataset_rows(a.repeats.min(3), &mut put)?;
     if let Some(mb) = peak_rss_mb() {
         put("peak resident memory (whole bench process)", mb, "MB");
     }
@@ -390,4 +393,117 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         crate::say!("{}", serde_json::to_string_pretty(&rows)?);
     }
     Ok(())
+}
+
+/// The detection spec the dataset rows measure.
+const DETECTION_SPEC: &str = include_str!("../../../datasets/detection.toml");
+
+/// Samples per dataset measurement.
+const DATASET_BENCH_SAMPLES: u64 = 24;
+
+/// Dataset rows: labelled frames per second of a whole run (every core), and where one
+/// sample's time goes, stage by stage on one thread (mean over the same samples).
+fn dataset_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<()> {
+    use xbandsim_dataset::{generate, DatasetSpec, Format, Request, Shard};
+    let spec = DatasetSpec::parse(DETECTION_SPEC, Path::new("."))?;
+    let n = DATASET_BENCH_SAMPLES;
+    let t = median_s(repeats, || {
+        let dir = tempfile_dir();
+        let request = Request {
+            count: n,
+            seed: 0,
+            shard: Shard::ALL,
+            jobs: 0,
+            format: Format::Dir,
+        };
+        let _ = generate(&spec, &dir, &request, &|| {});
+        let _ = std::fs::remove_dir_all(&dir);
+    });
+    put(
+        &format!("labelled 512^2 frames/s, datasets/detection.toml ({n} samples, all cores)"),
+        n as f64 / t,
+        "frames/s",
+    );
+    // One core, stage by stage (a one-thread pool: the stages' own parallel loops too).
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+    let stages = one.install(|| dataset_stages(&spec, n))?;
+    let names = [
+        "draw the sample, build the scene and its BVH",
+        "PO trace of the targets",
+        "frame: clutter map, echoes, noise, matched filter",
+        "target-only render (masks)",
+        "scan conversion, PNG, truth.json",
+        "masks",
+    ];
+    for (name, ms) in names.iter().zip(stages) {
+        put(
+            &format!("dataset sample, {name} (one core, mean)"),
+            ms,
+            "ms",
+        );
+    }
+    Ok(())
+}
+
+/// Mean milliseconds of each stage of a sample over samples 0..n.
+fn dataset_stages(spec: &xbandsim_dataset::DatasetSpec, n: u64) -> Result<[f64; 6]> {
+    use std::time::Instant;
+    let mut stages = [0f64; 6];
+    for i in 0..n {
+        let t0 = Instant::now();
+        let sample = spec.sample(0, i)?;
+        let loaded = LoadedSpec::from_toml(&sample.scene_toml, "scene.toml", Path::new("."))?;
+        let display = loaded.ppi_settings()?;
+        let sim = Simulation::new(loaded.build()?);
+        let t1 = Instant::now();
+        let _ = sim.traced(0.0);
+        let t2 = Instant::now();
+        let frame = sim.render_frame_outputs(sample.render_seed, 0, Default::default(), &|| {})?;
+        let t3 = Instant::now();
+        let quiet = sim.targets_only().render_frame_outputs(
+            sample.render_seed,
+            0,
+            Default::default(),
+            &|| {},
+        )?;
+        let t4 = Instant::now();
+        let encoded = xbandsim::products::frame_files::encode_frame_files(
+            sim.scene().radar(),
+            &display,
+            &frame,
+            Path::new("."),
+            "bench",
+            sample.render_seed,
+            spec.image.images(),
+        )?;
+        let t5 = Instant::now();
+        let masks = xbandsim_dataset::labels::object_masks(
+            &encoded.objects,
+            &quiet.polar_db,
+            frame.spokes,
+            frame.range_bins,
+            &encoded.converter,
+            0.0,
+        );
+        std::hint::black_box(&masks);
+        let t6 = Instant::now();
+        for (k, (a, b)) in [(t0, t1), (t1, t2), (t2, t3), (t3, t4), (t4, t5), (t5, t6)]
+            .into_iter()
+            .enumerate()
+        {
+            stages[k] += (b - a).as_secs_f64() * 1e3 / n as f64;
+        }
+    }
+    Ok(stages)
+}
+
+/// A fresh folder under the system's temporary directory.
+fn tempfile_dir() -> std::path::PathBuf {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static NEXT: AtomicU64 = AtomicU64::new(0);
+    std::env::temp_dir().join(format!(
+        "xbandsim-bench-{}-{}",
+        std::process::id(),
+        NEXT.fetch_add(1, Ordering::Relaxed)
+    ))
 }

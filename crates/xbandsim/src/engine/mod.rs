@@ -134,6 +134,11 @@ impl Simulation {
         }
     }
 
+    /// Whether neither receiver channel adds noise (an empty pulse then compresses to zero).
+    fn is_silent(&self) -> bool {
+        !self.receiver.noise() && self.short.as_ref().is_none_or(|c| !c.receiver.noise())
+    }
+
     /// The same simulation without thermal noise and without sea and rain clutter: its frames
     /// hold the objects' echoes alone as the receiver records them (blanked, compressed,
     /// integrated; the same schedule, pulses and motion) — the target-only render from which
@@ -354,6 +359,11 @@ impl Simulation {
             RngKey::new(seed, frame, pulse.number, Stream::ClutterSpeckle),
             &mut scratch.buffer[..record],
         );
+        if earliest.is_none() && clutter.is_none() && self.is_silent() && !scratch.capture_received
+        {
+            // Nothing in and no noise: the matched filter's output is zero (the buffer is).
+            return;
+        }
         self.begin_short(scratch);
         let rx = &self.receiver;
         if rx.noise() {

@@ -253,6 +253,14 @@ impl Simulation {
             }
             earliest = Some(earliest.map_or(e, |x| x.min(e)));
         }
+        if earliest.is_none()
+            && clutter_echo.is_none()
+            && self.is_silent()
+            && !scratch.capture_received
+        {
+            // Nothing in and no noise: the output is zero (the buffer is).
+            return;
+        }
         let rx = &self.receiver;
         let in_blanking = rx.echo_in_blanking(clutter_echo.is_some(), earliest);
         let fused = !self

@@ -189,12 +189,58 @@ pub fn k_shape_default(
         .clamp(0.1, 20.0)
 }
 
+/// The standard normal CDF Φ(g).
+pub fn normal_cdf(g: f64) -> f64 {
+    0.5 * crate::special::erfc(-g / std::f64::consts::SQRT_2)
+}
+
+/// A texture quantile composed with Φ, `T(g) = F⁻¹(Φ(g))`, tabulated as `ln T` at
+/// `g = −8 + i/128` (the Gaussian copula's map from field value to texture, docs/physics.md
+/// "Sea clutter"): linear interpolation in `ln T` is within 10⁻⁴ of the exact composition
+/// (0.0004 dB; checked against SciPy's gamma quantile for ν = 0.1 … 20) and moves E[T] and
+/// E[T²] by under 10⁻⁵,
+/// while sparing each cell an erfc and a table search. Beyond ±8 (probability 1.2·10⁻¹⁵) the
+/// composition is evaluated.
+#[derive(Debug)]
+struct NormalTable {
+    log_t: Vec<f64>,
+}
+
+impl NormalTable {
+    const G_MIN: f64 = -8.0;
+    const STEPS_PER_UNIT: f64 = 128.0;
+    const LEN: usize = 2049;
+
+    fn new(quantile: impl Fn(f64) -> f64) -> NormalTable {
+        let log_t = (0..Self::LEN)
+            .map(|i| {
+                let g = Self::G_MIN + i as f64 / Self::STEPS_PER_UNIT;
+                quantile(normal_cdf(g)).max(f64::MIN_POSITIVE).ln()
+            })
+            .collect();
+        NormalTable { log_t }
+    }
+
+    /// `T(g)`, or None outside the table.
+    #[inline]
+    fn at(&self, g: f64) -> Option<f64> {
+        let x = (g - Self::G_MIN) * Self::STEPS_PER_UNIT;
+        if !(x >= 0.0 && x < (Self::LEN - 1) as f64) {
+            return None;
+        }
+        let i = x as usize;
+        let f = x - i as f64;
+        Some((self.log_t[i] * (1.0 - f) + self.log_t[i + 1] * f).exp())
+    }
+}
+
 /// Quantile function of Gamma(shape ν, mean 1), tabulated on a log grid of x.
 #[derive(Debug)]
 pub struct GammaQuantile {
     shape: f64,
     xs: Vec<f64>,
     cdf: Vec<f64>,
+    of_normal: OnceLock<NormalTable>,
 }
 
 impl GammaQuantile {
@@ -214,7 +260,22 @@ impl GammaQuantile {
         // (a trapezoid rule in ln t lost 2 % of E[T²] at ν = 0.1, whose mass sits in a
         // long upper tail).
         let cdf: Vec<f64> = xs.iter().map(|&t| gamma_p(shape, shape * t)).collect();
-        GammaQuantile { shape, xs, cdf }
+        GammaQuantile {
+            shape,
+            xs,
+            cdf,
+            of_normal: OnceLock::new(),
+        }
+    }
+
+    /// Texture value (mean 1) at the standard-normal value `g`: `quantile(Φ(g))`, from a
+    /// table in `ln T` ([`NormalTable`]'s accuracy).
+    #[inline]
+    pub fn of_normal(&self, g: f64) -> f64 {
+        self.of_normal
+            .get_or_init(|| NormalTable::new(|u| self.quantile(u)))
+            .at(g)
+            .unwrap_or_else(|| self.quantile(normal_cdf(g)))
     }
 
     /// The table for shape ν exactly (cached process-wide by ν).
@@ -373,6 +434,7 @@ impl GaussianField {
 pub struct TabulatedQuantile {
     xs: Vec<f64>,
     cdf: Vec<f64>,
+    of_normal: OnceLock<NormalTable>,
 }
 
 impl TabulatedQuantile {
@@ -391,7 +453,21 @@ impl TabulatedQuantile {
                 last
             })
             .collect();
-        TabulatedQuantile { xs, cdf }
+        TabulatedQuantile {
+            xs,
+            cdf,
+            of_normal: OnceLock::new(),
+        }
+    }
+
+    /// The value at the standard-normal value `g`: `quantile(Φ(g))`, from a table in `ln T`
+    /// ([`NormalTable`]'s accuracy).
+    #[inline]
+    pub fn of_normal(&self, g: f64) -> f64 {
+        self.of_normal
+            .get_or_init(|| NormalTable::new(|u| self.quantile(u)))
+            .at(g)
+            .unwrap_or_else(|| self.quantile(normal_cdf(g)))
     }
 
     /// The value at probability `u` (clamped to the tabulated range).
@@ -465,6 +541,46 @@ pub fn lognormal_texture(g: f64, sigma_db: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The ln-T table of the Gaussian copula (`of_normal`) against the composition
+    /// `quantile(Φ(g))` it replaces, for K shapes 0.1 … 20 and a Weibull texture: within
+    /// 5·10⁻⁴ relative (0.002 dB) wherever T ≥ 1 % of the mean and |g| ≤ 7.5 (beyond, at
+    /// probabilities under 10⁻¹³, the composition's own 1 − u loses its digits; below 1 % of
+    /// the mean the two tables' interpolations differ by up to 10⁻³ of a negligible value),
+    /// and E[T], E[T²] over g ~ N(0, 1) (quadrature, step 10⁻³) within 10⁻⁴.
+    #[test]
+    fn texture_of_normal_matches_the_composition() {
+        let weibull = weibull_texture_quantile(1.2);
+        type Pair = Box<dyn Fn(f64) -> (f64, f64)>;
+        let mut tables: Vec<(String, Pair)> = [0.1, 0.3, 1.0, 3.0, 20.0]
+            .iter()
+            .map(|&nu| {
+                let q = GammaQuantile::for_shape(nu);
+                let f: Pair = Box::new(move |g| (q.of_normal(g), q.quantile(normal_cdf(g))));
+                (format!("K nu {nu}"), f)
+            })
+            .collect();
+        tables.push((
+            "Weibull c 1.2".into(),
+            Box::new(move |g| (weibull.of_normal(g), weibull.quantile(normal_cdf(g)))),
+        ));
+        for (name, f) in &tables {
+            let (mut worst, mut m1, mut m2) = (0f64, [0f64; 2], [0f64; 2]);
+            for k in 0..=16_000 {
+                let g = -8.0 + k as f64 * 0.001;
+                let (a, b) = f(g);
+                if b >= 0.01 && g.abs() <= 7.5 {
+                    worst = worst.max((a - b).abs() / b);
+                }
+                let w = (-0.5 * g * g).exp() * 0.001 / (2.0 * std::f64::consts::PI).sqrt();
+                m1 = [m1[0] + w * a, m1[1] + w * b];
+                m2 = [m2[0] + w * a * a, m2[1] + w * b * b];
+            }
+            assert!(worst < 5e-4, "{name}: worst relative error {worst:.2e}");
+            assert!((m1[0] / m1[1] - 1.0).abs() < 1e-4, "{name}: E[T] {m1:?}");
+            assert!((m2[0] / m2[1] - 1.0).abs() < 1e-4, "{name}: E[T²] {m2:?}");
+        }
+    }
 
     #[test]
     fn nrl_published_check_value() {

@@ -37,7 +37,7 @@ use crate::antenna::SINC_BEAMWIDTH_FACTOR;
 use crate::model::{Environment, Polarisation, Radar};
 use crate::propagation::sin_grazing;
 use crate::rng::{RngKey, Stream};
-use crate::special::{bessel_i0, erfc};
+use crate::special::bessel_i0;
 use glam::DVec2;
 use num_complex::Complex32;
 use rand_distr::{Distribution, StandardNormal};
@@ -115,10 +115,6 @@ pub fn doppler_lines(spectrum: GaussianDoppler, duration_s: f64, lines: &mut Vec
 /// Two-way azimuth beam integral `∫Gn²(θ)dθ` of the sinc² pattern, rad.
 pub fn two_way_beam_integral_rad(beamwidth_3db_rad: f64) -> f64 {
     (2.0 * std::f64::consts::PI / 3.0) * beamwidth_3db_rad / SINC_BEAMWIDTH_FACTOR
-}
-
-fn normal_cdf(g: f64) -> f64 {
-    0.5 * erfc(-g / std::f64::consts::SQRT_2)
 }
 
 impl ClutterMap {
@@ -396,18 +392,18 @@ impl ClutterMap {
                         let g = f.at(p.x - drift.x, p.y - drift.y);
                         texture_row[n] = match c.distribution() {
                             ClutterDistribution::K { .. } => match &fixed_gamma {
-                                Some(q) => q.quantile(normal_cdf(g)),
+                                Some(q) => q.of_normal(g),
                                 None => {
                                     let level = GammaQuantile::level_from_log10(
                                         row.log_nu_row - cos_2swell / 3.0,
                                     );
                                     tables[level]
                                         .get_or_insert_with(|| GammaQuantile::for_level(level))
-                                        .quantile(normal_cdf(g))
+                                        .of_normal(g)
                                 }
                             },
                             ClutterDistribution::Weibull { .. } => {
-                                weibull.as_ref().map_or(1.0, |q| q.quantile(normal_cdf(g)))
+                                weibull.as_ref().map_or(1.0, |q| q.of_normal(g))
                             }
                             ClutterDistribution::LogNormal { sigma_db } => {
                                 lognormal_texture(g, sigma_db)

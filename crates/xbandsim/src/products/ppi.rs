@@ -110,14 +110,27 @@ impl PpiGeometry {
     }
 }
 
-/// Precomputed mapping from PPI pixels to polar samples.
+/// Precomputed mapping from PPI pixels to polar samples (a clone shares the table).
 #[derive(Debug, Clone)]
 pub struct ScanConverter {
     geometry: PpiGeometry,
     /// Per pixel: polar index of the lower bin (u32::MAX outside the display) and the weight
     /// of the upper bin.
-    lut: Vec<(u32, f32)>,
+    lut: std::sync::Arc<Vec<(u32, f32)>>,
 }
+
+/// The tables [`ScanConverter::for_geometry`] made last, by their inputs' bits (a dataset's
+/// frames share a few geometries; a table of a 512-pixel image takes about 10 ms to make).
+type ConverterKey = [u64; 8];
+
+fn converter_cache() -> &'static std::sync::Mutex<Vec<(ConverterKey, ScanConverter)>> {
+    static CACHE: std::sync::OnceLock<std::sync::Mutex<Vec<(ConverterKey, ScanConverter)>>> =
+        std::sync::OnceLock::new();
+    CACHE.get_or_init(|| std::sync::Mutex::new(Vec::new()))
+}
+
+/// Converters kept (about 2 MB each at 512 pixels).
+const CONVERTER_CACHE_LEN: usize = 16;
 
 impl ScanConverter {
     /// Mapping for a square north-up image of `size_px` covering ±`display_range_m`.
@@ -153,6 +166,40 @@ impl ScanConverter {
     /// record of `spokes` × `num_bins` bins `range_bin_m` apart. Pixels farther than the
     /// display range from the radar map to nothing.
     pub fn for_geometry(
+        geometry: PpiGeometry,
+        spokes: usize,
+        num_bins: usize,
+        range_bin_m: f64,
+    ) -> ScanConverter {
+        let key: ConverterKey = [
+            geometry.size_px as u64,
+            geometry.display_range_m.to_bits(),
+            geometry.up_azimuth_rad.to_bits(),
+            geometry.radar_offset_m[0].to_bits(),
+            geometry.radar_offset_m[1].to_bits(),
+            spokes as u64,
+            num_bins as u64,
+            range_bin_m.to_bits(),
+        ];
+        let cache = converter_cache();
+        if let Some((_, c)) = cache
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .iter()
+            .find(|(k, _)| *k == key)
+        {
+            return c.clone();
+        }
+        let made = ScanConverter::make(geometry, spokes, num_bins, range_bin_m);
+        let mut list = cache.lock().unwrap_or_else(|p| p.into_inner());
+        if list.len() >= CONVERTER_CACHE_LEN {
+            list.remove(0);
+        }
+        list.push((key, made.clone()));
+        made
+    }
+
+    fn make(
         geometry: PpiGeometry,
         spokes: usize,
         num_bins: usize,
@@ -201,7 +248,10 @@ impl ScanConverter {
                 lut.push(((spoke * num_bins + b0) as u32, (fb - b0 as f64) as f32));
             }
         }
-        ScanConverter { geometry, lut }
+        ScanConverter {
+            geometry,
+            lut: std::sync::Arc::new(lut),
+        }
     }
 
     /// Image side, px.
@@ -218,7 +268,7 @@ impl ScanConverter {
     /// pixels outside the display get `outside`.
     pub fn convert(&self, polar: &[f32], outside: f32, out: &mut [f32]) {
         debug_assert_eq!(out.len(), self.lut.len());
-        for (o, &(idx, w)) in out.iter_mut().zip(&self.lut) {
+        for (o, &(idx, w)) in out.iter_mut().zip(self.lut.iter()) {
             *o = if idx == u32::MAX {
                 outside
             } else {
