@@ -208,6 +208,16 @@ pub fn generate(
             "0: a dataset needs at least one sample".into(),
         ));
     }
+    if request.format
+        == (Format::WebDataset {
+            samples_per_shard: 0,
+        })
+    {
+        return Err(DatasetError::spec(
+            "--shard-samples",
+            "0: a shard needs at least one sample".into(),
+        ));
+    }
     std::fs::create_dir_all(out).map_err(|e| DatasetError::io(out, e))?;
     let record = dataset_record(spec, request)?;
     let record_path = out.join("dataset.json");

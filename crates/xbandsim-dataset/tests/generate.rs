@@ -275,6 +275,36 @@ fn bad_specs_name_the_field() {
         .unwrap_err()
         .to_string();
     assert!(err.contains("--count"), "{err}");
+    // A shard of no samples is refused before anything is written.
+    let mut zero = request(4, 1, Shard::ALL, 1);
+    zero.format = Format::WebDataset {
+        samples_per_shard: 0,
+    };
+    let err = generate(&spec(), &tmp.path().join("z"), &zero, &|| {})
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("--shard-samples"), "{err}");
+    assert!(!tmp.path().join("z").exists());
+    // Bad image and threshold settings name their field.
+    for (text, field) in [
+        (
+            SPEC.replace("frames = 1", "frames = 1\nimage = \"sepia\""),
+            "dataset.image",
+        ),
+        (
+            SPEC.replace("frames = 1", "frames = 1\nval_every = -1"),
+            "dataset.val_every",
+        ),
+        (
+            SPEC.replace("frames = 1", "frames = 1\nmask_threshold_db = \"high\""),
+            "dataset.mask_threshold_db",
+        ),
+    ] {
+        let err = DatasetSpec::parse(&text, Path::new("."))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(field), "{field}: {err}");
+    }
     for bad in ["2/2", "1", "a/b", "0/0"] {
         assert!(Shard::parse(bad)
             .unwrap_err()
