@@ -484,6 +484,7 @@ fn dataset_stages(spec: &xbandsim_dataset::DatasetSpec, n: u64) -> Result<[f64; 
             frame.range_bins,
             &encoded.converter,
             0.0,
+            None,
         );
         std::hint::black_box(&masks);
         let t6 = Instant::now();

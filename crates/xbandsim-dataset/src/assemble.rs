@@ -52,7 +52,7 @@ struct AtomicFile {
 
 impl AtomicFile {
     fn create(path: &Path) -> Result<AtomicFile> {
-        let tmp = path.with_extension("partial");
+        let tmp = path.with_extension(format!("partial-{}", std::process::id()));
         let file = io(&tmp, std::fs::File::create(&tmp))?;
         Ok(AtomicFile {
             path: path.to_path_buf(),
@@ -87,7 +87,8 @@ fn data_yaml(categories: &[String], has_val: bool, kind: &str, count: u64, seed:
         categories.len()
     );
     for (i, c) in categories.iter().enumerate() {
-        y.push_str(&format!("  {i}: {c}\n"));
+        // A JSON string is a YAML double-quoted scalar: names like `no` or `a: b` stay names.
+        y.push_str(&format!("  {i}: {}\n", serde_json::Value::from(c.as_str())));
     }
     y
 }
@@ -196,7 +197,16 @@ pub fn assemble(
     format: Format,
 ) -> Result<Assembled> {
     let categories = spec.categories();
-    let anns_path = out.join("annotations.json.annotations");
+    // README.md, the dataset card, is the mark of a finished assembly: removed first, written
+    // last (a run stopped in between leaves it missing, and the next run assembles again).
+    let card_path = out.join("README.md");
+    if card_path.exists() {
+        io(&card_path, std::fs::remove_file(&card_path))?;
+    }
+    let anns_path = out.join(format!(
+        "annotations.json.annotations-{}",
+        std::process::id()
+    ));
     let mut w = Writer {
         coco: AtomicFile::create(&out.join("annotations.json"))?,
         anns: std::io::BufWriter::new(io(&anns_path, std::fs::File::create(&anns_path))?),
@@ -279,7 +289,7 @@ fn assemble_dirs(
     let trees = ["yolo", "yolo_obb"];
     let staging: Vec<PathBuf> = trees
         .iter()
-        .map(|t| out.join(format!(".{t}.partial")))
+        .map(|t| out.join(format!(".{t}.partial-{}", std::process::id())))
         .collect();
     let has_val = (0..count).any(|i| spec.is_validation(i));
     for dir in &staging {
@@ -347,6 +357,12 @@ fn dataset_card(
     s: &Assembled,
     format: Format,
 ) -> String {
+    let format_args = match format {
+        Format::Dir => String::new(),
+        Format::WebDataset { samples_per_shard } => {
+            format!(" --format webdataset --shard-samples {samples_per_shard}")
+        }
+    };
     let storage = match format {
         Format::Dir => "a folder per sample under `samples/`; YOLO trees `yolo/` and `yolo_obb/`".to_string(),
         Format::WebDataset { samples_per_shard } => format!(
@@ -356,7 +372,7 @@ fn dataset_card(
     let mut c = format!(
         "# xbandsim radar dataset\n\n\
          Synthetic X-band marine radar PPI frames with ground truth, made by xbandsim {} \
-         (`xbandsim dataset SPEC --count {count} --seed {seed}`). Every sample re-renders bit for \
+         (`xbandsim dataset SPEC --count {count} --seed {seed}{format_args}`). Every sample re-renders bit for \
          bit from its `scene.toml` (`xbandsim render scene.toml --seed <its seed>`).\n\n\
          - samples: {count}, frames per sample: {}, images: {}\n\
          - storage: {storage}\n\

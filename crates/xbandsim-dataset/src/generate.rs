@@ -251,7 +251,9 @@ pub fn generate(
             crate::webdataset::missing_samples(out, request.count, samples_per_shard)
         }
     };
-    if summary.missing == 0 && (summary.made > 0 || !out.join("annotations.json").is_file()) {
+    // README.md is written last by the assembly (crate::assemble): without it the index
+    // files are missing or unfinished.
+    if summary.missing == 0 && (summary.made > 0 || !out.join("README.md").is_file()) {
         summary.assembled = Some(crate::assemble::assemble(
             spec,
             out,
@@ -355,6 +357,10 @@ pub fn render_sample(
             frame.range_bins,
             &encoded.converter,
             spec.mask_threshold_db as f32,
+            sim.scene()
+                .radar()
+                .short_pulse_noise_db()
+                .map(|n| (sim.scene().radar().join_bin(), n as f32)),
         );
         let image = format.image_name(index, spec.frames, k, spec.image.labelled_file());
         let labels = frame_labels(

@@ -96,6 +96,21 @@ pub fn rle_string(counts: &[u64]) -> String {
     s
 }
 
+/// Oriented boxes smaller than this on the image are not written (a point's four equal
+/// corners, a plate seen edge-on, a kayak at 3 km): px².
+pub const MIN_OBB_AREA_PX2: f64 = 1.0;
+
+/// Area of a quadrilateral (shoelace), px².
+fn polygon_area(corners: &[[f64; 2]; 4]) -> f64 {
+    let mut twice = 0.0;
+    for i in 0..4 {
+        let [x0, y0] = corners[i];
+        let [x1, y1] = corners[(i + 1) % 4];
+        twice += x0 * y1 - x1 * y0;
+    }
+    0.5 * twice.abs()
+}
+
 /// Whether an object's visibility lets it have a detection label (it is seen above the noise).
 pub fn is_seen(visibility: Visibility) -> bool {
     matches!(
@@ -126,7 +141,9 @@ fn box_distance(b: &PolarBox, spoke: usize, bin: usize, spokes: usize) -> f64 {
 
 /// Every object's mask on the image of `conv` (None for objects without a polar box) from
 /// the frame's target-only record `targets_only_db` (spokes × bins, dB over the mean noise)
-/// at `threshold_db`.
+/// at `threshold_db` over the noise of the cell's channel: in combined pulse mode
+/// `short = Some((join_bin, short_pulse_noise_db))`, and the bins before the join, whose
+/// noise is the short pulse's, are held to `threshold_db + short_pulse_noise_db`.
 pub fn object_masks(
     objects: &[ObjectTruth],
     targets_only_db: &[f32],
@@ -134,6 +151,7 @@ pub fn object_masks(
     bins: usize,
     conv: &ScanConverter,
     threshold_db: f32,
+    short: Option<(usize, f32)>,
 ) -> Vec<Option<Mask>> {
     let size = conv.size_px() as usize;
     let mut ppi = vec![0f32; size * size];
@@ -156,6 +174,11 @@ pub fn object_masks(
             continue;
         };
         let (spoke, bin) = (cell / bins, cell % bins);
+        if let Some((join, noise_db)) = short {
+            if bin < join && *value < threshold_db + noise_db {
+                continue;
+            }
+        }
         if spoke >= spokes {
             continue;
         }
@@ -190,6 +213,10 @@ pub struct VisibilityFlags {
     pub beyond_horizon: bool,
     /// Farther than the radar's maximum range.
     pub beyond_max_range: bool,
+    /// No echo although the line of sight is clear (nothing scatters back).
+    pub no_return: bool,
+    /// `paper` model only: its ray grid passes around it.
+    pub missed_by_ray_grid: bool,
 }
 
 impl VisibilityFlags {
@@ -201,6 +228,8 @@ impl VisibilityFlags {
             below_noise: v == Visibility::BelowNoise,
             beyond_horizon: v == Visibility::BeyondHorizon,
             beyond_max_range: v == Visibility::BeyondMaxRange,
+            no_return: v == Visibility::NoReturn,
+            missed_by_ray_grid: v == Visibility::MissedByRayGrid,
         }
     }
 }
@@ -289,7 +318,7 @@ pub fn frame_labels(
                 let inside = corners
                     .iter()
                     .all(|[x, y]| (0.0..=s).contains(x) && (0.0..=s).contains(y));
-                if inside {
+                if inside && polygon_area(&corners) >= MIN_OBB_AREA_PX2 {
                     let mut line = c.to_string();
                     for [x, y] in corners {
                         line.push_str(&format!(" {:.6} {:.6}", x / s, y / s));

@@ -92,6 +92,9 @@ pub fn record_format(out: &Path) -> Result<(u64, u64, Format)> {
     let v: serde_json::Value =
         serde_json::from_slice(&bytes).map_err(|e| bad_data(&path, e.to_string()))?;
     let format = match (v["format"].as_str(), v["samples_per_shard"].as_u64()) {
+        (Some("webdataset"), Some(0)) => {
+            return Err(bad_data(&path, "samples_per_shard is 0".into()))
+        }
         (Some("webdataset"), Some(n)) => Format::WebDataset {
             samples_per_shard: n,
         },
@@ -151,7 +154,7 @@ pub fn stats(out: &Path) -> Result<Stats> {
         }
         s.samples = count;
         s.frames = count * frames;
-        s.empty_frames = s.frames - labelled_frames.len() as u64;
+        s.empty_frames = s.frames.saturating_sub(labelled_frames.len() as u64);
         return Ok(s);
     }
     for i in 0..count {

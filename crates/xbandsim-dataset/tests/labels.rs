@@ -381,6 +381,35 @@ fn yolo_trees_follow_the_ultralytics_format() {
     );
     let card = std::fs::read_to_string(tmp.path().join("README.md")).unwrap();
     assert!(card.contains("| fishing_vessel | 2 | 1 |"), "{card}");
+    let yaml = std::fs::read_to_string(tmp.path().join("yolo/data.yaml")).unwrap();
+    assert!(yaml.contains("  1: \"fishing_vessel\""), "{yaml}");
+    // An assembly stopped part-way (README.md, written last, missing; targets.jsonl gone and
+    // yolo/ half-removed): the same command with nothing left to make assembles again, to
+    // the same bytes.
+    let before: Vec<Vec<u8>> = ["annotations.json", "targets.jsonl", "README.md"]
+        .iter()
+        .map(|f| std::fs::read(tmp.path().join(f)).unwrap())
+        .collect();
+    std::fs::remove_file(tmp.path().join("README.md")).unwrap();
+    std::fs::remove_file(tmp.path().join("targets.jsonl")).unwrap();
+    std::fs::remove_dir_all(tmp.path().join("yolo/labels")).unwrap();
+    let spec = DatasetSpec::parse(SPEC, Path::new(".")).unwrap();
+    let request = Request {
+        count: 6,
+        seed: 3,
+        shard: Shard::ALL,
+        jobs: 1,
+        format: Format::Dir,
+    };
+    let s = generate(&spec, tmp.path(), &request, &|| {}).unwrap();
+    assert_eq!(s.made, 0);
+    assert!(s.assembled.is_some());
+    let after: Vec<Vec<u8>> = ["annotations.json", "targets.jsonl", "README.md"]
+        .iter()
+        .map(|f| std::fs::read(tmp.path().join(f)).unwrap())
+        .collect();
+    assert_eq!(before, after);
+    assert_eq!(check_yolo_tree(&tmp.path().join("yolo"), 4, 3), detect);
 }
 
 /// `verify` passes a whole dataset and names missing and damaged samples.
@@ -491,4 +520,65 @@ fn webdataset_shards_hold_the_same_samples() {
     let r = xbandsim_dataset::verify::verify(&one, &|| {}).unwrap();
     assert_eq!(r.corrupt.len(), 1, "{r:?}");
     assert_eq!(r.corrupt[0].0, 1);
+}
+
+/// Combined pulse mode: inside the join the noise is the short pulse's, so mask pixels there
+/// hold the target-only render at or above `short_pulse_noise_db`, not just 0 dB.
+#[test]
+fn combined_pulse_masks_use_the_short_pulse_noise() {
+    let text = SPEC
+        .replace("val_every = 3", "val_every = 0")
+        .replace(
+            "position_m = [0.0, 0.0, 8.0]",
+            "position_m = [0.0, 0.0, 8.0]\npulse_width_us = 1.0\npulse_mode = \"combined\"",
+        )
+        .replace("uniform = [0.15, 0.9]", "uniform = [0.08, 0.2]")
+        .replace("min_separation_m = 60.0", "min_separation_m = 20.0");
+    let spec = DatasetSpec::parse(&text, Path::new(".")).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let request = Request {
+        count: 3,
+        seed: 5,
+        shard: Shard::ALL,
+        jobs: 2,
+        format: Format::Dir,
+    };
+    generate(&spec, tmp.path(), &request, &|| {}).unwrap();
+    let mut inside_join = 0;
+    for i in 0..3 {
+        let dir = sample_dir(tmp.path(), i);
+        let scene = std::fs::read_to_string(dir.join("scene.toml")).unwrap();
+        let seed: u64 = scene
+            .lines()
+            .find_map(|l| l.split("--seed ").nth(1))
+            .and_then(|s| s.trim().parse().ok())
+            .unwrap();
+        let loaded = xbandsim::LoadedSpec::from_toml(&scene, "scene.toml", Path::new(".")).unwrap();
+        let sim = xbandsim::Simulation::new(loaded.build().unwrap());
+        let radar = sim.scene().radar();
+        let (join, noise_db) = (radar.join_bin(), radar.short_pulse_noise_db().unwrap());
+        let quiet = sim.targets_only().render(seed);
+        let conv = loaded
+            .ppi_settings()
+            .unwrap()
+            .frame_scan_converter(radar, quiet.own_ship.as_ref());
+        let size = conv.size_px() as usize;
+        let mut ppi = vec![0f32; size * size];
+        conv.convert(&quiet.polar_db, f32::NAN, &mut ppi);
+        let fragment = json(&dir.join("coco.json"));
+        for a in fragment["annotations"].as_array().unwrap() {
+            let mask = rle_decode(a["segmentation"]["counts"].as_str().unwrap(), size, size);
+            for p in (0..size * size).filter(|&p| mask[p]) {
+                let bin = conv.nearest_cell(p).unwrap() % quiet.range_bins;
+                if bin < join {
+                    inside_join += 1;
+                    assert!(ppi[p] >= noise_db as f32, "{} < {noise_db}", ppi[p]);
+                }
+            }
+        }
+    }
+    assert!(
+        inside_join > 0,
+        "no mask pixel inside the join: the test saw nothing"
+    );
 }

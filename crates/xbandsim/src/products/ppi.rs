@@ -129,8 +129,12 @@ fn converter_cache() -> &'static std::sync::Mutex<Vec<(ConverterKey, ScanConvert
     CACHE.get_or_init(|| std::sync::Mutex::new(Vec::new()))
 }
 
-/// Converters kept (about 2 MB each at 512 pixels).
+/// Converters kept: at most this many, and at most [`CONVERTER_CACHE_BYTES`] of tables
+/// (about 2 MB each at 512 pixels, 8 MB at 1024).
 const CONVERTER_CACHE_LEN: usize = 16;
+
+/// Bytes of tables kept.
+const CONVERTER_CACHE_BYTES: usize = 64 << 20;
 
 impl ScanConverter {
     /// Mapping for a square north-up image of `size_px` covering ±`display_range_m`.
@@ -191,11 +195,18 @@ impl ScanConverter {
             return c.clone();
         }
         let made = ScanConverter::make(geometry, spokes, num_bins, range_bin_m);
-        let mut list = cache.lock().unwrap_or_else(|p| p.into_inner());
-        if list.len() >= CONVERTER_CACHE_LEN {
-            list.remove(0);
+        let bytes = |c: &ScanConverter| c.lut.len() * std::mem::size_of::<(u32, f32)>();
+        if bytes(&made) <= CONVERTER_CACHE_BYTES {
+            let mut list = cache.lock().unwrap_or_else(|p| p.into_inner());
+            while !list.is_empty()
+                && (list.len() >= CONVERTER_CACHE_LEN
+                    || list.iter().map(|(_, c)| bytes(c)).sum::<usize>() + bytes(&made)
+                        > CONVERTER_CACHE_BYTES)
+            {
+                list.remove(0);
+            }
+            list.push((key, made.clone()));
         }
-        list.push((key, made.clone()));
         made
     }
 
