@@ -17,7 +17,7 @@
 //! The YOLO trees hold hard links to the samples' images (copies where the file system
 //! cannot link), named `<index>.png` or `<index>_<frame>.png`.
 
-use crate::error::{DatasetError, Result};
+use crate::error::{at, invalid_data, Result};
 use crate::generate::{frame_subdir, sample_dir, Format};
 use crate::spec::DatasetSpec;
 use std::collections::BTreeMap;
@@ -39,10 +39,6 @@ pub struct Assembled {
     pub rows_per_visibility: BTreeMap<String, u64>,
 }
 
-fn io<T>(path: &Path, r: std::io::Result<T>) -> Result<T> {
-    r.map_err(|e| DatasetError::io(path, e))
-}
-
 /// Writes `path` through a temporary file and a rename.
 struct AtomicFile {
     path: PathBuf,
@@ -53,7 +49,7 @@ struct AtomicFile {
 impl AtomicFile {
     fn create(path: &Path) -> Result<AtomicFile> {
         let tmp = path.with_extension(format!("partial-{}", std::process::id()));
-        let file = io(&tmp, std::fs::File::create(&tmp))?;
+        let file = at(&tmp, std::fs::File::create(&tmp))?;
         Ok(AtomicFile {
             path: path.to_path_buf(),
             tmp,
@@ -62,18 +58,18 @@ impl AtomicFile {
     }
 
     fn write(&mut self, bytes: &[u8]) -> Result<()> {
-        io(&self.tmp, self.file.write_all(bytes))
+        at(&self.tmp, self.file.write_all(bytes))
     }
 
     fn finish(mut self) -> Result<()> {
-        io(&self.tmp, self.file.flush())?;
-        io(&self.path, std::fs::rename(&self.tmp, &self.path))
+        at(&self.tmp, self.file.flush())?;
+        at(&self.path, std::fs::rename(&self.tmp, &self.path))
     }
 }
 
 fn link_or_copy(from: &Path, to: &Path) -> Result<()> {
     if std::fs::hard_link(from, to).is_err() {
-        io(to, std::fs::copy(from, to))?;
+        at(to, std::fs::copy(from, to))?;
     }
     Ok(())
 }
@@ -112,12 +108,8 @@ impl Writer {
         image_id: u64,
         extra: Option<(&str, serde_json::Value)>,
     ) -> Result<()> {
-        let mut fragment: serde_json::Value = serde_json::from_slice(bytes).map_err(|e| {
-            DatasetError::io(
-                path,
-                std::io::Error::new(std::io::ErrorKind::InvalidData, e.to_string()),
-            )
-        })?;
+        let mut fragment: serde_json::Value =
+            serde_json::from_slice(bytes).map_err(|e| invalid_data(path, e.to_string()))?;
         let mut image = fragment["image"].take();
         image["id"] = image_id.into();
         if let Some((k, v)) = extra {
@@ -143,9 +135,9 @@ impl Writer {
                     }
                 }
                 if self.annotation_id > 1 {
-                    io(&self.anns_path, self.anns.write_all(b","))?;
+                    at(&self.anns_path, self.anns.write_all(b","))?;
                 }
-                io(
+                at(
                     &self.anns_path,
                     self.anns.write_all(a.to_string().as_bytes()),
                 )?;
@@ -173,12 +165,12 @@ impl Writer {
 
     fn finish(mut self) -> Result<Assembled> {
         self.summary.annotations = self.annotation_id;
-        io(&self.anns_path, self.anns.flush())?;
+        at(&self.anns_path, self.anns.flush())?;
         drop(self.anns);
         self.coco.write(b"],\"annotations\":[")?;
-        let mut f = io(&self.anns_path, std::fs::File::open(&self.anns_path))?;
-        io(&self.anns_path, std::io::copy(&mut f, &mut self.coco.file))?;
-        io(&self.anns_path, std::fs::remove_file(&self.anns_path))?;
+        let mut f = at(&self.anns_path, std::fs::File::open(&self.anns_path))?;
+        at(&self.anns_path, std::io::copy(&mut f, &mut self.coco.file))?;
+        at(&self.anns_path, std::fs::remove_file(&self.anns_path))?;
         self.coco.write(b"]}\n")?;
         self.coco.finish()?;
         self.targets.finish()?;
@@ -201,7 +193,7 @@ pub fn assemble(
     // last (a run stopped in between leaves it missing, and the next run assembles again).
     let card_path = out.join("README.md");
     if card_path.exists() {
-        io(&card_path, std::fs::remove_file(&card_path))?;
+        at(&card_path, std::fs::remove_file(&card_path))?;
     }
     let anns_path = out.join(format!(
         "annotations.json.annotations-{}",
@@ -209,7 +201,7 @@ pub fn assemble(
     ));
     let mut w = Writer {
         coco: AtomicFile::create(&out.join("annotations.json"))?,
-        anns: std::io::BufWriter::new(io(&anns_path, std::fs::File::create(&anns_path))?),
+        anns: std::io::BufWriter::new(at(&anns_path, std::fs::File::create(&anns_path))?),
         anns_path,
         targets: AtomicFile::create(&out.join("targets.jsonl"))?,
         summary: Assembled {
@@ -294,12 +286,12 @@ fn assemble_dirs(
     let has_val = (0..count).any(|i| spec.is_validation(i));
     for dir in &staging {
         if dir.exists() {
-            io(dir, std::fs::remove_dir_all(dir))?;
+            at(dir, std::fs::remove_dir_all(dir))?;
         }
         for split in ["train", "val"] {
             for kind in ["images", "labels"] {
                 let d = dir.join(kind).join(split);
-                io(&d, std::fs::create_dir_all(&d))?;
+                at(&d, std::fs::create_dir_all(&d))?;
             }
         }
     }
@@ -312,10 +304,10 @@ fn assemble_dirs(
         for k in 0..spec.frames {
             let frame_dir = sample_dir(out, i).join(frame_subdir(spec.frames, k));
             let coco_path = frame_dir.join("coco.json");
-            let bytes = io(&coco_path, std::fs::read(&coco_path))?;
+            let bytes = at(&coco_path, std::fs::read(&coco_path))?;
             w.add_coco(&coco_path, &bytes, i * spec.frames + k + 1, None)?;
             let rows_path = frame_dir.join("targets.jsonl");
-            let rows = io(&rows_path, std::fs::read(&rows_path))?;
+            let rows = at(&rows_path, std::fs::read(&rows_path))?;
             w.add_rows(&rows)?;
             let stem = if spec.frames == 1 {
                 format!("{i:09}")
@@ -330,21 +322,21 @@ fn assemble_dirs(
                 )?;
                 let from = frame_dir.join(labels);
                 let to = dir.join("labels").join(split).join(format!("{stem}.txt"));
-                io(&to, std::fs::copy(&from, &to))?;
+                at(&to, std::fs::copy(&from, &to))?;
             }
         }
     }
     for ((tree, dir), kind) in trees.iter().zip(&staging).zip(["detect", "oriented boxes"]) {
         let yaml = dir.join("data.yaml");
-        io(
+        at(
             &yaml,
             std::fs::write(&yaml, data_yaml(categories, has_val, kind, count, seed)),
         )?;
         let dest = out.join(tree);
         if dest.exists() {
-            io(&dest, std::fs::remove_dir_all(&dest))?;
+            at(&dest, std::fs::remove_dir_all(&dest))?;
         }
-        io(&dest, std::fs::rename(dir, &dest))?;
+        at(&dest, std::fs::rename(dir, &dest))?;
     }
     Ok(())
 }

@@ -45,5 +45,18 @@ impl DatasetError {
     }
 }
 
+/// `r`, its error located at `path`.
+pub(crate) fn at<T>(path: &std::path::Path, r: std::io::Result<T>) -> Result<T> {
+    r.map_err(|e| DatasetError::io(path, e))
+}
+
+/// A file at `path` whose contents are not what they should be.
+pub(crate) fn invalid_data(path: &std::path::Path, message: impl Into<String>) -> DatasetError {
+    DatasetError::io(
+        path,
+        std::io::Error::new(std::io::ErrorKind::InvalidData, message.into()),
+    )
+}
+
 /// Results of the dataset generator.
 pub type Result<T> = std::result::Result<T, DatasetError>;

@@ -2,7 +2,7 @@
 //! expected-SNR histogram, visibility fractions) from its samples' targets tables, and a
 //! contact sheet of random samples with their boxes drawn.
 
-use crate::error::{DatasetError, Result};
+use crate::error::{invalid_data, DatasetError, Result};
 use crate::generate::{frame_subdir, sample_dir, Format};
 use rand::seq::SliceRandom;
 use rand::SeedableRng;
@@ -73,13 +73,6 @@ impl Stats {
     }
 }
 
-fn bad_data(path: &Path, message: String) -> DatasetError {
-    DatasetError::io(
-        path,
-        std::io::Error::new(std::io::ErrorKind::InvalidData, message),
-    )
-}
-
 /// The sample count and frames per sample of the dataset in `out`, from its dataset.json.
 pub fn record(out: &Path) -> Result<(u64, u64)> {
     record_format(out).map(|(c, f, _)| (c, f))
@@ -90,11 +83,9 @@ pub fn record_format(out: &Path) -> Result<(u64, u64, Format)> {
     let path = out.join("dataset.json");
     let bytes = std::fs::read(&path).map_err(|e| DatasetError::io(&path, e))?;
     let v: serde_json::Value =
-        serde_json::from_slice(&bytes).map_err(|e| bad_data(&path, e.to_string()))?;
+        serde_json::from_slice(&bytes).map_err(|e| invalid_data(&path, e.to_string()))?;
     let format = match (v["format"].as_str(), v["samples_per_shard"].as_u64()) {
-        (Some("webdataset"), Some(0)) => {
-            return Err(bad_data(&path, "samples_per_shard is 0".into()))
-        }
+        (Some("webdataset"), Some(0)) => return Err(invalid_data(&path, "samples_per_shard is 0")),
         (Some("webdataset"), Some(n)) => Format::WebDataset {
             samples_per_shard: n,
         },
@@ -102,7 +93,7 @@ pub fn record_format(out: &Path) -> Result<(u64, u64, Format)> {
     };
     match (v["count"].as_u64(), v["frames_per_sample"].as_u64()) {
         (Some(c), Some(f)) => Ok((c, f, format)),
-        _ => Err(bad_data(&path, "not an xbandsim dataset record".into())),
+        _ => Err(invalid_data(&path, "not an xbandsim dataset record")),
     }
 }
 
@@ -111,7 +102,7 @@ impl Stats {
         let mut any = false;
         for line in text.lines().filter(|l| !l.is_empty()) {
             let row: serde_json::Value =
-                serde_json::from_str(line).map_err(|e| bad_data(path, e.to_string()))?;
+                serde_json::from_str(line).map_err(|e| invalid_data(path, e.to_string()))?;
             let labelled = row["labelled"].as_bool().unwrap_or(false);
             any |= labelled;
             let entry = self
@@ -148,7 +139,7 @@ pub fn stats(out: &Path) -> Result<Stats> {
         for line in text.lines().filter(|l| !l.is_empty()) {
             if s.add_rows(&path, line)? {
                 let row: serde_json::Value =
-                    serde_json::from_str(line).map_err(|e| bad_data(&path, e.to_string()))?;
+                    serde_json::from_str(line).map_err(|e| invalid_data(&path, e.to_string()))?;
                 labelled_frames.insert((row["sample"].as_u64(), row["frame"].as_u64()));
             }
         }
@@ -194,18 +185,23 @@ fn category_colour(category: u64) -> [u8; 3] {
 fn read_rgb(path: &Path, png_bytes: &[u8]) -> Result<(usize, usize, Vec<u8>)> {
     let mut reader = png::Decoder::new(std::io::Cursor::new(png_bytes))
         .read_info()
-        .map_err(|e| bad_data(path, e.to_string()))?;
+        .map_err(|e| invalid_data(path, e.to_string()))?;
     let mut buf = vec![0; reader.output_buffer_size()];
     let info = reader
         .next_frame(&mut buf)
-        .map_err(|e| bad_data(path, e.to_string()))?;
+        .map_err(|e| invalid_data(path, e.to_string()))?;
     let (w, h) = (info.width as usize, info.height as usize);
     let rgb = match (info.color_type, info.bit_depth) {
         (png::ColorType::Grayscale, png::BitDepth::Eight) => {
             buf[..w * h].iter().flat_map(|&g| [g, g, g]).collect()
         }
         (png::ColorType::Rgb, png::BitDepth::Eight) => buf[..w * h * 3].to_vec(),
-        other => return Err(bad_data(path, format!("unexpected PNG format {other:?}"))),
+        other => {
+            return Err(invalid_data(
+                path,
+                format!("unexpected PNG format {other:?}"),
+            ))
+        }
     };
     Ok((w, h, rgb))
 }
@@ -284,9 +280,9 @@ pub fn contact_sheet(
                     },
                 )?;
                 for (&i, name) in list.iter().zip(&names) {
-                    let coco = cocos
-                        .remove(name)
-                        .ok_or_else(|| bad_data(&shard, format!("{name} is not in the shard")))?;
+                    let coco = cocos.remove(name).ok_or_else(|| {
+                        invalid_data(&shard, format!("{name} is not in the shard"))
+                    })?;
                     let image = serde_json::from_slice::<serde_json::Value>(&coco)
                         .ok()
                         .and_then(|v| v["image"]["file_name"].as_str().map(String::from))
@@ -302,8 +298,8 @@ pub fn contact_sheet(
     let mut sheet = vec![0u8; sw * sh * 3];
     for (t, (i, coco, image_bytes)) in inputs.into_iter().enumerate() {
         let fragment_path = sample_dir(out, i).join(rel("coco.json"));
-        let fragment: serde_json::Value =
-            serde_json::from_slice(&coco).map_err(|e| bad_data(&fragment_path, e.to_string()))?;
+        let fragment: serde_json::Value = serde_json::from_slice(&coco)
+            .map_err(|e| invalid_data(&fragment_path, e.to_string()))?;
         let image = fragment["image"]["file_name"].as_str().unwrap_or_default();
         let image_path = out.join(image);
         let bytes = match image_bytes {
@@ -369,6 +365,6 @@ pub fn contact_sheet(
         3,
         &sheet,
     )
-    .map_err(|e| bad_data(&out.join("contact_sheet.png"), e.to_string()))?;
+    .map_err(|e| invalid_data(&out.join("contact_sheet.png"), e.to_string()))?;
     Ok((png, present))
 }

@@ -3,7 +3,7 @@
 //! that sha256, and the files every frame needs are among them (docs/formats.md, "Dataset
 //! directory").
 
-use crate::error::{DatasetError, Result};
+use crate::error::Result;
 use crate::generate::{frame_subdir, sample_dir, sha256_hex, MANIFEST};
 use rayon::prelude::*;
 use std::path::Path;
@@ -98,29 +98,11 @@ pub fn check_sample(out: &Path, index: u64, frames: u64) -> Option<String> {
 /// Checks every sample of the dataset in `out` (in parallel), calling `sample_done` after
 /// each.
 pub fn verify(out: &Path, sample_done: &(dyn Fn() + Sync)) -> Result<VerifyReport> {
-    let record_path = out.join("dataset.json");
-    let bytes = std::fs::read(&record_path).map_err(|e| DatasetError::io(&record_path, e))?;
-    let record: serde_json::Value = serde_json::from_slice(&bytes).map_err(|e| {
-        DatasetError::io(
-            &record_path,
-            std::io::Error::new(std::io::ErrorKind::InvalidData, e.to_string()),
-        )
-    })?;
-    let field = |name: &str| {
-        record[name].as_u64().ok_or_else(|| {
-            DatasetError::io(
-                &record_path,
-                std::io::Error::new(
-                    std::io::ErrorKind::InvalidData,
-                    format!("no whole number \"{name}\": not an xbandsim dataset record"),
-                ),
-            )
-        })
-    };
-    let count = field("count")?;
-    let frames = field("frames_per_sample")?;
-    if record["format"] == "webdataset" {
-        let per_shard = field("samples_per_shard")?;
+    let (count, frames, format) = crate::stats::record_format(out)?;
+    if let crate::generate::Format::WebDataset {
+        samples_per_shard: per_shard,
+    } = format
+    {
         let shards = crate::webdataset::shard_count(count, per_shard);
         let mut report = VerifyReport {
             count,

@@ -10,7 +10,7 @@
 //! sha256 and size); the tar is renamed into place, then the manifest, and a shard is done
 //! when its manifest is there. A run stopped at any moment redoes only unfinished shards.
 
-use crate::error::{DatasetError, Result};
+use crate::error::{at, DatasetError, Result};
 use crate::generate::{render_sample, Format, Request, SampleFiles, Summary};
 use crate::spec::DatasetSpec;
 use rayon::prelude::*;
@@ -106,10 +106,6 @@ pub fn make_shards(
     Ok(summary)
 }
 
-fn io<T>(path: &Path, r: std::io::Result<T>) -> Result<T> {
-    r.map_err(|e| DatasetError::io(path, e))
-}
-
 fn write_shard(
     spec: &DatasetSpec,
     out: &Path,
@@ -121,9 +117,9 @@ fn write_shard(
 ) -> Result<()> {
     let path = shard_path(out, t);
     let dir = path.parent().unwrap_or(out).to_path_buf();
-    io(&dir, std::fs::create_dir_all(&dir))?;
+    at(&dir, std::fs::create_dir_all(&dir))?;
     let tmp = path.with_extension("tar.partial");
-    let file = io(&tmp, std::fs::File::create(&tmp))?;
+    let file = at(&tmp, std::fs::File::create(&tmp))?;
     let mut builder = tar::Builder::new(Hashing {
         inner: std::io::BufWriter::new(file),
         hasher: sha2::Sha256::new(),
@@ -149,7 +145,7 @@ fn write_shard(
             for (rel, bytes) in files? {
                 let name = member_name(i, &rel);
                 let mut header = tar::Header::new_ustar();
-                io(&tmp, header.set_path(&name))?;
+                at(&tmp, header.set_path(&name))?;
                 header.set_size(bytes.len() as u64);
                 header.set_mode(0o644);
                 header.set_mtime(0);
@@ -157,7 +153,7 @@ fn write_shard(
                 header.set_gid(0);
                 header.set_entry_type(tar::EntryType::Regular);
                 header.set_cksum();
-                io(&tmp, builder.append(&header, bytes.as_slice()))?;
+                at(&tmp, builder.append(&header, bytes.as_slice()))?;
                 members.push(serde_json::json!({
                     "name": name,
                     "size": bytes.len(),
@@ -166,14 +162,9 @@ fn write_shard(
             }
         }
     }
-    let mut hashing = io(&tmp, builder.into_inner())?;
-    io(&tmp, hashing.flush())?;
-    let tar_sha: String = hashing
-        .hasher
-        .finalize()
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect();
+    let mut hashing = at(&tmp, builder.into_inner())?;
+    at(&tmp, hashing.flush())?;
+    let tar_sha = crate::generate::hex(&hashing.hasher.finalize());
     let manifest = serde_json::json!({
         "shard": t,
         "file": path.file_name().map(|f| f.to_string_lossy().to_string()),
@@ -187,9 +178,9 @@ fn write_shard(
     let mut text = serde_json::to_vec_pretty(&manifest)
         .map_err(|e| DatasetError::spec("(manifest)", e.to_string()))?;
     text.push(b'\n');
-    io(&manifest_tmp, std::fs::write(&manifest_tmp, text))?;
-    io(&path, std::fs::rename(&tmp, &path))?;
-    io(
+    at(&manifest_tmp, std::fs::write(&manifest_tmp, text))?;
+    at(&path, std::fs::rename(&tmp, &path))?;
+    at(
         &manifest_file,
         std::fs::rename(&manifest_tmp, &manifest_file),
     )
@@ -202,16 +193,16 @@ pub fn for_each_member(
     want: &dyn Fn(&str) -> bool,
     f: &mut dyn FnMut(String, Vec<u8>) -> Result<()>,
 ) -> Result<()> {
-    let file = io(path, std::fs::File::open(path))?;
+    let file = at(path, std::fs::File::open(path))?;
     let mut archive = tar::Archive::new(std::io::BufReader::new(file));
-    for entry in io(path, archive.entries())? {
-        let mut entry = io(path, entry)?;
-        let name = io(path, entry.path())?.to_string_lossy().to_string();
+    for entry in at(path, archive.entries())? {
+        let mut entry = at(path, entry)?;
+        let name = at(path, entry.path())?.to_string_lossy().to_string();
         if !want(&name) {
             continue;
         }
         let mut bytes = Vec::with_capacity(entry.size() as usize);
-        io(path, entry.read_to_end(&mut bytes))?;
+        at(path, entry.read_to_end(&mut bytes))?;
         f(name, bytes)?;
     }
     Ok(())
@@ -289,12 +280,7 @@ pub fn check_shard(out: &Path, t: u64) -> Option<String> {
     if let Err(e) = std::io::copy(&mut reader, &mut std::io::sink()) {
         return Some(format!("{}: {e}", path.display()));
     }
-    let sha: String = reader
-        .hasher
-        .finalize()
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect();
+    let sha = crate::generate::hex(&reader.hasher.finalize());
     (Some(sha.as_str()) != manifest["tar_sha256"].as_str())
         .then(|| format!("{}: sha256 differs from the manifest", path.display()))
 }

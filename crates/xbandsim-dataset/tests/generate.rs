@@ -2,6 +2,8 @@
 //! — the same bytes for any job count, shard split or order, and after a resume —; a sample's
 //! scene.toml re-renders it bit for bit; bad specs are refused naming the field.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::path::Path;
 use xbandsim_dataset::{generate, sample_dir, DatasetError, DatasetSpec, Format, Request, Shard};
@@ -126,13 +128,7 @@ fn a_sample_re_renders_from_its_scene_file() {
     let mut with_targets = 0;
     for i in 0..4 {
         let dir = sample_dir(tmp.path(), i);
-        let text = std::fs::read_to_string(dir.join("scene.toml")).unwrap();
-        let seed: u64 = text
-            .lines()
-            .find_map(|l| l.split("--seed ").nth(1))
-            .and_then(|s| s.trim().parse().ok())
-            .unwrap();
-        let loaded = xbandsim::LoadedSpec::from_toml(&text, "scene.toml", Path::new(".")).unwrap();
+        let (seed, loaded) = common::sample_scene(&dir);
         let frame = xbandsim::Simulation::new(loaded.build().unwrap()).render(seed);
         let npy = xbandsim::products::output::npy_f32_bytes(
             &[frame.spokes, frame.range_bins],

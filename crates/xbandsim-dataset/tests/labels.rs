@@ -7,6 +7,8 @@
 //! normalised to [0, 1]; labels/ beside images/ with the same stems; data.yaml's names);
 //! `verify` finds missing and damaged samples.
 
+mod common;
+
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 use xbandsim_dataset::{generate, sample_dir, DatasetSpec, Format, Request, Shard};
@@ -123,13 +125,7 @@ fn masks_and_boxes_land_on_the_targets() {
     for i in 0..6 {
         let dir = sample_dir(tmp.path(), i);
         // The target-only render of the sample's scene, on its own.
-        let text = std::fs::read_to_string(dir.join("scene.toml")).unwrap();
-        let seed: u64 = text
-            .lines()
-            .find_map(|l| l.split("--seed ").nth(1))
-            .and_then(|s| s.trim().parse().ok())
-            .unwrap();
-        let loaded = xbandsim::LoadedSpec::from_toml(&text, "scene.toml", Path::new(".")).unwrap();
+        let (seed, loaded) = common::sample_scene(&dir);
         let sim = xbandsim::Simulation::new(loaded.build().unwrap());
         let quiet = sim.targets_only().render(seed);
         let display = loaded.ppi_settings().unwrap();
@@ -547,13 +543,7 @@ fn combined_pulse_masks_use_the_short_pulse_noise() {
     let mut inside_join = 0;
     for i in 0..3 {
         let dir = sample_dir(tmp.path(), i);
-        let scene = std::fs::read_to_string(dir.join("scene.toml")).unwrap();
-        let seed: u64 = scene
-            .lines()
-            .find_map(|l| l.split("--seed ").nth(1))
-            .and_then(|s| s.trim().parse().ok())
-            .unwrap();
-        let loaded = xbandsim::LoadedSpec::from_toml(&scene, "scene.toml", Path::new(".")).unwrap();
+        let (seed, loaded) = common::sample_scene(&dir);
         let sim = xbandsim::Simulation::new(loaded.build().unwrap());
         let radar = sim.scene().radar();
         let (join, noise_db) = (radar.join_bin(), radar.short_pulse_noise_db().unwrap());

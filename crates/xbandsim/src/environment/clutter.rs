@@ -222,6 +222,14 @@ impl NormalTable {
         NormalTable { log_t }
     }
 
+    /// `quantile(Φ(g))` from the table in `cell` (made on first use), evaluated outside it.
+    #[inline]
+    fn lookup(cell: &OnceLock<NormalTable>, quantile: impl Fn(f64) -> f64, g: f64) -> f64 {
+        cell.get_or_init(|| NormalTable::new(&quantile))
+            .at(g)
+            .unwrap_or_else(|| quantile(normal_cdf(g)))
+    }
+
     /// `T(g)`, or None outside the table.
     #[inline]
     fn at(&self, g: f64) -> Option<f64> {
@@ -273,10 +281,7 @@ impl GammaQuantile {
     /// table in `ln T` ([`NormalTable`]'s accuracy).
     #[inline]
     pub fn of_normal(&self, g: f64) -> f64 {
-        self.of_normal
-            .get_or_init(|| NormalTable::new(|u| self.quantile(u)))
-            .at(g)
-            .unwrap_or_else(|| self.quantile(normal_cdf(g)))
+        NormalTable::lookup(&self.of_normal, |u| self.quantile(u), g)
     }
 
     /// The table for shape ν exactly (cached process-wide by ν).
@@ -465,10 +470,7 @@ impl TabulatedQuantile {
     /// ([`NormalTable`]'s accuracy).
     #[inline]
     pub fn of_normal(&self, g: f64) -> f64 {
-        self.of_normal
-            .get_or_init(|| NormalTable::new(|u| self.quantile(u)))
-            .at(g)
-            .unwrap_or_else(|| self.quantile(normal_cdf(g)))
+        NormalTable::lookup(&self.of_normal, |u| self.quantile(u), g)
     }
 
     /// The value at probability `u` (clamped to the tabulated range).
