@@ -352,6 +352,7 @@ impl ClutterMap {
                     * tilt
                     / steps as f64
             };
+            let mut last_rain = (f64::NAN, 0.0);
             for (n, row) in rows.iter().enumerate() {
                 let Some(row) = row else { continue };
                 let (sea_factor, rain_volume_factor) = if tilt == 0.0 {
@@ -413,10 +414,12 @@ impl ClutterMap {
                     }
                 }
                 if let Some(rain) = &env.rain() {
-                    rain_row[n] = (volume_reflectivity_m2_per_m3(rain.rate_at(p), lambda)
-                        * rain_volume_factor
-                        * rain_loss
-                        * delta) as f32;
+                    // η changes only at cell edges along a spoke: recomputed when the rate does.
+                    let rate = rain.rate_at(p);
+                    if rate.to_bits() != last_rain.0.to_bits() {
+                        last_rain = (rate, volume_reflectivity_m2_per_m3(rate, lambda));
+                    }
+                    rain_row[n] = (last_rain.1 * rain_volume_factor * rain_loss * delta) as f32;
                 }
             }
             (sea_row, rain_row, texture_row)

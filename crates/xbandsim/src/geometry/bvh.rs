@@ -116,6 +116,14 @@ impl Bvh {
         self.nodes.first().map_or(Aabb::EMPTY, |n| n.bounds)
     }
 
+    /// Bounds of the primitives of scene object `object` (EMPTY if it has none).
+    pub fn object_bounds(&self, object: u32) -> Aabb {
+        self.primitives
+            .iter()
+            .filter(|p| p.object == object)
+            .fold(Aabb::EMPTY, |b, p| b.union(&p.bounds()))
+    }
+
     /// Closest intersection before `t_max_m`.
     pub fn closest_hit(&self, ray: &Ray, t_max_m: f64) -> Option<Hit> {
         if self.nodes.is_empty() {

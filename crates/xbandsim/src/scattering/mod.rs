@@ -178,13 +178,13 @@ pub fn trace_scene(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         let from = radar.position_m().truncate();
         let freq_ghz = radar.carrier_freq_hz() / 1e9;
         let horizontal = radar.polarisation() == crate::model::Polarisation::Hh;
+        // The specific attenuations (ITU-R P.838-3) once per scene, not per contribution.
+        let attenuator = rain.attenuator(freq_ghz, horizontal);
         let leg_db = |az: f64, el: f64, range_m: f64| {
-            rain.one_way_attenuation_db(
+            attenuator.one_way_db(
                 from,
                 glam::DVec2::new(az.sin(), az.cos()),
                 range_m * el.cos(),
-                freq_ghz,
-                horizontal,
             )
         };
         for c in &mut set.contributions {

@@ -99,3 +99,77 @@ fn objects_shadow_each_other() {
         "the hidden sphere returned something"
     );
 }
+
+/// Tube culling (`TubeGrid::window`) is exact: for ship-sized and small objects over the sea,
+/// one behind another, every tube outside an object's window (direct and via-sea grids)
+/// traced anyway returns nothing, and the window's tubes give `trace_object`'s returns.
+#[test]
+fn tubes_outside_the_window_return_nothing() {
+    use xbandsim::scattering::po::{
+        settings_for, trace_object, trace_tube, Illumination, TubeGrid,
+    };
+    let s = scene(
+        "[environment]\nnoise = false\nclutter = false\n[radar]\nposition_m = [0.0, 0.0, 12.0]\nmax_range_m = 1500.0\n[scattering]\nmax_rays_per_object = 4096\n\
+         [[object]]\nname = \"ship\"\nshape = \"vessel\"\nlength_m = 120.0\nbeam_m = 18.0\nfreeboard_m = 8.0\nmast_height_m = 25.0\nyaw_deg = 35.0\nposition_m = [200.0, 600.0, 0.0]\n\
+         [[object]]\nname = \"yacht\"\nshape = \"vessel\"\nlength_m = 9.0\nbeam_m = 3.0\nfreeboard_m = 0.8\nmast_height_m = 12.0\nyaw_deg = 250.0\nposition_m = [140.0, 420.0, 0.0]\n\
+         [[object]]\nname = \"buoy\"\nshape = \"buoy\"\nradius_m = 0.9\nheight_m = 0.7\nmast_height_m = 4.0\nposition_m = [-300.0, 250.0, 0.0]\n",
+    );
+    let bvh = xbandsim::scattering::build_scene_bvh(s.objects());
+    let settings = settings_for(&s);
+    let radar_m = s.radar().position_m();
+    let illumination = Illumination::FromPoint { radar_m };
+    for (index, obj) in s.objects().iter().enumerate() {
+        let index = index as u32;
+        let (centre, radius) = (obj.bounding_centre_m(), obj.shape().bounding_radius_m());
+        let bounds = bvh.object_bounds(index);
+        let mut all = Vec::new();
+        let (mut inside, mut outside) = (0usize, 0usize);
+        for via_sea in [false, true] {
+            let image = if via_sea {
+                glam::DVec3::new(centre.x, centre.y, -centre.z)
+            } else {
+                centre
+            };
+            let grid = TubeGrid::new(
+                illumination,
+                image,
+                radius,
+                settings.spacing_m,
+                settings.max_rays,
+                via_sea,
+            );
+            let (columns, rows) = grid.window(&bounds);
+            assert!(columns.len() < grid.cells_per_side || rows.len() < grid.cells_per_side);
+            for j in 0..grid.cells_per_side {
+                for i in 0..grid.cells_per_side {
+                    let mut out = Vec::new();
+                    trace_tube(&bvh, &grid, i, j, index, &settings, &mut out);
+                    if columns.contains(&i) && rows.contains(&j) {
+                        inside += 1;
+                        all.extend(out);
+                    } else {
+                        outside += 1;
+                        assert!(
+                            out.is_empty(),
+                            "object {index} tube ({i}, {j}) outside its window returned"
+                        );
+                    }
+                }
+            }
+        }
+        assert!(
+            outside > inside / 4,
+            "object {index}: only {outside} tubes culled"
+        );
+        let traced = trace_object(&bvh, illumination, centre, radius, index, &settings);
+        assert!(
+            !traced.returns.is_empty(),
+            "object {index} returned nothing"
+        );
+        assert_eq!(traced.returns.len(), all.len(), "object {index}");
+        for (a, b) in traced.returns.iter().zip(&all) {
+            assert_eq!(a.root_rcs_m, b.root_rcs_m);
+            assert_eq!(a.path_m, b.path_m);
+        }
+    }
+}

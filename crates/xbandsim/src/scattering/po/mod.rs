@@ -115,13 +115,16 @@ pub fn trace_object(
     };
     let mut returns = Vec::new();
     let mut rays = 0;
+    let bounds = bvh.object_bounds(index);
     for grid in &grids {
-        let rows: Vec<(Vec<TubeReturn>, u64)> = (0..grid.cells_per_side)
+        // Only the tubes that can meet the object's box: the rest return nothing.
+        let (columns, rows) = grid.window(&bounds);
+        let rows: Vec<(Vec<TubeReturn>, u64)> = rows
             .into_par_iter()
             .map(|j| {
                 let mut out = Vec::new();
                 let mut rays = 0;
-                for i in 0..grid.cells_per_side {
+                for i in columns.clone() {
                     rays += trace_tube(bvh, grid, i, j, index, s, &mut out);
                 }
                 (out, rays)
@@ -228,7 +231,7 @@ fn point_leg(
             ) {
                 return None;
             }
-            let (gh, gv) = sea.reflection((-dir.z).asin(), s.wavelength_m);
+            let (gh, gv) = sea.reflection_sin((-dir.z).clamp(-1.0, 1.0), s.wavelength_m);
             Some((
                 len,
                 dir,

@@ -4,11 +4,12 @@
 //! (docs/physics.md §2.2, §2.5; the formula is in the parent module's documentation).
 
 use super::super::carrier_phase;
-use crate::geometry::{Bvh, Ray};
+use crate::geometry::{Aabb, Bvh, Ray};
 use crate::model::Polarisation;
 use crate::propagation::SeaSurface;
 use glam::DVec3;
 use num_complex::Complex64;
+use std::ops::Range;
 
 /// Offset from a surface when launching the next segment, m.
 const SURFACE_OFFSET_M: f64 = 1e-6;
@@ -74,8 +75,7 @@ pub fn sea_reflect(
     sea: &SeaSurface,
     wavelength_m: f64,
 ) -> (ComplexVec3, DVec3) {
-    let grazing = (-k.z).clamp(-1.0, 1.0).asin();
-    let (gh, gv) = sea.reflection(grazing, wavelength_m);
+    let (gh, gv) = sea.reflection_sin((-k.z).clamp(-1.0, 1.0), wavelength_m);
     let mut h = k.cross(DVec3::Z);
     if h.length_squared() < 1e-24 {
         h = DVec3::X;
@@ -218,6 +218,79 @@ impl TubeGrid {
         let y = (j as f64 + 0.5) * self.spacing_m - self.radius_m;
         let r_max = self.radius_m + 0.71 * self.spacing_m;
         (x * x + y * y <= r_max * r_max).then(|| self.centre_m + self.axis_u * x + self.axis_v * y)
+    }
+
+    /// The tubes (columns `i`, rows `j`) whose rays can meet `bounds` (for a `via_sea` grid,
+    /// after the sea reflection): every other tube misses the box, so its first object hit
+    /// cannot be on what the box holds. A tube contributes only if its first object hit is
+    /// its target (the parent module), so tracing just these tubes gives the same returns.
+    ///
+    /// The box's corners are projected onto the grid plane along the rays (from the radar
+    /// for a point source, parallel for a plane wave; mirrored in z for a via-sea grid, whose
+    /// reflected rays continue the straight line to the image). Rays are a projection, so a
+    /// ray that meets the box crosses the plane inside the corners' bounding rectangle; one
+    /// cell of margin covers rounding. If a corner is not in front of the radar, every tube.
+    pub fn window(&self, bounds: &Aabb) -> (Range<usize>, Range<usize>) {
+        let all = (0..self.cells_per_side, 0..self.cells_per_side);
+        if !(bounds.min.cmple(bounds.max).all()) {
+            return (0..0, 0..0);
+        }
+        let (lo_z, hi_z) = if self.via_sea {
+            (-bounds.max.z, -bounds.min.z)
+        } else {
+            (bounds.min.z, bounds.max.z)
+        };
+        let (mut x_lo, mut x_hi, mut y_lo, mut y_hi) = (
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        );
+        for corner in 0..8 {
+            let p = DVec3::new(
+                if corner & 1 == 0 {
+                    bounds.min.x
+                } else {
+                    bounds.max.x
+                },
+                if corner & 2 == 0 {
+                    bounds.min.y
+                } else {
+                    bounds.max.y
+                },
+                if corner & 4 == 0 { lo_z } else { hi_z },
+            );
+            let on_plane = match self.illumination {
+                Illumination::FromPoint { radar_m } => {
+                    let axis = self.centre_m - radar_m;
+                    let depth = (p - radar_m).dot(axis);
+                    // Not in front of the radar (or NaN): cull nothing.
+                    if depth.is_nan() || depth <= 1e-6 * axis.length_squared() {
+                        return all;
+                    }
+                    radar_m + (p - radar_m) * (axis.length_squared() / depth)
+                }
+                Illumination::PlaneWave { .. } => p,
+            };
+            let x = (on_plane - self.centre_m).dot(self.axis_u);
+            let y = (on_plane - self.centre_m).dot(self.axis_v);
+            x_lo = x_lo.min(x);
+            x_hi = x_hi.max(x);
+            y_lo = y_lo.min(y);
+            y_hi = y_hi.max(y);
+        }
+        // Cell i's point is at (i + 1/2)·δ − r.
+        let cells = |lo: f64, hi: f64| {
+            let first = ((lo - self.spacing_m + self.radius_m) / self.spacing_m - 0.5).floor();
+            let last = ((hi + self.spacing_m + self.radius_m) / self.spacing_m - 0.5).ceil();
+            if !(first.is_finite() && last.is_finite()) {
+                return 0..self.cells_per_side;
+            }
+            let first = first.clamp(0.0, self.cells_per_side as f64) as usize;
+            let end = (last + 1.0).clamp(0.0, self.cells_per_side as f64) as usize;
+            first..end.max(first)
+        };
+        (cells(x_lo, x_hi), cells(y_lo, y_hi))
     }
 
     /// Launch of tube (i, j): origin, unit direction, the tube's unit transverse axes, and the
