@@ -152,6 +152,23 @@ pub fn write_frame_files(
     write_set(out, &encoded.files)
 }
 
+/// A frame's products before encoding: the images as arrays and the truth file's bytes.
+pub struct FrameProducts {
+    /// The PPI in dB over the noise, `size_px²` row-major (north or head up), NaN outside the
+    /// display circle.
+    pub ppi_db: Vec<f32>,
+    /// `ppi.png`'s pixels, RGB row-major, if asked for.
+    pub colour_rgb: Option<Vec<u8>>,
+    /// `ppi_gray.png`'s pixels, if asked for.
+    pub gray: Option<Vec<u8>>,
+    /// `truth.json`.
+    pub truth_json: Vec<u8>,
+    /// The objects' truth labelled for the image (`ppi_box_px`, `ppi_footprint_px`).
+    pub objects: Vec<ObjectTruth>,
+    /// The image's scan converter (pixel to polar cell).
+    pub converter: ScanConverter,
+}
+
 /// Encodes the files [`write_frame_files`] writes, with only the PPI images `images` asks
 /// for; `out` names the files in errors.
 pub fn encode_frame_files(
@@ -163,6 +180,68 @@ pub fn encode_frame_files(
     seed: u64,
     images: Images,
 ) -> Result<EncodedFrame> {
+    let p = frame_products(radar, display, frame, out, scene_name, seed, images)?;
+    let size = p.converter.size_px();
+    let mut files = vec![(
+        "polar.npy",
+        npy_f32_bytes(&[frame.spokes, frame.range_bins], &frame.polar_db),
+    )];
+    if let Some(rgb) = &p.colour_rgb {
+        files.push((
+            "ppi.png",
+            png_bytes(&out.join("ppi.png"), size, size, 3, rgb)?,
+        ));
+    }
+    if let Some(gray) = &p.gray {
+        files.push((
+            "ppi_gray.png",
+            png_bytes(&out.join("ppi_gray.png"), size, size, 1, gray)?,
+        ));
+    }
+    files.push(("truth.json", p.truth_json));
+    if let Some(c) = &frame.doppler_cube {
+        files.push((
+            "doppler_cube.npy",
+            npy_f32_bytes(&[c.spokes, c.doppler_bins, c.range_bins], &c.values_db),
+        ));
+    }
+    if let Some(v) = &frame.radial_velocity {
+        files.push((
+            "radial_velocity.npy",
+            npy_f32_bytes(&[v.spokes, v.range_bins], &v.velocity_mps),
+        ));
+    }
+    if let Some(q) = &frame.iq {
+        files.push(("iq.npy", npy_c64_bytes(&[q.pulses, q.samples], &q.values)));
+        let columns: Vec<f64> = (0..q.pulses)
+            .flat_map(|i| {
+                [
+                    q.times_s[i],
+                    q.azimuths_rad[i].to_degrees(),
+                    q.spokes[i] as f64,
+                ]
+            })
+            .collect();
+        files.push(("iq_pulses.npy", npy_f64_bytes(&[q.pulses, 3], &columns)));
+    }
+    Ok(EncodedFrame {
+        files,
+        objects: p.objects,
+        converter: p.converter,
+    })
+}
+
+/// The PPI images (those `images` asks for) and the truth file of a frame, as
+/// [`encode_frame_files`] encodes them; `out` names the truth file in errors.
+pub fn frame_products(
+    radar: &Radar,
+    display: &PpiSettings,
+    frame: &Frame,
+    out: &Path,
+    scene_name: &str,
+    seed: u64,
+    images: Images,
+) -> Result<FrameProducts> {
     let conv = display.frame_scan_converter(radar, frame.own_ship.as_ref());
     let geometry = conv.geometry();
     let size = conv.size_px();
@@ -186,37 +265,18 @@ pub fn encode_frame_files(
     let approaching = velocity
         .filter(|_| d.doppler_colour)
         .map(|v| move |i: usize| v.approaching(i, threshold_db));
-    let polar = npy_f32_bytes(&[frame.spokes, frame.range_bins], &frame.polar_db);
-    let colour = if images.colour {
-        Some(png_bytes(
-            &out.join("ppi.png"),
-            size,
-            size,
-            3,
-            &colour_image_marked(
-                &conv,
-                &ppi,
-                approaching.as_ref().map(|f| f as &dyn Fn(usize) -> bool),
-                d.colormap,
-                d.min_db,
-                d.max_db,
-                d.range_ring_spacing_m,
-            ),
-        )?)
-    } else {
-        None
-    };
-    let gray = if images.gray {
-        Some(png_bytes(
-            &out.join("ppi_gray.png"),
-            size,
-            size,
-            1,
-            &gray_image(&ppi, d.min_db, d.max_db),
-        )?)
-    } else {
-        None
-    };
+    let colour = images.colour.then(|| {
+        colour_image_marked(
+            &conv,
+            &ppi,
+            approaching.as_ref().map(|f| f as &dyn Fn(usize) -> bool),
+            d.colormap,
+            d.min_db,
+            d.max_db,
+            d.range_ring_spacing_m,
+        )
+    });
+    let gray = images.gray.then(|| gray_image(&ppi, d.min_db, d.max_db));
     let truth = TruthFile {
         scene: scene_name.to_string(),
         seed,
@@ -257,42 +317,12 @@ pub fn encode_frame_files(
         objects: &objects,
         trace: TraceCounts::of(&frame.stats),
     };
-    let truth = json_bytes(&out.join("truth.json"), &truth)?;
-    let mut files = vec![("polar.npy", polar)];
-    if let Some(png) = colour {
-        files.push(("ppi.png", png));
-    }
-    if let Some(png) = gray {
-        files.push(("ppi_gray.png", png));
-    }
-    files.push(("truth.json", truth));
-    if let Some(c) = &frame.doppler_cube {
-        files.push((
-            "doppler_cube.npy",
-            npy_f32_bytes(&[c.spokes, c.doppler_bins, c.range_bins], &c.values_db),
-        ));
-    }
-    if let Some(v) = velocity {
-        files.push((
-            "radial_velocity.npy",
-            npy_f32_bytes(&[v.spokes, v.range_bins], &v.velocity_mps),
-        ));
-    }
-    if let Some(q) = &frame.iq {
-        files.push(("iq.npy", npy_c64_bytes(&[q.pulses, q.samples], &q.values)));
-        let columns: Vec<f64> = (0..q.pulses)
-            .flat_map(|i| {
-                [
-                    q.times_s[i],
-                    q.azimuths_rad[i].to_degrees(),
-                    q.spokes[i] as f64,
-                ]
-            })
-            .collect();
-        files.push(("iq_pulses.npy", npy_f64_bytes(&[q.pulses, 3], &columns)));
-    }
-    Ok(EncodedFrame {
-        files,
+    let truth_json = json_bytes(&out.join("truth.json"), &truth)?;
+    Ok(FrameProducts {
+        ppi_db: ppi,
+        colour_rgb: colour,
+        gray,
+        truth_json,
         objects,
         converter: conv,
     })
