@@ -2,7 +2,9 @@
 # The README's test command (and CI's): every Rust test — the physics against closed forms,
 # the labels, the CLI, `xbandsim validate`'s checks, the golden hashes —, then a dataset's
 # label files through a real COCO client (pycocotools in a virtual environment under target/,
-# installed from PyPI on first use; scripts/check_labels.py).
+# installed from PyPI on first use; scripts/check_labels.py), then the Python package
+# (crates/xbandsim-py, built by pip with maturin into the same environment) and its pytest
+# suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -23,3 +25,7 @@ target/release/xbandsim dataset datasets/detection.toml --out target/check-shard
 "$venv/bin/python" scripts/check_labels.py target/check-shards
 target/release/xbandsim dataset schema > target/dataset-spec.schema.json
 "$venv/bin/python" scripts/check_schema.py target/dataset-spec.schema.json datasets/*.toml
+
+echo "== the Python package (pip install ./crates/xbandsim-py, then pytest)"
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check --force-reinstall --no-deps ./crates/xbandsim-py
+"$venv/bin/python" -m pytest -q crates/xbandsim-py/tests

@@ -24,6 +24,8 @@ pub struct LoadedSpec {
     text: String,
     base_dir: PathBuf,
     overrides: Vec<String>,
+    /// How overrides are named in errors: `--set` (the CLI) or the caller's word.
+    overrides_label: String,
 }
 
 impl LoadedSpec {
@@ -50,13 +52,25 @@ impl LoadedSpec {
             text: text.to_string(),
             base_dir: base_dir.to_path_buf(),
             overrides: Vec::new(),
+            overrides_label: "--set".into(),
         })
     }
 
     /// Applies overrides `FIELD=VALUE` in order, FIELD a dotted path (`radar.spokes`,
     /// `environment.sea_state`, `object[0].yaw_deg`, `environment.rain_cell[1].radius_m`) and
     /// VALUE a TOML value (`2`, `true`, `[0.0, 0.0, 8.0]`; a bare word is read as a string).
-    pub fn with_overrides<S: AsRef<str>>(mut self, sets: &[S]) -> Result<LoadedSpec> {
+    pub fn with_overrides<S: AsRef<str>>(self, sets: &[S]) -> Result<LoadedSpec> {
+        self.with_overrides_named("--set", sets)
+    }
+
+    /// [`LoadedSpec::with_overrides`], naming them `label` in errors instead of `--set` (the
+    /// Python binding says `settings`).
+    pub fn with_overrides_named<S: AsRef<str>>(
+        mut self,
+        label: &str,
+        sets: &[S],
+    ) -> Result<LoadedSpec> {
+        self.overrides_label = label.to_string();
         if sets.is_empty() {
             return Ok(self);
         }
@@ -68,7 +82,7 @@ impl LoadedSpec {
             let set = set.as_ref();
             let (field, value) = parse_override(set)?;
             assign(&mut doc, &field, value).map_err(|reason| Error::SceneSyntax {
-                path: format!("--set {set}"),
+                path: format!("{} {set}", self.overrides_label),
                 message: reason,
             })?;
             self.overrides.push(field);
@@ -76,7 +90,12 @@ impl LoadedSpec {
         self.spec = toml::Value::Table(doc)
             .try_into()
             .map_err(|e: toml::de::Error| Error::SceneSyntax {
-                path: format!("{} with --set {}", self.origin, self.overrides.join(", ")),
+                path: format!(
+                    "{} with {} {}",
+                    self.origin,
+                    self.overrides_label,
+                    self.overrides.join(", ")
+                ),
                 message: e.to_string().trim_end().to_string(),
             })?;
         Ok(self)
@@ -146,7 +165,7 @@ impl LoadedSpec {
         let overridden = self.overrides.iter().any(|o| o == field);
         let location = if overridden {
             Location {
-                origin: "--set".into(),
+                origin: self.overrides_label.clone(),
                 line_column: None,
             }
         } else {

@@ -1,0 +1,361 @@
+//! The Python binding of xbandsim (`import xbandsim`; docs/python.md).
+//!
+//! It converts, and does nothing else: Python values to scene text and overrides, the
+//! library's results to NumPy arrays (moved, not copied) and JSON text, and each kind of
+//! library error to its own Python exception class (declared in `python/xbandsim/errors.py`
+//! and looked up here by name). The simulation runs with the GIL released. The Python layer
+//! (`python/xbandsim/`) wraps these functions in classes.
+
+use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::{Path, PathBuf};
+use xbandsim::engine::{Outputs, Simulation};
+use xbandsim::products::frame_files::{frame_products, Images};
+use xbandsim::scene::LoadedSpec;
+use xbandsim_dataset::{generate, DatasetError, DatasetSpec, Format, Request, Shard};
+
+/// The Python exception for a library error: `(class name in xbandsim.errors, message)`.
+fn library_error_class(e: &xbandsim::Error) -> &'static str {
+    use xbandsim::Error as E;
+    match e {
+        E::SceneSyntax { .. } => "SceneSyntaxError",
+        E::InvalidField { .. } => "InvalidFieldError",
+        E::MissingField { .. } => "MissingFieldError",
+        E::Io { .. } => "XbandsimIOError",
+        E::Mesh { .. } => "MeshError",
+        E::Encode { .. } => "EncodeError",
+        _ => "XbandsimError",
+    }
+}
+
+/// Raises `class_name` from `xbandsim.errors` with `message`, and the error's field and
+/// problem as attributes when it has them.
+fn raise(
+    py: Python<'_>,
+    class_name: &str,
+    message: String,
+    field: Option<String>,
+    problem: Option<String>,
+) -> PyErr {
+    let made = (|| -> PyResult<PyErr> {
+        let class = py.import("xbandsim.errors")?.getattr(class_name)?;
+        let exc = class.call1((message.clone(),))?;
+        exc.setattr("field", field)?;
+        exc.setattr("problem", problem)?;
+        Ok(PyErr::from_value(exc))
+    })();
+    made.unwrap_or_else(|e| e)
+}
+
+fn library_error(py: Python<'_>, e: xbandsim::Error) -> PyErr {
+    let field = e.field().map(str::to_string);
+    let problem = e.problem().map(|p| p.to_string());
+    raise(py, library_error_class(&e), e.to_string(), field, problem)
+}
+
+fn dataset_error(py: Python<'_>, e: DatasetError) -> PyErr {
+    match e {
+        DatasetError::Scene { source, index } => {
+            let class = library_error_class(&source);
+            let field = source.field().map(str::to_string);
+            let problem = source.problem().map(|p| p.to_string());
+            raise(
+                py,
+                class,
+                format!("sample {index}: {source}"),
+                field,
+                problem,
+            )
+        }
+        DatasetError::Spec { ref field, .. } => {
+            let field = Some(field.clone());
+            raise(py, "DatasetSpecError", e.to_string(), field, None)
+        }
+        DatasetError::Io { .. } => raise(py, "XbandsimIOError", e.to_string(), None, None),
+        DatasetError::Mismatch { .. } => {
+            raise(py, "DatasetMismatchError", e.to_string(), None, None)
+        }
+    }
+}
+
+/// A parsed scene file with its overrides (`xbandsim.Scene` wraps it).
+#[pyclass(module = "xbandsim._xbandsim", frozen)]
+struct SceneSpec {
+    spec: LoadedSpec,
+}
+
+/// The scene's objects and settings, built and checked, ready to render
+/// (`xbandsim.Simulation` wraps it).
+#[pyclass(module = "xbandsim._xbandsim", frozen)]
+struct Sim {
+    sim: Simulation,
+    display: xbandsim::products::ppi::PpiSettings,
+    name: String,
+}
+
+/// A JSON value as a TOML value (TOML has no null).
+fn json_to_toml(v: &serde_json::Value, path: &str) -> Result<toml::Value, String> {
+    use serde_json::Value as J;
+    Ok(match v {
+        J::Null => {
+            return Err(format!(
+                "{path}: None has no TOML form; leave the field out instead"
+            ))
+        }
+        J::Bool(b) => toml::Value::Boolean(*b),
+        J::Number(n) => match n.as_i64() {
+            Some(i) => toml::Value::Integer(i),
+            None => toml::Value::Float(n.as_f64().ok_or_else(|| format!("{path}: {n}"))?),
+        },
+        J::String(s) => toml::Value::String(s.clone()),
+        J::Array(a) => toml::Value::Array(
+            a.iter()
+                .enumerate()
+                .map(|(i, x)| json_to_toml(x, &format!("{path}[{i}]")))
+                .collect::<Result<_, _>>()?,
+        ),
+        J::Object(m) => {
+            let mut t = toml::map::Map::new();
+            for (k, x) in m {
+                let sub = if path.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{path}.{k}")
+                };
+                t.insert(k.clone(), json_to_toml(x, &sub)?);
+            }
+            toml::Value::Table(t)
+        }
+    })
+}
+
+#[pymethods]
+impl SceneSpec {
+    /// Reads a scene file (mesh files relative to its folder).
+    #[staticmethod]
+    fn read(py: Python<'_>, path: PathBuf) -> PyResult<SceneSpec> {
+        let spec = py
+            .detach(|| LoadedSpec::read(&path))
+            .map_err(|e| library_error(py, e))?;
+        Ok(SceneSpec { spec })
+    }
+
+    /// Parses scene TOML text; `name` names it in errors, mesh files relative to `base_dir`.
+    #[staticmethod]
+    fn from_toml(py: Python<'_>, text: &str, name: &str, base_dir: PathBuf) -> PyResult<SceneSpec> {
+        let spec =
+            LoadedSpec::from_toml(text, name, &base_dir).map_err(|e| library_error(py, e))?;
+        Ok(SceneSpec { spec })
+    }
+
+    /// Parses a scene given as JSON text (the Python layer's `json.dumps` of a dict).
+    #[staticmethod]
+    fn from_json(py: Python<'_>, json: &str, name: &str, base_dir: PathBuf) -> PyResult<SceneSpec> {
+        let value: serde_json::Value =
+            serde_json::from_str(json).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let toml_value = json_to_toml(&value, "")
+            .map_err(|m| raise(py, "SceneSyntaxError", format!("{name}: {m}"), None, None))?;
+        let text = toml::to_string(&toml_value)
+            .map_err(|e| raise(py, "SceneSyntaxError", format!("{name}: {e}"), None, None))?;
+        Self::from_toml(py, &text, name, base_dir)
+    }
+
+    /// The same scene with `(field, JSON value)` overrides applied in order.
+    fn with_overrides(&self, py: Python<'_>, pairs: Vec<(String, String)>) -> PyResult<SceneSpec> {
+        let mut sets = Vec::with_capacity(pairs.len());
+        for (field, json) in pairs {
+            let value: serde_json::Value =
+                serde_json::from_str(&json).map_err(|e| PyValueError::new_err(e.to_string()))?;
+            let v = json_to_toml(&value, &field)
+                .map_err(|m| raise(py, "InvalidFieldError", m, Some(field.clone()), None))?;
+            sets.push(format!("{field}={v}"));
+        }
+        let spec = self
+            .spec
+            .clone()
+            .with_overrides_named("settings", &sets)
+            .map_err(|e| library_error(py, e))?;
+        Ok(SceneSpec { spec })
+    }
+
+    /// Where the scene came from (file path or name).
+    #[getter]
+    fn origin(&self) -> String {
+        self.spec.origin().to_string()
+    }
+
+    /// Builds and checks the scene.
+    fn build(&self, py: Python<'_>) -> PyResult<Sim> {
+        let spec = &self.spec;
+        let (scene, display) = py
+            .detach(|| Ok::<_, xbandsim::Error>((spec.build()?, spec.ppi_settings()?)))
+            .map_err(|e| library_error(py, e))?;
+        Ok(Sim {
+            sim: Simulation::new(scene),
+            display,
+            name: spec.origin().to_string(),
+        })
+    }
+}
+
+#[pymethods]
+impl Sim {
+    /// Renders revolution `frame` with `seed`: a dict of NumPy arrays and the truth JSON.
+    #[pyo3(signature = (seed, frame, iq, doppler_cube, images))]
+    fn render<'py>(
+        &self,
+        py: Python<'py>,
+        seed: u64,
+        frame: u64,
+        iq: bool,
+        doppler_cube: bool,
+        images: bool,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let outputs = Outputs {
+            doppler_cube,
+            iq,
+            radial_velocity: self.display.doppler_colour,
+        };
+        let radar = self.sim.scene().radar();
+        let rendered = py.detach(|| {
+            self.sim.check_outputs(outputs)?;
+            let f = self
+                .sim
+                .render_frame_outputs(seed, frame, outputs, &|| {})?;
+            let products = frame_products(
+                radar,
+                &self.display,
+                &f,
+                Path::new("."),
+                &self.name,
+                seed,
+                Images {
+                    colour: images,
+                    gray: images,
+                },
+            )?;
+            Ok::<_, xbandsim::Error>((f, products))
+        });
+        let (f, p) = rendered.map_err(|e| library_error(py, e))?;
+        let out = PyDict::new(py);
+        let size = p.converter.size_px() as usize;
+        out.set_item(
+            "polar_db",
+            f.polar_db
+                .into_pyarray(py)
+                .reshape([f.spokes, f.range_bins])?,
+        )?;
+        out.set_item("ppi_db", p.ppi_db.into_pyarray(py).reshape([size, size])?)?;
+        match p.gray {
+            Some(g) => out.set_item("ppi_gray", g.into_pyarray(py).reshape([size, size])?)?,
+            None => out.set_item("ppi_gray", py.None())?,
+        }
+        match p.colour_rgb {
+            Some(c) => out.set_item("ppi_rgb", c.into_pyarray(py).reshape([size, size, 3])?)?,
+            None => out.set_item("ppi_rgb", py.None())?,
+        }
+        match f.doppler_cube {
+            Some(c) => out.set_item(
+                "doppler_cube_db",
+                c.values_db
+                    .into_pyarray(py)
+                    .reshape([c.spokes, c.doppler_bins, c.range_bins])?,
+            )?,
+            None => out.set_item("doppler_cube_db", py.None())?,
+        }
+        match f.iq {
+            Some(q) => {
+                let (pulses, samples) = (q.pulses, q.samples);
+                let values: Vec<numpy::Complex32> = q
+                    .values
+                    .iter()
+                    .map(|c| numpy::Complex32::new(c.re, c.im))
+                    .collect();
+                out.set_item("iq", values.into_pyarray(py).reshape([pulses, samples])?)?;
+                out.set_item("iq_times_s", PyArray1::from_vec(py, q.times_s))?;
+                let az: Vec<f64> = q.azimuths_rad.iter().map(|a| a.to_degrees()).collect();
+                out.set_item("iq_azimuth_deg", PyArray1::from_vec(py, az))?;
+                let spokes: Vec<u64> = q.spokes.iter().map(|&s| s as u64).collect();
+                out.set_item("iq_spoke", PyArray1::from_vec(py, spokes))?;
+            }
+            None => out.set_item("iq", py.None())?,
+        }
+        let truth =
+            String::from_utf8(p.truth_json).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        out.set_item("truth_json", truth)?;
+        Ok(out)
+    }
+
+    /// (spokes, range bins, range bin m, image size px).
+    #[getter]
+    fn shape(&self) -> (usize, usize, f64, u32) {
+        let r = self.sim.scene().radar();
+        (
+            r.spokes(),
+            r.num_range_bins(),
+            r.range_bin_m(),
+            self.display.image_size_px,
+        )
+    }
+}
+
+/// Generates (or resumes) a dataset; returns the run's counts.
+#[pyfunction]
+#[pyo3(signature = (spec_path, out, count, seed, shard, jobs, shard_samples))]
+fn generate_dataset<'py>(
+    py: Python<'py>,
+    spec_path: PathBuf,
+    out: PathBuf,
+    count: u64,
+    seed: u64,
+    shard: Option<String>,
+    jobs: usize,
+    shard_samples: Option<u64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let run = py.detach(|| {
+        let spec = DatasetSpec::read(&spec_path)?;
+        let shard = match &shard {
+            Some(s) => Shard::parse(s)?,
+            None => Shard::ALL,
+        };
+        let format = match shard_samples {
+            Some(n) => Format::WebDataset {
+                samples_per_shard: n,
+            },
+            None => Format::Dir,
+        };
+        let request = Request {
+            count,
+            seed,
+            shard,
+            jobs,
+            format,
+        };
+        generate(&spec, &out, &request, &|| {})
+    });
+    let summary = run.map_err(|e| dataset_error(py, e))?;
+    let d = PyDict::new(py);
+    d.set_item("in_shard", summary.in_shard)?;
+    d.set_item("skipped", summary.skipped)?;
+    d.set_item("made", summary.made)?;
+    d.set_item("missing", summary.missing)?;
+    d.set_item("assembled", summary.assembled.is_some())?;
+    Ok(d)
+}
+
+/// The library's version.
+#[pyfunction]
+fn version() -> &'static str {
+    env!("CARGO_PKG_VERSION")
+}
+
+#[pymodule]
+fn _xbandsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<SceneSpec>()?;
+    m.add_class::<Sim>()?;
+    m.add_function(wrap_pyfunction!(generate_dataset, m)?)?;
+    m.add_function(wrap_pyfunction!(version, m)?)?;
+    Ok(())
+}

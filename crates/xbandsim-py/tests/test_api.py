@@ -1,0 +1,160 @@
+"""The Python API over the Rust core: shapes, dtypes, determinism, scene sources, settings,
+exceptions, the GIL released while rendering, and the dataset generator."""
+
+import json
+import threading
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import xbandsim
+
+ROOT = Path(__file__).resolve().parents[3]
+PAPER = ROOT / "scenes" / "paper.toml"
+
+SMALL = """
+[radar]
+spokes = 90
+max_range_m = 1500.0
+
+[environment]
+clutter = false
+
+[[object]]
+name = "buoy"
+shape = "point"
+rcs_m2 = 10.0
+position_m = [0.0, 800.0, 2.0]
+"""
+
+
+def test_render_paper_scene_shapes_and_dtypes():
+    sim = xbandsim.Simulation(PAPER)
+    frame = sim.render(seed=0)
+    assert frame.polar_db.dtype == np.float32
+    assert frame.polar_db.shape == sim.polar_shape
+    size = sim.image_size_px
+    assert frame.ppi_db.shape == (size, size) and frame.ppi_db.dtype == np.float32
+    assert frame.ppi_gray.shape == (size, size) and frame.ppi_gray.dtype == np.uint8
+    assert frame.ppi_rgb.shape == (size, size, 3) and frame.ppi_rgb.dtype == np.uint8
+    assert np.isnan(frame.ppi_db[0, 0]) and np.isfinite(frame.ppi_db[size // 2, size // 2])
+    assert [o["name"] for o in frame.objects] == [o["name"] for o in frame.truth["objects"]]
+    assert len(frame.objects) == 5
+    assert frame.truth["spokes"] == frame.polar_db.shape[0]
+    assert frame.iq is None and frame.doppler_cube_db is None
+
+
+def test_same_seed_same_arrays_other_seed_other_noise():
+    sim = xbandsim.Simulation(PAPER)
+    a, b, c = sim.render(seed=3), sim.render(seed=3), sim.render(seed=4)
+    assert np.array_equal(a.polar_db, b.polar_db)
+    assert np.array_equal(a.ppi_rgb, b.ppi_rgb)
+    assert a.truth == b.truth
+    assert not np.array_equal(a.polar_db, c.polar_db)
+
+
+def test_toml_text_dict_and_file_give_the_same_frame(tmp_path):
+    path = tmp_path / "small.toml"
+    path.write_text(SMALL)
+    from_file = xbandsim.Simulation(path).render(seed=1)
+    from_text = xbandsim.Scene.from_toml(SMALL).simulation().render(seed=1)
+    scene = {
+        "radar": {"spokes": 90, "max_range_m": 1500.0},
+        "environment": {"clutter": False},
+        "object": [
+            {"name": "buoy", "shape": "point", "rcs_m2": 10.0, "position_m": [0.0, 800.0, 2.0]}
+        ],
+    }
+    from_dict = xbandsim.Scene.from_dict(scene).simulation().render(seed=1)
+    assert np.array_equal(from_file.polar_db, from_text.polar_db)
+    assert np.array_equal(from_file.polar_db, from_dict.polar_db)
+    # The point target's echo (north, spoke 0) peaks at its slant range, far above the noise.
+    sim = xbandsim.Simulation(path)
+    truth = from_file.objects[0]
+    spoke0 = from_file.polar_db[0]
+    assert spoke0.max() > 20.0
+    assert abs(np.argmax(spoke0) * sim.range_bin_m - truth["range_m"]) < 2 * sim.range_bin_m
+
+
+def test_settings_change_the_scene():
+    scene = xbandsim.Scene.from_toml(SMALL)
+    changed = scene.with_settings({"radar.spokes": 45, "display.image_size_px": np.int64(128)})
+    sim = changed.simulation()
+    frame = sim.render()
+    assert frame.polar_db.shape[0] == 45
+    assert frame.ppi_gray.shape == (128, 128)
+    # The original is untouched.
+    assert scene.simulation().render().polar_db.shape[0] == 90
+
+
+def test_iq_output():
+    sim = xbandsim.Scene.from_toml(SMALL).simulation()
+    frame = sim.render(iq=True, images=False)
+    assert frame.ppi_gray is None and frame.ppi_rgb is None
+    assert frame.iq.dtype == np.complex64 and frame.iq.shape[0] == 90
+    assert frame.iq_pulses["spoke"].shape == (90,)
+    assert frame.truth["iq"]["shape"] == list(frame.iq.shape)
+
+
+def test_errors_name_the_field_and_the_file(tmp_path):
+    with pytest.raises(xbandsim.InvalidFieldError) as e:
+        xbandsim.Scene.from_toml(SMALL).with_settings({"radar.pulse_width_us": -1.0}).simulation()
+    assert e.value.field == "radar.pulse_width_us" and e.value.problem == "out of range"
+    assert str(e.value).startswith("settings: ") and "-1" in str(e.value)
+    assert isinstance(e.value, ValueError) and isinstance(e.value, xbandsim.XbandsimError)
+
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[radar]\nspokes = \n")
+    with pytest.raises(xbandsim.SceneSyntaxError) as e:
+        xbandsim.Scene.from_file(bad)
+    assert "bad.toml" in str(e.value)
+
+    with pytest.raises(xbandsim.SceneSyntaxError) as e:
+        xbandsim.Scene.from_toml(SMALL.replace('"point"', '"pyramid"'), name="mine.toml")
+    assert "mine.toml" in str(e.value) and "pyramid" in str(e.value)
+
+    with pytest.raises(xbandsim.XbandsimIOError):
+        xbandsim.Simulation(tmp_path / "missing.toml")
+    with pytest.raises(OSError):
+        xbandsim.Scene.from_file(tmp_path / "missing.toml")
+
+    with pytest.raises(xbandsim.SceneSyntaxError):
+        xbandsim.Scene.from_dict({"radar": {"spokes": None}})
+    with pytest.raises(xbandsim.InvalidFieldError):
+        xbandsim.Simulation(PAPER).render(seed=-1)
+
+
+def test_threads_render_concurrently_with_the_gil_released():
+    sim = xbandsim.Simulation(PAPER)
+    want = sim.render(seed=5).polar_db
+    results = {}
+
+    def work(k):
+        results[k] = sim.render(seed=5).polar_db
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(3)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert all(np.array_equal(results[k], want) for k in range(3))
+
+
+def test_dataset_generate(tmp_path):
+    out = tmp_path / "ds"
+    summary = xbandsim.dataset.generate(ROOT / "datasets" / "detection.toml", out, count=3, seed=2)
+    assert summary == {"in_shard": 3, "skipped": 0, "made": 3, "missing": 0, "assembled": True}
+    coco = json.loads((out / "annotations.json").read_text())
+    assert len(coco["images"]) == 3
+    again = xbandsim.dataset.generate(ROOT / "datasets" / "detection.toml", out, count=3, seed=2)
+    assert again["skipped"] == 3 and again["made"] == 0
+    with pytest.raises(xbandsim.DatasetSpecError) as e:
+        xbandsim.dataset.generate(ROOT / "datasets" / "detection.toml", tmp_path / "x", count=0)
+    assert e.value.field == "--count"
+    with pytest.raises(xbandsim.DatasetMismatchError):
+        xbandsim.dataset.generate(ROOT / "datasets" / "detection.toml", out, count=3, seed=9)
+
+
+def test_version():
+    assert xbandsim.__version__.count(".") == 2
