@@ -96,6 +96,66 @@ pub fn rle_string(counts: &[u64]) -> String {
     s
 }
 
+/// The run lengths of a COCO compressed RLE string ([`rle_string`]'s inverse, as pycocotools
+/// reads it); an error names the first character that is not part of the alphabet.
+pub fn rle_from_string(s: &str) -> std::result::Result<Vec<u64>, String> {
+    let bytes = s.as_bytes();
+    let mut counts: Vec<u64> = Vec::new();
+    let mut p = 0;
+    while p < bytes.len() {
+        let (mut x, mut k) = (0i64, 0u32);
+        loop {
+            let Some(&b) = bytes.get(p) else {
+                return Err(format!("RLE string ends inside a count at character {p}"));
+            };
+            if !(48..48 + 64).contains(&b) || k > 12 {
+                return Err(format!("character {p} ({:?}) is not RLE text", b as char));
+            }
+            let c = i64::from(b - 48);
+            x |= (c & 0x1f) << (5 * k);
+            p += 1;
+            k += 1;
+            if c & 0x20 == 0 {
+                if c & 0x10 != 0 {
+                    x |= -1i64 << (5 * k);
+                }
+                break;
+            }
+        }
+        if counts.len() > 2 {
+            x += counts[counts.len() - 2] as i64;
+        }
+        counts.push(u64::try_from(x).map_err(|_| format!("negative run {x} in RLE text"))?);
+    }
+    Ok(counts)
+}
+
+/// A `height × width` mask, row-major, from COCO run lengths (column-major, zeros first).
+pub fn mask_from_rle(
+    counts: &[u64],
+    height: usize,
+    width: usize,
+) -> std::result::Result<Vec<u8>, String> {
+    let total: u64 = counts.iter().sum();
+    if total != (height * width) as u64 {
+        return Err(format!(
+            "RLE runs cover {total} pixels, the mask has {height} x {width}"
+        ));
+    }
+    let mut mask = vec![0u8; height * width];
+    let mut at = 0usize;
+    for (i, &run) in counts.iter().enumerate() {
+        if i % 2 == 1 {
+            for k in at..at + run as usize {
+                let (x, y) = (k / height, k % height);
+                mask[y * width + x] = 1;
+            }
+        }
+        at += run as usize;
+    }
+    Ok(mask)
+}
+
 /// Oriented boxes smaller than this on the image are not written (a point's four equal
 /// corners, a plate seen edge-on, a kayak at 3 km): px².
 pub const MIN_OBB_AREA_PX2: f64 = 1.0;
@@ -421,6 +481,35 @@ mod tests {
         ] {
             assert_eq!(decode(&rle_string(&counts)), counts);
         }
+    }
+
+    #[test]
+    fn rle_text_and_masks_round_trip() {
+        let (h, w) = (7, 5);
+        for seed in 0..40u64 {
+            // A pseudo-random mask with long and short runs.
+            let pixels: Vec<bool> = (0..h * w)
+                .map(|i| ((i as u64 * 2654435761 + seed * 97) >> 5) % (2 + seed % 5) == 0)
+                .collect();
+            let m = Mask {
+                width: w,
+                height: h,
+                pixels: pixels.clone(),
+            };
+            let counts = m.rle_counts();
+            let text = rle_string(&counts);
+            assert_eq!(rle_from_string(&text).unwrap(), counts, "{text}");
+            let back = mask_from_rle(&counts, h, w).unwrap();
+            assert_eq!(
+                back,
+                pixels.iter().map(|&p| u8::from(p)).collect::<Vec<_>>()
+            );
+        }
+        // Large runs take several characters, and differences go negative.
+        let counts = vec![0, 100_000, 3, 70_000, 1];
+        assert_eq!(rle_from_string(&rle_string(&counts)).unwrap(), counts);
+        assert!(rle_from_string("a b").is_err());
+        assert!(mask_from_rle(&[3, 4], 3, 3).is_err());
     }
 
     #[test]

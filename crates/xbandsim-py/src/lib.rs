@@ -345,6 +345,76 @@ fn generate_dataset<'py>(
     Ok(d)
 }
 
+/// The files of sample `index` of the dataset of `spec_path` made with `seed`, rendered in
+/// memory (the bytes `xbandsim dataset` stores): `[(relative name, bytes)]`.
+#[pyfunction]
+fn render_sample<'py>(
+    py: Python<'py>,
+    spec_path: PathBuf,
+    seed: u64,
+    index: u64,
+) -> PyResult<Vec<(String, Bound<'py, pyo3::types::PyBytes>)>> {
+    let files = py
+        .detach(|| {
+            let spec = DatasetSpec::read(&spec_path)?;
+            xbandsim_dataset::render_sample(&spec, seed, index, Format::Dir)
+        })
+        .map_err(|e| dataset_error(py, e))?;
+    Ok(files
+        .into_iter()
+        .map(|(name, bytes)| (name, pyo3::types::PyBytes::new(py, &bytes)))
+        .collect())
+}
+
+/// A COCO compressed-RLE mask as a `height × width` uint8 array (1 inside).
+#[pyfunction]
+fn decode_rle<'py>(
+    py: Python<'py>,
+    counts: &str,
+    height: usize,
+    width: usize,
+) -> PyResult<Bound<'py, numpy::PyArray2<u8>>> {
+    use xbandsim_dataset::labels::{mask_from_rle, rle_from_string};
+    let mask = rle_from_string(counts)
+        .and_then(|c| mask_from_rle(&c, height, width))
+        .map_err(PyValueError::new_err)?;
+    mask.into_pyarray(py).reshape([height, width])
+}
+
+/// An 8-bit PNG (gray or RGB, as the dataset writes them) as a `(height, width)` or
+/// `(height, width, 3)` uint8 array.
+#[pyfunction]
+fn decode_png<'py>(py: Python<'py>, data: &[u8]) -> PyResult<Bound<'py, PyAny>> {
+    let decoded = (|| -> Result<(Vec<u8>, usize, usize, usize), String> {
+        let mut reader = png::Decoder::new(std::io::Cursor::new(data))
+            .read_info()
+            .map_err(|e| e.to_string())?;
+        let mut buf = vec![0u8; reader.output_buffer_size()];
+        let info = reader.next_frame(&mut buf).map_err(|e| e.to_string())?;
+        if info.bit_depth != png::BitDepth::Eight {
+            return Err(format!(
+                "{:?}-bit PNG: only 8-bit images are read",
+                info.bit_depth
+            ));
+        }
+        let channels = match info.color_type {
+            png::ColorType::Grayscale => 1,
+            png::ColorType::Rgb => 3,
+            png::ColorType::Rgba => 4,
+            other => return Err(format!("{other:?} PNG: only gray, RGB and RGBA are read")),
+        };
+        buf.truncate(info.buffer_size());
+        Ok((buf, info.height as usize, info.width as usize, channels))
+    })();
+    let (buf, h, w, c) = decoded.map_err(PyValueError::new_err)?;
+    let array = buf.into_pyarray(py);
+    Ok(if c == 1 {
+        array.reshape([h, w])?.into_any()
+    } else {
+        array.reshape([h, w, c])?.into_any()
+    })
+}
+
 /// The library's version.
 #[pyfunction]
 fn version() -> &'static str {
@@ -357,5 +427,8 @@ fn _xbandsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Sim>()?;
     m.add_function(wrap_pyfunction!(generate_dataset, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
+    m.add_function(wrap_pyfunction!(render_sample, m)?)?;
+    m.add_function(wrap_pyfunction!(decode_rle, m)?)?;
+    m.add_function(wrap_pyfunction!(decode_png, m)?)?;
     Ok(())
 }

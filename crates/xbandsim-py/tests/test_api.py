@@ -158,3 +158,52 @@ def test_dataset_generate(tmp_path):
 
 def test_version():
     assert xbandsim.__version__.count(".") == 2
+
+
+def _items(ds):
+    return [ds[i] for i in range(len(ds))]
+
+
+def test_radar_dataset_folders_shards_and_on_the_fly_agree(tmp_path):
+    spec = ROOT / "datasets" / "detection.toml"
+    xbandsim.dataset.generate(spec, tmp_path / "dir", count=4, seed=5)
+    xbandsim.dataset.generate(spec, tmp_path / "wds", count=4, seed=5, shard_samples=3)
+    folders = xbandsim.data.RadarDataset(tmp_path / "dir", tensors=False)
+    shards = xbandsim.data.RadarDataset(tmp_path / "wds", tensors=False)
+    live = xbandsim.data.RadarDataset(spec, count=4, seed=5, tensors=False)
+    assert len(folders) == len(shards) == len(live) == 4
+    coco = json.loads((tmp_path / "dir" / "annotations.json").read_text())
+    labelled = 0
+    for (ia, ta), (ib, tb), (ic, tc) in zip(_items(folders), _items(shards), _items(live)):
+        assert ia.dtype == np.float32 and ia.shape == (1, 512, 512)
+        assert 0.0 <= ia.min() and ia.max() <= 1.0
+        assert np.array_equal(ia, ib) and np.array_equal(ia, ic)
+        for key in ("boxes", "labels", "area", "track_ids", "masks"):
+            assert np.array_equal(ta[key], tb[key]) and np.array_equal(ta[key], tc[key]), key
+        # The boxes are the dataset's COCO boxes (x, y, w, h -> x0, y0, x1, y1).
+        image = next(im for im in coco["images"] if im["sample"] == ta["sample"])
+        want = [a for a in coco["annotations"] if a["image_id"] == image["id"]]
+        assert len(want) == len(ta["boxes"])
+        for a, box, mask, area in zip(want, ta["boxes"], ta["masks"], ta["area"]):
+            x, y, w, h = a["bbox"]
+            assert list(box) == [x, y, x + w, y + h]
+            # Each mask is the box's tight mask and holds `area` pixels.
+            ys, xs = np.nonzero(mask)
+            assert mask.sum() == area == a["area"]
+            assert [xs.min(), ys.min(), xs.max() + 1, ys.max() + 1] == list(box)
+            labelled += 1
+    assert labelled > 0
+
+
+def test_radar_dataset_errors(tmp_path):
+    with pytest.raises(FileNotFoundError):
+        xbandsim.data.RadarDataset(tmp_path)
+    with pytest.raises(ValueError):
+        xbandsim.data.RadarDataset(ROOT / "datasets" / "detection.toml")
+    with pytest.raises(ValueError):
+        xbandsim.data.RadarDataset(tmp_path, image="infrared")
+    ds = xbandsim.data.RadarDataset(ROOT / "datasets" / "detection.toml", count=1, tensors=False)
+    with pytest.raises(IndexError):
+        ds[1]
+    with pytest.raises(ValueError):
+        xbandsim._xbandsim.decode_rle("a b", 2, 2)

@@ -19,7 +19,7 @@ from typing import Any, Dict, List, Mapping, Optional, Union
 import numpy as np
 
 from . import _xbandsim
-from . import dataset
+from . import data, dataset
 from .errors import (
     DatasetMismatchError,
     DatasetSpecError,
@@ -205,6 +205,7 @@ __all__ = [
     "Simulation",
     "Frame",
     "render",
+    "data",
     "dataset",
     "XbandsimError",
     "SceneSyntaxError",
