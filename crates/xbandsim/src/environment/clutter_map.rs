@@ -117,6 +117,46 @@ pub fn two_way_beam_integral_rad(beamwidth_3db_rad: f64) -> f64 {
     (2.0 * std::f64::consts::PI / 3.0) * beamwidth_3db_rad / SINC_BEAMWIDTH_FACTOR
 }
 
+/// The texture field of scene seed `seed` over `extent_m` with correlation length
+/// `correlation_m`: a pure function of the three (its own random stream), so the few made
+/// last are kept and shared — every frame of a run drifts the same field, and making one takes
+/// longer than the rest of a small clutter map. At most [`FIELD_CACHE_LEN`] fields and
+/// [`FIELD_CACHE_BYTES`] of values are kept.
+fn texture_field(seed: u64, extent_m: f64, correlation_m: f64) -> std::sync::Arc<GaussianField> {
+    type Key = (u64, u64, u64);
+    static CACHE: std::sync::OnceLock<std::sync::Mutex<Vec<(Key, std::sync::Arc<GaussianField>)>>> =
+        std::sync::OnceLock::new();
+    let key = (seed, extent_m.to_bits(), correlation_m.to_bits());
+    let cache = CACHE.get_or_init(|| std::sync::Mutex::new(Vec::new()));
+    if let Some((_, f)) = cache
+        .lock()
+        .unwrap_or_else(|p| p.into_inner())
+        .iter()
+        .find(|(k, _)| *k == key)
+    {
+        return std::sync::Arc::clone(f);
+    }
+    let mut rng = RngKey::new(seed, 0, 0, Stream::ClutterTexture).rng();
+    let field = std::sync::Arc::new(GaussianField::new(&mut rng, extent_m, correlation_m));
+    let mut kept = cache.lock().unwrap_or_else(|p| p.into_inner());
+    if !kept.iter().any(|(k, _)| *k == key) {
+        kept.push((key, std::sync::Arc::clone(&field)));
+        // Oldest first out.
+        while kept.len() > FIELD_CACHE_LEN
+            || kept.iter().map(|(_, f)| f.bytes()).sum::<usize>() > FIELD_CACHE_BYTES
+        {
+            kept.remove(0);
+        }
+    }
+    field
+}
+
+/// Texture fields kept by [`texture_field`].
+const FIELD_CACHE_LEN: usize = 8;
+
+/// Bytes of texture-field values kept (a 2048² field, the largest, takes 16 MB).
+const FIELD_CACHE_BYTES: usize = 64 << 20;
+
 impl ClutterMap {
     /// The clutter of frame `frame` (the texture drifts with time `frame × rotation period`)
     /// for records of `samples` samples; None when there is neither sea clutter nor rain.
@@ -274,14 +314,11 @@ impl ClutterMap {
             .find_map(|r| r.as_ref().map(|r| r.ground_m))
             .unwrap_or(1.0);
         let field = match clutter {
-            Some(c) if textured => {
-                let mut rng = RngKey::new(seed, 0, 0, Stream::ClutterTexture).rng();
-                Some(GaussianField::new(
-                    &mut rng,
-                    2.0 * max_ground + 4.0 * c.correlation_m(),
-                    c.correlation_m(),
-                ))
-            }
+            Some(c) if textured => Some(texture_field(
+                seed,
+                2.0 * max_ground + 4.0 * c.correlation_m(),
+                c.correlation_m(),
+            )),
             _ => None,
         };
         let fixed_gamma = match distribution {
