@@ -416,6 +416,168 @@ fn decode_png<'py>(py: Python<'py>, data: &[u8]) -> PyResult<Bound<'py, PyAny>> 
 }
 
 /// The library's version.
+/// One reinforcement-learning environment (`xbandsim.envs` wraps it in Gymnasium's API;
+/// docs/rl.md): the episode, its display and its scoring live in xbandsim-rl.
+#[pyclass(module = "xbandsim._xbandsim")]
+struct Env {
+    episode: xbandsim_rl::Episode,
+}
+
+fn episode_info<'py>(
+    py: Python<'py>,
+    e: &xbandsim_rl::Episode,
+    o: &xbandsim_rl::StepOutcome,
+) -> PyResult<Bound<'py, PyDict>> {
+    let info = PyDict::new(py);
+    info.set_item("revolution", e.steps_done())?;
+    info.set_item("pulses", o.pulses)?;
+    info.set_item("plots", o.plots.len())?;
+    info.set_item("false_plots", o.false_plots)?;
+    let observed = o.targets.iter().filter(|t| t.observed).count();
+    info.set_item("targets_observed", observed)?;
+    info.set_item(
+        "targets_detected",
+        o.targets.iter().filter(|t| t.detected).count(),
+    )?;
+    info.set_item(
+        "targets_in_track",
+        o.targets.iter().filter(|t| t.in_track).count(),
+    )?;
+    let targets = pyo3::types::PyList::empty(py);
+    for t in &o.targets {
+        let d = PyDict::new(py);
+        d.set_item("name", &t.name)?;
+        d.set_item("class", &t.class)?;
+        d.set_item("range_m", t.range_m)?;
+        d.set_item("azimuth_deg", t.azimuth_deg)?;
+        d.set_item("rcs_m2", t.rcs_m2)?;
+        d.set_item("expected_snr_db", t.expected_snr_db)?;
+        d.set_item("visibility", &t.visibility)?;
+        d.set_item("observed", t.observed)?;
+        d.set_item("detected", t.detected)?;
+        d.set_item("in_track", t.in_track)?;
+        targets.append(d)?;
+    }
+    info.set_item("targets", targets)?;
+    let plots = pyo3::types::PyList::empty(py);
+    for p in &o.plots {
+        plots.append((p.range_m, p.azimuth_deg, p.cells, p.peak_db))?;
+    }
+    info.set_item("plot_list", plots)?;
+    let s = e.scene();
+    info.set_item("sea_state", s.sea_state)?;
+    info.set_item("rain_cells", s.rain_cells)?;
+    info.set_item("own_ship_speed_kn", s.own_ship.speed_kn)?;
+    info.set_item("own_ship_course_deg", s.own_ship.course_deg)?;
+    Ok(info)
+}
+
+#[pymethods]
+impl Env {
+    #[new]
+    #[pyo3(signature = (task, level, image_size_px, max_steps, threads))]
+    fn new(
+        py: Python<'_>,
+        task: &str,
+        level: usize,
+        image_size_px: u32,
+        max_steps: usize,
+        threads: usize,
+    ) -> PyResult<Env> {
+        let task = match task {
+            "detection" => xbandsim_rl::Task::Detection,
+            "tracking" => xbandsim_rl::Task::Tracking,
+            other => {
+                return Err(library_error(
+                    py,
+                    xbandsim::Error::invalid(
+                        xbandsim::Problem::UnknownChoice,
+                        "task",
+                        other,
+                        "\"detection\" or \"tracking\"",
+                    ),
+                ))
+            }
+        };
+        let config = xbandsim_rl::EpisodeConfig {
+            task,
+            level,
+            image_size_px,
+            max_steps,
+            threads,
+        };
+        let episode = xbandsim_rl::Episode::new(config).map_err(|e| library_error(py, e))?;
+        Ok(Env { episode })
+    }
+
+    /// Starts an episode: (observation, info).
+    fn reset<'py>(
+        &mut self,
+        py: Python<'py>,
+        seed: u64,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
+        let e = &mut self.episode;
+        let (o, obs) = py
+            .detach(|| {
+                let o = e.reset(seed)?;
+                Ok::<_, xbandsim::Error>((o, e.observation()))
+            })
+            .map_err(|err| library_error(py, err))?;
+        let size = self.episode.config().image_size_px as usize;
+        let obs = obs.into_pyarray(py).reshape([size, size])?.into_any();
+        Ok((obs, episode_info(py, &self.episode, &o)?))
+    }
+
+    /// One revolution: (observation, reward, terminated, truncated, info).
+    #[allow(clippy::type_complexity)]
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        action: Vec<i64>,
+    ) -> PyResult<(Bound<'py, PyAny>, f64, bool, bool, Bound<'py, PyDict>)> {
+        let action = xbandsim_rl::Action::from_vector(&action).map_err(|e| library_error(py, e))?;
+        let e = &mut self.episode;
+        let (o, obs) = py
+            .detach(|| {
+                let o = e.step(&action)?;
+                Ok::<_, xbandsim::Error>((o, e.observation()))
+            })
+            .map_err(|err| library_error(py, err))?;
+        let size = self.episode.config().image_size_px as usize;
+        let obs = obs.into_pyarray(py).reshape([size, size])?.into_any();
+        let info = episode_info(py, &self.episode, &o)?;
+        Ok((obs, o.reward, o.terminated, o.truncated, info))
+    }
+
+    /// The display in colour: uint8 (size, size, 3).
+    fn render_rgb<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let size = self.episode.config().image_size_px as usize;
+        let rgb = self.episode.render_rgb();
+        Ok(rgb.into_pyarray(py).reshape([size, size, 3])?.into_any())
+    }
+
+    /// The current episode's scene file (it renders with `xbandsim render`).
+    #[getter]
+    fn scene_toml(&self) -> String {
+        self.episode.scene().toml.clone()
+    }
+
+    /// Revolutions before truncation.
+    #[getter]
+    fn max_steps(&self) -> usize {
+        self.episode.max_steps()
+    }
+}
+
+/// Choices per action component and their names (docs/rl.md).
+#[pyfunction]
+fn action_space() -> (Vec<u32>, Vec<&'static str>) {
+    (
+        xbandsim_rl::ACTION_NVEC.to_vec(),
+        xbandsim_rl::ACTION_NAMES.to_vec(),
+    )
+}
+
 #[pyfunction]
 fn version() -> &'static str {
     env!("CARGO_PKG_VERSION")
@@ -425,6 +587,8 @@ fn version() -> &'static str {
 fn _xbandsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<SceneSpec>()?;
     m.add_class::<Sim>()?;
+    m.add_class::<Env>()?;
+    m.add_function(wrap_pyfunction!(action_space, m)?)?;
     m.add_function(wrap_pyfunction!(generate_dataset, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
     m.add_function(wrap_pyfunction!(render_sample, m)?)?;

@@ -20,6 +20,15 @@ import numpy as np
 
 from . import _xbandsim
 from . import data, dataset
+
+try:  # The Gymnasium environments, when Gymnasium is installed (pip install xbandsim[gym]).
+    import gymnasium as _gymnasium  # noqa: F401
+except ImportError:  # pragma: no cover - exercised where gymnasium is absent
+    pass
+else:
+    from . import envs
+
+    envs.register_envs()
 from .errors import (
     DatasetMismatchError,
     DatasetSpecError,

@@ -251,8 +251,7 @@ impl NormalTable {
             p1 + 0.5
                 * f
                 * (p2 - p0
-                    + f * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3
-                        + f * (3.0 * (p1 - p2) + p3 - p0))),
+                    + f * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3 + f * (3.0 * (p1 - p2) + p3 - p0))),
         )
     }
 }
@@ -614,7 +613,11 @@ mod tests {
                 m1 = [m1[0] + w * a, m1[1] + w * b];
                 m2 = [m2[0] + w * a * a, m2[1] + w * b * b];
             }
-            eprintln!("{name}: worst {worst:.2e}, E[T] {:.2e}, E[T²] {:.2e}", m1[0] / m1[1] - 1.0, m2[0] / m2[1] - 1.0);
+            eprintln!(
+                "{name}: worst {worst:.2e}, E[T] {:.2e}, E[T²] {:.2e}",
+                m1[0] / m1[1] - 1.0,
+                m2[0] / m2[1] - 1.0
+            );
             assert!(worst < 5e-4, "{name}: worst relative error {worst:.2e}");
             assert!((m1[0] / m1[1] - 1.0).abs() < 1e-4, "{name}: E[T] {m1:?}");
             assert!((m2[0] / m2[1] - 1.0).abs() < 1e-4, "{name}: E[T²] {m2:?}");

@@ -43,6 +43,7 @@ use num_complex::Complex32;
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// The clutter of one revolution: mean powers of every (spoke, sample) patch before azimuth
 /// weighting, and the texture of every output cell.
@@ -122,25 +123,23 @@ pub fn two_way_beam_integral_rad(beamwidth_3db_rad: f64) -> f64 {
 /// last are kept and shared — every frame of a run drifts the same field, and making one takes
 /// longer than the rest of a small clutter map. At most [`FIELD_CACHE_LEN`] fields and
 /// [`FIELD_CACHE_BYTES`] of values are kept.
-fn texture_field(seed: u64, extent_m: f64, correlation_m: f64) -> std::sync::Arc<GaussianField> {
-    type Key = (u64, u64, u64);
-    static CACHE: std::sync::OnceLock<std::sync::Mutex<Vec<(Key, std::sync::Arc<GaussianField>)>>> =
-        std::sync::OnceLock::new();
+fn texture_field(seed: u64, extent_m: f64, correlation_m: f64) -> Arc<GaussianField> {
+    static CACHE: OnceLock<Mutex<Vec<KeptField>>> = OnceLock::new();
     let key = (seed, extent_m.to_bits(), correlation_m.to_bits());
-    let cache = CACHE.get_or_init(|| std::sync::Mutex::new(Vec::new()));
+    let cache = CACHE.get_or_init(|| Mutex::new(Vec::new()));
     if let Some((_, f)) = cache
         .lock()
         .unwrap_or_else(|p| p.into_inner())
         .iter()
         .find(|(k, _)| *k == key)
     {
-        return std::sync::Arc::clone(f);
+        return Arc::clone(f);
     }
     let mut rng = RngKey::new(seed, 0, 0, Stream::ClutterTexture).rng();
-    let field = std::sync::Arc::new(GaussianField::new(&mut rng, extent_m, correlation_m));
+    let field = Arc::new(GaussianField::new(&mut rng, extent_m, correlation_m));
     let mut kept = cache.lock().unwrap_or_else(|p| p.into_inner());
     if !kept.iter().any(|(k, _)| *k == key) {
-        kept.push((key, std::sync::Arc::clone(&field)));
+        kept.push((key, Arc::clone(&field)));
         // Oldest first out.
         while kept.len() > FIELD_CACHE_LEN
             || kept.iter().map(|(_, f)| f.bytes()).sum::<usize>() > FIELD_CACHE_BYTES
@@ -150,6 +149,12 @@ fn texture_field(seed: u64, extent_m: f64, correlation_m: f64) -> std::sync::Arc
     }
     field
 }
+
+/// A texture field's inputs: seed, extent and correlation length (their bits).
+type FieldKey = (u64, u64, u64);
+
+/// A kept texture field and its key.
+type KeptField = (FieldKey, Arc<GaussianField>);
 
 /// Texture fields kept by [`texture_field`].
 const FIELD_CACHE_LEN: usize = 8;

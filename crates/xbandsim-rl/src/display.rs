@@ -1,0 +1,306 @@
+//! The operator's display chain and the plot extractor (docs/rl.md, "Display and plots"):
+//! the polar record (dB over noise) through the rain clutter control (FTC: a fraction of the
+//! local mean power along range taken off each cell, a differentiator that keeps leading
+//! edges and flattens extended echoes), the sea clutter control (STC: sensitivity lowered by
+//! `10·k·log10(R_stc/R)` dB inside `R_stc`, the classic R⁻ᵏ law against sea clutter, Skolnik,
+//! *Radar Handbook* 3rd ed. §2.9) and the gain (the gray scale's floor), then plots: the
+//! 4-connected groups of cells at least [`DETECTION_MARGIN_DB`] over the floor, each with its
+//! power-weighted centre. Pure functions with explicit scratch, no allocation per step once
+//! the buffers have grown.
+
+use std::f64::consts::TAU;
+
+/// Range inside which the sea clutter control acts, m.
+pub const STC_RANGE_M: f64 = 1000.0;
+
+/// Half-width of the FTC's local mean along range, bins.
+pub const FTC_HALF_WINDOW_BINS: usize = 8;
+
+/// Span of the gray scale above the floor, dB.
+pub const DISPLAY_SPAN_DB: f32 = 30.0;
+
+/// A cell is a hit when its processed value is at least this much over the gain's floor, dB.
+pub const DETECTION_MARGIN_DB: f32 = 6.0;
+
+/// Smallest value the FTC leaves, as a power over noise (−30 dB).
+const FTC_FLOOR_POWER: f32 = 1e-3;
+
+/// STC loss at range `range_m` for law `k`, dB (0 at and beyond [`STC_RANGE_M`]; ranges under
+/// 1 m count as 1 m).
+pub fn stc_db(range_m: f64, k: f32) -> f32 {
+    if k == 0.0 || range_m >= STC_RANGE_M {
+        return 0.0;
+    }
+    (10.0 * f64::from(k) * (STC_RANGE_M / range_m.max(1.0)).log10()) as f32
+}
+
+/// One spoke through the operator's controls: `row_db` (dB over noise) becomes the processed
+/// value `FTC(row) − STC(R)` in `out` (dB). `ftc_fraction` α takes `α·mean` of the
+/// `2·FTC_HALF_WINDOW_BINS + 1` cells around each cell (linear power) off it; `power` is
+/// scratch of the row's length.
+pub fn process_spoke(
+    row_db: &[f32],
+    range_bin_m: f64,
+    ftc_fraction: f32,
+    stc_law: f32,
+    power: &mut [f32],
+    out: &mut [f32],
+) {
+    let n = row_db.len();
+    if ftc_fraction > 0.0 {
+        for (p, &d) in power.iter_mut().zip(row_db) {
+            *p = 10f32.powf(0.1 * d);
+        }
+        // Running sum over the window, clipped at the record's ends.
+        let h = FTC_HALF_WINDOW_BINS;
+        let mut sum: f64 = power[..(h + 1).min(n)].iter().map(|&p| f64::from(p)).sum();
+        for j in 0..n {
+            let lo = j.saturating_sub(h);
+            let hi = (j + h).min(n - 1);
+            let mean = (sum / (hi - lo + 1) as f64) as f32;
+            let v = (power[j] - ftc_fraction * mean).max(FTC_FLOOR_POWER);
+            out[j] = 10.0 * v.log10();
+            // Slide: add j+h+1, drop j−h.
+            if j + h + 1 < n {
+                sum += f64::from(power[j + h + 1]);
+            }
+            if j >= h {
+                sum -= f64::from(power[j - h]);
+            }
+        }
+    } else {
+        out.copy_from_slice(row_db);
+    }
+    if stc_law > 0.0 {
+        for (j, o) in out.iter_mut().enumerate() {
+            let r = j as f64 * range_bin_m;
+            if r >= STC_RANGE_M {
+                break;
+            }
+            *o -= stc_db(r, stc_law);
+        }
+    }
+}
+
+/// Gray level of a processed value with the gain's floor `floor_db`: 0 at the floor, 255 at
+/// `floor + DISPLAY_SPAN_DB`.
+#[inline]
+pub fn gray_level(value_db: f32, floor_db: f32) -> u8 {
+    let t = ((value_db - floor_db) / DISPLAY_SPAN_DB).clamp(0.0, 1.0);
+    (t * 255.0).round() as u8
+}
+
+/// A plot: one group of connected hits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Plot {
+    /// Power-weighted range of its cells, m.
+    pub range_m: f64,
+    /// Power-weighted (circular) azimuth, degrees from north, 0…360.
+    pub azimuth_deg: f64,
+    /// Cells in it.
+    pub cells: usize,
+    /// Its strongest processed value, dB over noise.
+    pub peak_db: f32,
+}
+
+/// Scratch of the plot extractor.
+#[derive(Debug, Default)]
+pub struct PlotScratch {
+    seen: Vec<bool>,
+    stack: Vec<(usize, usize)>,
+}
+
+/// Plots among the spokes `rows` (indices into the `spokes × bins` record `processed_db`) of
+/// cells at least `threshold_db`; groups join across neighbouring spokes (wrapping through
+/// north) and neighbouring bins. Appends to `plots`.
+pub fn extract_plots(
+    processed_db: &[f32],
+    spokes: usize,
+    bins: usize,
+    range_bin_m: f64,
+    rows: &[bool],
+    threshold_db: f32,
+    scratch: &mut PlotScratch,
+    plots: &mut Vec<Plot>,
+) {
+    let seen = &mut scratch.seen;
+    seen.clear();
+    seen.resize(spokes * bins, false);
+    let stack = &mut scratch.stack;
+    let hit = |k: usize, j: usize| rows[k] && processed_db[k * bins + j] >= threshold_db;
+    for k0 in 0..spokes {
+        if !rows[k0] {
+            continue;
+        }
+        for j0 in 0..bins {
+            if seen[k0 * bins + j0] || !hit(k0, j0) {
+                continue;
+            }
+            seen[k0 * bins + j0] = true;
+            stack.clear();
+            stack.push((k0, j0));
+            let (mut w, mut wr, mut wc, mut ws) = (0f64, 0f64, 0f64, 0f64);
+            let (mut cells, mut peak) = (0usize, f32::NEG_INFINITY);
+            while let Some((k, j)) = stack.pop() {
+                let v = processed_db[k * bins + j];
+                // Weight: linear power over the threshold's (≥ 1).
+                let weight = 10f64.powf(0.1 * f64::from(v - threshold_db));
+                let az = TAU * k as f64 / spokes as f64;
+                w += weight;
+                wr += weight * j as f64 * range_bin_m;
+                wc += weight * az.cos();
+                ws += weight * az.sin();
+                cells += 1;
+                peak = peak.max(v);
+                let neighbours = [
+                    ((k + 1) % spokes, j),
+                    ((k + spokes - 1) % spokes, j),
+                    (k, j + 1),
+                    (k, j.wrapping_sub(1)),
+                ];
+                for (kn, jn) in neighbours {
+                    if jn < bins && !seen[kn * bins + jn] && hit(kn, jn) {
+                        seen[kn * bins + jn] = true;
+                        stack.push((kn, jn));
+                    }
+                }
+            }
+            plots.push(Plot {
+                range_m: wr / w,
+                azimuth_deg: ws.atan2(wc).rem_euclid(TAU).to_degrees(),
+                cells,
+                peak_db: peak,
+            });
+        }
+    }
+}
+
+/// Range gate of a plot-to-target match, m.
+pub const RANGE_GATE_M: f64 = 45.0;
+
+/// Azimuth gate of a plot-to-target match, degrees (about the beamwidth).
+pub const AZIMUTH_GATE_DEG: f64 = 4.0;
+
+/// Whether a plot at (`range_m`, `azimuth_deg`) falls in the gate of a target at
+/// (`target_range_m`, `target_azimuth_deg`); the normalised distance when it does.
+pub fn gate_distance(
+    range_m: f64,
+    azimuth_deg: f64,
+    target_range_m: f64,
+    target_azimuth_deg: f64,
+) -> Option<f64> {
+    let dr = (range_m - target_range_m).abs() / RANGE_GATE_M;
+    let da = ((azimuth_deg - target_azimuth_deg + 180.0).rem_euclid(360.0) - 180.0).abs()
+        / AZIMUTH_GATE_DEG;
+    (dr <= 1.0 && da <= 1.0).then(|| dr.hypot(da))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stc_follows_its_law() {
+        assert_eq!(stc_db(500.0, 0.0), 0.0);
+        assert_eq!(stc_db(STC_RANGE_M, 3.0), 0.0);
+        assert!((stc_db(100.0, 3.0) - 30.0).abs() < 1e-4);
+        assert!((stc_db(100.0, 2.0) - 20.0).abs() < 1e-4);
+        assert!((stc_db(500.0, 1.0) - 10.0 * 2f32.log10()).abs() < 1e-4);
+    }
+
+    #[test]
+    fn ftc_flattens_extended_echoes_and_keeps_a_spike() {
+        // A flat 20 dB echo (rain) loses 10·log10(1 − α) inside; a lone 20 dB spike in a
+        // 0 dB background keeps about 10·log10(100 − α·(100 + 16)/17).
+        let n = 64;
+        let flat = vec![20f32; n];
+        let mut power = vec![0f32; n];
+        let mut out = vec![0f32; n];
+        process_spoke(&flat, 7.5, 0.9, 0.0, &mut power, &mut out);
+        let expect = 20.0 + 10.0 * (0.1f32).log10();
+        assert!((out[32] - expect).abs() < 1e-3, "{}", out[32]);
+        let mut spike = vec![0f32; n];
+        spike[32] = 20.0;
+        process_spoke(&spike, 7.5, 0.9, 0.0, &mut power, &mut out);
+        let mean = (100.0 + 16.0) / 17.0;
+        let expect = 10.0 * (100.0f32 - 0.9 * mean).log10();
+        assert!((out[32] - expect).abs() < 1e-3, "{} vs {expect}", out[32]);
+        // FTC off and STC off: the row unchanged.
+        process_spoke(&spike, 7.5, 0.0, 0.0, &mut power, &mut out);
+        assert_eq!(out, spike);
+    }
+
+    #[test]
+    fn ftc_running_mean_matches_a_direct_mean() {
+        let n = 50;
+        let row: Vec<f32> = (0..n).map(|j| ((j * 37) % 23) as f32).collect();
+        let mut power = vec![0f32; n];
+        let mut out = vec![0f32; n];
+        process_spoke(&row, 7.5, 0.6, 0.0, &mut power, &mut out);
+        let p: Vec<f64> = row
+            .iter()
+            .map(|&d| 10f64.powf(0.1 * f64::from(d)))
+            .collect();
+        for j in 0..n {
+            let lo = j.saturating_sub(FTC_HALF_WINDOW_BINS);
+            let hi = (j + FTC_HALF_WINDOW_BINS).min(n - 1);
+            let mean = p[lo..=hi].iter().sum::<f64>() / (hi - lo + 1) as f64;
+            let v = (p[j] - 0.6 * mean).max(1e-3);
+            assert!(
+                (f64::from(out[j]) - 10.0 * v.log10()).abs() < 2e-3,
+                "bin {j}"
+            );
+        }
+    }
+
+    #[test]
+    fn plots_group_connected_cells_across_north() {
+        let (spokes, bins) = (8, 10);
+        let mut rec = vec![0f32; spokes * bins];
+        // One group across north (spokes 7 and 0 at bin 4), one lone cell at spoke 3, bin 8.
+        rec[7 * bins + 4] = 20.0;
+        rec[4] = 20.0;
+        rec[3 * bins + 8] = 15.0;
+        let rows = vec![true; spokes];
+        let mut plots = Vec::new();
+        extract_plots(
+            &rec,
+            spokes,
+            bins,
+            10.0,
+            &rows,
+            10.0,
+            &mut PlotScratch::default(),
+            &mut plots,
+        );
+        assert_eq!(plots.len(), 2);
+        let across = plots.iter().find(|p| p.cells == 2).unwrap();
+        assert!((across.range_m - 40.0).abs() < 1e-9);
+        // Equal weights at 315° and 0°: the circular mean 337.5°.
+        assert!((across.azimuth_deg - 337.5).abs() < 1e-9, "{across:?}");
+        let lone = plots.iter().find(|p| p.cells == 1).unwrap();
+        assert!((lone.azimuth_deg - 135.0).abs() < 1e-9 && lone.peak_db == 15.0);
+        // Rows not refreshed give no plots.
+        let mut rows = vec![true; spokes];
+        rows[3] = false;
+        plots.clear();
+        extract_plots(
+            &rec,
+            spokes,
+            bins,
+            10.0,
+            &rows,
+            10.0,
+            &mut PlotScratch::default(),
+            &mut plots,
+        );
+        assert_eq!(plots.len(), 1);
+    }
+
+    #[test]
+    fn gates() {
+        assert!(gate_distance(1000.0, 359.0, 1010.0, 1.0).is_some());
+        assert!(gate_distance(1000.0, 10.0, 1010.0, 1.0).is_none());
+        assert!(gate_distance(1100.0, 1.0, 1000.0, 1.0).is_none());
+    }
+}

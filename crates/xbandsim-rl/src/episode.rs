@@ -1,0 +1,505 @@
+//! An episode: the MDP of docs/rl.md. State: the scene (targets moving, the sea's texture
+//! drifting) and the display; action: [`Action`]; transition: one antenna revolution of
+//! scene time (2.5 s at 24 rpm) simulated by the library with the action's pulse and
+//! schedule, then the display chain and the plot extractor ([`crate::display`]); reward:
+//! plots scored against the ground truth ([`Episode::step`]).
+
+use crate::action::{Action, Scan, FTC_FRACTION, PULSES_PER_SPOKE, QUADRANTS, STC_LAW};
+use crate::curriculum::{draw_scene, EpisodeScene, Task, LEVELS, MAX_RANGE_M};
+use crate::display::{
+    extract_plots, gate_distance, gray_level, process_spoke, Plot, PlotScratch, DETECTION_MARGIN_DB,
+};
+use std::path::Path;
+use xbandsim::engine::{Dwell, Pulse, Schedule};
+use xbandsim::products::ppi::{colour, Colormap, ScanConverter};
+use xbandsim::{Error, LoadedSpec, Problem, Result, Simulation};
+
+/// Reward per target found for the first time (Detection).
+pub const REWARD_NEW_DETECTION: f64 = 1.0;
+/// Reward per revolution spent (Detection): finding them sooner pays.
+pub const REWARD_PER_REVOLUTION: f64 = -0.1;
+/// Reward per false plot (both tasks), every one counted: with no cap, turning the gain up
+/// until clutter plots fall in every target's gate by chance never pays.
+pub const REWARD_PER_FALSE_PLOT: f64 = -0.01;
+/// Tracking: share of a target detected this revolution (divided by the targets in range).
+pub const REWARD_DETECTED: f64 = 1.0;
+/// Tracking: extra share when it was also detected the revolution before (continuity).
+pub const REWARD_CONTINUITY: f64 = 0.5;
+
+/// How an environment is made.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EpisodeConfig {
+    /// The task.
+    pub task: Task,
+    /// Curriculum level, 0..4.
+    pub level: usize,
+    /// Side of the observation image, pixels (16 … 2048).
+    pub image_size_px: u32,
+    /// Revolutions before truncation (0: the task's default).
+    pub max_steps: usize,
+    /// Worker threads of the episode's own pool (1: one core, as the benchmark measures).
+    pub threads: usize,
+}
+
+impl EpisodeConfig {
+    /// A configuration with defaults: 256 pixels, the task's episode length, one thread.
+    pub fn new(task: Task, level: usize) -> EpisodeConfig {
+        EpisodeConfig {
+            task,
+            level,
+            image_size_px: 256,
+            max_steps: 0,
+            threads: 1,
+        }
+    }
+
+    fn check(&self) -> Result<()> {
+        if self.level >= LEVELS {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                "level",
+                self.level,
+                format!("curriculum levels are 0..{LEVELS}"),
+            ));
+        }
+        if !(16..=2048).contains(&self.image_size_px) {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                "image_size_px",
+                self.image_size_px,
+                "must be 16 … 2048",
+            ));
+        }
+        if !(1..=256).contains(&self.threads) {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                "threads",
+                self.threads,
+                "must be 1 … 256",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// A target's state after a step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TargetReport {
+    /// Its name in the scene (`target-i`).
+    pub name: String,
+    /// Its class (`buoy`, `boat`, `ship`).
+    pub class: String,
+    /// Range when the beam crossed it, m.
+    pub range_m: f64,
+    /// Azimuth when the beam crossed it, degrees from north.
+    pub azimuth_deg: f64,
+    /// Its RCS, m².
+    pub rcs_m2: Option<f64>,
+    /// The library's single-pulse SNR of its echo, dB (None without an echo).
+    pub expected_snr_db: Option<f64>,
+    /// The library's visibility (`visible`, `eclipsed`, `below_noise`, ...).
+    pub visibility: String,
+    /// Inside the instrumented range and in the spokes the step refreshed.
+    pub observed: bool,
+    /// A plot fell in its gate this step.
+    pub detected: bool,
+    /// Detected in at least 2 of the last 3 revolutions (Tracking's "in track").
+    pub in_track: bool,
+}
+
+/// What a step returns.
+#[derive(Debug, Clone)]
+pub struct StepOutcome {
+    /// Reward of the step.
+    pub reward: f64,
+    /// Detection: every target found. Tracking: never (episodes end by truncation).
+    pub terminated: bool,
+    /// The episode reached its length.
+    pub truncated: bool,
+    /// Plots the extractor made in the refreshed spokes.
+    pub plots: Vec<Plot>,
+    /// Plots in no target's gate.
+    pub false_plots: usize,
+    /// Targets, in scene order.
+    pub targets: Vec<TargetReport>,
+    /// Pulses the step transmitted.
+    pub pulses: usize,
+}
+
+/// One environment: an episode's scene, its simulations (one per pulse choice, made on first
+/// use), the display and the scoring state.
+pub struct Episode {
+    config: EpisodeConfig,
+    /// The episode's own workers: everything it runs runs there, never on rayon's global pool
+    /// (which a forked vector-environment worker inherits without its threads).
+    pool: std::sync::Arc<rayon::ThreadPool>,
+    seed: u64,
+    scene: EpisodeScene,
+    sims: [Option<Simulation>; 4],
+    converter: Option<ScanConverter>,
+    spokes: usize,
+    bins: usize,
+    range_bin_m: f64,
+    step: usize,
+    /// Processed values (dB) the display shows, spokes × bins.
+    display_db: Vec<f32>,
+    refreshed: Vec<bool>,
+    floor_db: f32,
+    power: Vec<f32>,
+    ppi_db: Vec<f32>,
+    plot_scratch: PlotScratch,
+    /// Per target: found in this episode; detection history (newest last, 3 kept).
+    found: Vec<bool>,
+    history: Vec<[bool; 3]>,
+}
+
+impl Episode {
+    /// A new environment; [`Episode::reset`] starts its first episode.
+    pub fn new(config: EpisodeConfig) -> Result<Episode> {
+        config.check()?;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(config.threads)
+            .build()
+            .map_err(|e| {
+                Error::invalid(Problem::Unusable, "threads", config.threads, e.to_string())
+            })
+            .map(std::sync::Arc::new)?;
+        let scene = draw_scene(config.task, config.level, 0, config.image_size_px);
+        Ok(Episode {
+            config,
+            pool,
+            seed: 0,
+            scene,
+            sims: [None, None, None, None],
+            converter: None,
+            spokes: 0,
+            bins: 0,
+            range_bin_m: 0.0,
+            step: 0,
+            display_db: Vec::new(),
+            refreshed: Vec::new(),
+            floor_db: Action::default().floor_db(),
+            power: Vec::new(),
+            ppi_db: Vec::new(),
+            plot_scratch: PlotScratch::default(),
+            found: Vec::new(),
+            history: Vec::new(),
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &EpisodeConfig {
+        &self.config
+    }
+
+    /// Revolutions before truncation.
+    pub fn max_steps(&self) -> usize {
+        if self.config.max_steps == 0 {
+            self.config.task.max_steps()
+        } else {
+            self.config.max_steps
+        }
+    }
+
+    /// The episode's scene (its text re-renders with `xbandsim render`).
+    pub fn scene(&self) -> &EpisodeScene {
+        &self.scene
+    }
+
+    /// Revolutions done in this episode.
+    pub fn steps_done(&self) -> usize {
+        self.step
+    }
+
+    /// Starts an episode from `seed`: a new scene from the curriculum, a blank display, then
+    /// one full revolution with [`Action::default`] so that the first observation shows
+    /// something. Returns that revolution's outcome (its reward is not part of the episode).
+    pub fn reset(&mut self, seed: u64) -> Result<StepOutcome> {
+        let pool = std::sync::Arc::clone(&self.pool);
+        pool.install(|| self.reset_here(seed))
+    }
+
+    fn reset_here(&mut self, seed: u64) -> Result<StepOutcome> {
+        self.seed = seed;
+        self.scene = draw_scene(
+            self.config.task,
+            self.config.level,
+            seed,
+            self.config.image_size_px,
+        );
+        self.sims = [None, None, None, None];
+        self.step = 0;
+        self.found = vec![false; self.scene.targets];
+        self.history = vec![[false; 3]; self.scene.targets];
+        let sim = self.simulation(Action::default().pulse)?;
+        let radar = sim.scene().radar();
+        let (spokes, bins, bin_m) = (radar.spokes(), radar.num_range_bins(), radar.range_bin_m());
+        if self.converter.is_none() || (spokes, bins) != (self.spokes, self.bins) {
+            self.converter = Some(ScanConverter::new(
+                self.config.image_size_px,
+                MAX_RANGE_M,
+                spokes,
+                bins,
+                bin_m,
+            ));
+        }
+        (self.spokes, self.bins, self.range_bin_m) = (spokes, bins, bin_m);
+        self.display_db.clear();
+        self.display_db.resize(spokes * bins, f32::NEG_INFINITY);
+        self.refreshed.clear();
+        self.refreshed.resize(spokes, false);
+        self.power.resize(bins, 0.0);
+        let outcome = self.revolution(&Action::default())?;
+        // The warm-up revolution is frame 0; the agent's first step is frame 1.
+        self.found.iter_mut().for_each(|f| *f = false);
+        self.history.iter_mut().for_each(|h| *h = [false; 3]);
+        self.step = 0;
+        Ok(outcome)
+    }
+
+    /// One revolution with `action`: simulate, process, extract plots, score.
+    pub fn step(&mut self, action: &Action) -> Result<StepOutcome> {
+        let pool = std::sync::Arc::clone(&self.pool);
+        pool.install(|| self.step_here(action))
+    }
+
+    fn step_here(&mut self, action: &Action) -> Result<StepOutcome> {
+        if self.display_db.is_empty() {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                "step",
+                "before reset",
+                "call reset(seed) before step",
+            ));
+        }
+        self.step += 1;
+        let mut outcome = self.revolution(action)?;
+        let n_observed = outcome.targets.iter().filter(|t| t.observed).count();
+        let mut reward = REWARD_PER_FALSE_PLOT * outcome.false_plots as f64;
+        match self.config.task {
+            Task::Detection => {
+                reward += REWARD_PER_REVOLUTION;
+                for (i, t) in outcome.targets.iter().enumerate() {
+                    if t.detected && !self.found[i] {
+                        self.found[i] = true;
+                        reward += REWARD_NEW_DETECTION;
+                    }
+                }
+                outcome.terminated = !self.found.is_empty() && self.found.iter().all(|&f| f);
+            }
+            Task::Tracking => {
+                for (i, t) in outcome.targets.iter().enumerate() {
+                    if t.detected && n_observed > 0 {
+                        let previous = self.history[i][2];
+                        reward += (REWARD_DETECTED
+                            + if previous { REWARD_CONTINUITY } else { 0.0 })
+                            / n_observed as f64;
+                    }
+                }
+            }
+        }
+        for (i, t) in outcome.targets.iter_mut().enumerate() {
+            let h = &mut self.history[i];
+            *h = [h[1], h[2], t.detected];
+            t.in_track = h.iter().filter(|&&d| d).count() >= 2;
+        }
+        outcome.reward = reward;
+        outcome.truncated = !outcome.terminated && self.step >= self.max_steps();
+        Ok(outcome)
+    }
+
+    /// The simulation of a pulse choice (made on first use in the episode).
+    fn simulation(&mut self, pulse: crate::action::PulseChoice) -> Result<&Simulation> {
+        let i = crate::action::PulseChoice::ALL
+            .iter()
+            .position(|&p| p == pulse)
+            .unwrap_or(0);
+        if self.sims[i].is_none() {
+            let spec = LoadedSpec::from_toml(&self.scene.toml, "episode scene", Path::new("."))?
+                .with_overrides(&pulse.settings())?;
+            self.sims[i] = Some(Simulation::new(spec.build()?));
+        }
+        Ok(self.sims[i].as_ref().expect("made above"))
+    }
+
+    /// The schedule of a step: revolution `frame`; a full scan gives every spoke `n` pulses,
+    /// a quadrant dwell gives its spokes `QUADRANTS·n` (the antenna sweeps it `QUADRANTS`
+    /// times) and the others one pulse each, rendered but not shown (the engine fills every
+    /// spoke of a record).
+    fn schedule(&self, sim: &Simulation, action: &Action, frame: u64) -> Result<Schedule> {
+        let radar = sim.scene().radar();
+        let period_s = radar.scan().period_s();
+        let pri_s = 1.0 / radar.prf_hz();
+        let n = PULSES_PER_SPOKE[action.integration];
+        let spokes = self.spokes;
+        let dwells = (0..spokes)
+            .map(|k| {
+                let pulses = match action.scan {
+                    Scan::Full => n,
+                    Scan::Quadrant(q) if quadrant_of(k, spokes) == q => QUADRANTS * n,
+                    Scan::Quadrant(_) => 1,
+                };
+                let az = std::f64::consts::TAU * k as f64 / spokes as f64;
+                Dwell {
+                    spoke: k,
+                    pulses: (0..pulses)
+                        .map(|m| Pulse {
+                            number: (k * 64 + m) as u64,
+                            time_s: (frame as f64 + k as f64 / spokes as f64) * period_s
+                                + m as f64 * pri_s,
+                            azimuth_rad: az,
+                        })
+                        .collect(),
+                }
+            })
+            .collect();
+        Schedule::new(radar, frame, frame as f64 * period_s, dwells)
+    }
+
+    fn revolution(&mut self, action: &Action) -> Result<StepOutcome> {
+        let frame = self.step as u64;
+        let seed = self.seed;
+        self.simulation(action.pulse)?;
+        let i = crate::action::PulseChoice::ALL
+            .iter()
+            .position(|&p| p == action.pulse)
+            .unwrap_or(0);
+        let sim = self.sims[i].as_ref().expect("made above");
+        let radar = sim.scene().radar();
+        if (radar.spokes(), radar.num_range_bins()) != (self.spokes, self.bins) {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                "action.pulse",
+                action.pulse.name(),
+                "this pulse changes the record's shape",
+            ));
+        }
+        let schedule = self.schedule(sim, action, frame)?;
+        let pulses = schedule.num_pulses();
+        let frame_out = sim.run(&schedule, seed, &|| {})?;
+        // The display: refreshed spokes through the operator's controls.
+        let (spokes, bins) = (self.spokes, self.bins);
+        for k in 0..spokes {
+            self.refreshed[k] = match action.scan {
+                Scan::Full => true,
+                Scan::Quadrant(q) => quadrant_of(k, spokes) == q,
+            };
+            if self.refreshed[k] {
+                process_spoke(
+                    &frame_out.polar_db[k * bins..(k + 1) * bins],
+                    self.range_bin_m,
+                    FTC_FRACTION[action.rain],
+                    STC_LAW[action.sea],
+                    &mut self.power,
+                    &mut self.display_db[k * bins..(k + 1) * bins],
+                );
+            }
+        }
+        self.floor_db = action.floor_db();
+        let mut plots = Vec::new();
+        extract_plots(
+            &self.display_db,
+            spokes,
+            bins,
+            self.range_bin_m,
+            &self.refreshed,
+            self.floor_db + DETECTION_MARGIN_DB,
+            &mut self.plot_scratch,
+            &mut plots,
+        );
+        // Score: each plot to the nearest gate it falls in.
+        let mut targets: Vec<TargetReport> = frame_out
+            .truth
+            .iter()
+            .map(|o| {
+                let spoke = ((o.azimuth_deg / 360.0 * spokes as f64).round() as usize) % spokes;
+                TargetReport {
+                    name: o.name.clone(),
+                    class: o.class.clone(),
+                    range_m: o.range_m,
+                    azimuth_deg: o.azimuth_deg,
+                    rcs_m2: o.rcs_m2,
+                    expected_snr_db: o.expected_snr_db,
+                    visibility: visibility_name(o.visibility),
+                    observed: o.range_m <= MAX_RANGE_M && self.refreshed[spoke],
+                    detected: false,
+                    in_track: false,
+                }
+            })
+            .collect();
+        let mut false_plots = 0;
+        for p in &plots {
+            let best = targets
+                .iter()
+                .enumerate()
+                .filter(|(_, t)| t.observed)
+                .filter_map(|(i, t)| {
+                    gate_distance(p.range_m, p.azimuth_deg, t.range_m, t.azimuth_deg)
+                        .map(|d| (i, d))
+                })
+                .min_by(|a, b| a.1.total_cmp(&b.1));
+            match best {
+                Some((i, _)) => targets[i].detected = true,
+                None => false_plots += 1,
+            }
+        }
+        Ok(StepOutcome {
+            reward: 0.0,
+            terminated: false,
+            truncated: false,
+            plots,
+            false_plots,
+            targets,
+            pulses,
+        })
+    }
+
+    /// The observation: the display as a gray image (side `image_size_px`, row-major, north
+    /// up, the radar at the centre); 0 at or under the gain's floor, 255 at 30 dB over it.
+    pub fn observation(&mut self) -> Vec<u8> {
+        self.display_image();
+        let floor = self.floor_db;
+        self.ppi_db.iter().map(|&v| gray_level(v, floor)).collect()
+    }
+
+    /// The display in colour (a phosphor-green map of the same gray levels), size² × 3 bytes.
+    pub fn render_rgb(&mut self) -> Vec<u8> {
+        self.display_image();
+        let floor = self.floor_db;
+        let mut rgb = Vec::with_capacity(self.ppi_db.len() * 3);
+        for &v in &self.ppi_db {
+            let t = f32::from(gray_level(v, floor)) / 255.0;
+            rgb.extend_from_slice(&colour(Colormap::Green, t));
+        }
+        rgb
+    }
+
+    fn display_image(&mut self) {
+        let size = self.config.image_size_px as usize;
+        self.ppi_db.resize(size * size, f32::NEG_INFINITY);
+        if let Some(c) = &self.converter {
+            c.convert(&self.display_db, f32::NEG_INFINITY, &mut self.ppi_db);
+        }
+    }
+}
+
+/// Quadrant (0 = north-east … 3 = north-west) of spoke `k` of `spokes`.
+pub fn quadrant_of(k: usize, spokes: usize) -> usize {
+    (k * QUADRANTS / spokes).min(QUADRANTS - 1)
+}
+
+fn visibility_name(v: xbandsim::Visibility) -> String {
+    let debug = format!("{v:?}");
+    let mut s = String::new();
+    for (i, c) in debug.chars().enumerate() {
+        if c.is_ascii_uppercase() {
+            if i > 0 {
+                s.push('_');
+            }
+            s.push(c.to_ascii_lowercase());
+        } else {
+            s.push(c);
+        }
+    }
+    s
+}
