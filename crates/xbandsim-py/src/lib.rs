@@ -475,7 +475,7 @@ fn episode_info<'py>(
 #[pymethods]
 impl Env {
     #[new]
-    #[pyo3(signature = (task, level, image_size_px, max_steps, threads))]
+    #[pyo3(signature = (task, level, image_size_px, max_steps, threads, sea_clutter=true))]
     fn new(
         py: Python<'_>,
         task: &str,
@@ -483,6 +483,7 @@ impl Env {
         image_size_px: u32,
         max_steps: usize,
         threads: usize,
+        sea_clutter: bool,
     ) -> PyResult<Env> {
         let task = match task {
             "detection" => xbandsim_rl::Task::Detection,
@@ -505,6 +506,7 @@ impl Env {
             image_size_px,
             max_steps,
             threads,
+            sea_clutter,
         };
         let episode = xbandsim_rl::Episode::new(config).map_err(|e| library_error(py, e))?;
         Ok(Env { episode })

@@ -77,7 +77,7 @@ def test_info_reports_the_truth_it_scored():
     assert info["revolution"] == 1
     assert info["pulses"] == 180  # a full scan, one pulse per spoke
     (target,) = info["targets"]  # level 0: one target
-    assert target["class"] in ("boat", "ship") and target["rcs_m2"] >= 30.0
+    assert target["class"] in ("boat", "ship") and target["rcs_m2"] >= 100.0
     assert 250.0 <= target["range_m"] <= 1400.0
     found = target["detected"]
     expect = (1.0 if found else 0.0) - 0.1 - 0.01 * info["false_plots"]

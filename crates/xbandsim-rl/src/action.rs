@@ -177,14 +177,14 @@ impl Action {
 }
 
 impl Default for Action {
-    /// A full scan with the combined pulse, middle gain, light sea and rain clutter control and
-    /// one pulse per spoke.
+    /// A full scan with the combined pulse, gain level 1, sea clutter control level 2 (20·log
+    /// STC), no rain clutter control and one pulse per spoke.
     fn default() -> Action {
         Action {
             scan: Scan::Full,
             pulse: PulseChoice::Combined,
             gain: 1,
-            sea: 1,
+            sea: 2,
             rain: 0,
             integration: 0,
         }

@@ -55,11 +55,11 @@ struct Level {
 
 const LEVEL_TABLE: [Level; LEVELS] = [
     Level {
-        sea_state: (0.5, 1.5),
+        sea_state: (0.0, 1.0),
         rain_cells: (0, 0),
         rain_rate_mm_per_h: (0.0, 0.0),
         targets: (1, 1),
-        rcs_m2: (30.0, 300.0),
+        rcs_m2: (100.0, 1000.0),
         speed_kn: (0.0, 8.0),
         own_ship_kn: (0.0, 0.0),
     },
@@ -209,10 +209,14 @@ pub fn draw_scene(task: Task, level: usize, seed: u64, image_size_px: u32) -> Ep
         let rcs = (lo.ln() + rng.random::<f64>() * (hi.ln() - lo.ln())).exp();
         let speed = uniform(&mut rng, l.speed_kn);
         let course = rng.random_range(0.0..360.0);
+        // The scatterer's height over the sea, 1–4 m: with the antenna at 8 m the four-path
+        // multipath nulls (R = 2·h_r·h_t/λ) fall at 0.5–2 km, so targets fade in and out as
+        // real small craft do, each at its own ranges.
+        let height = rng.random_range(1.0..4.0);
         let _ = write!(
             t,
             "\n[[object]]\nname = \"target-{i}\"\nclass = \"{}\"\nshape = \"point\"\n\
-             rcs_m2 = {rcs}\nposition_m = [{e}, {n}, 2.0]\nspeed_kn = {speed}\ncourse_deg = {course}\n",
+             rcs_m2 = {rcs}\nposition_m = [{e}, {n}, {height}]\nspeed_kn = {speed}\ncourse_deg = {course}\n",
             class_of(rcs)
         );
     }

@@ -39,6 +39,8 @@ pub struct EpisodeConfig {
     pub max_steps: usize,
     /// Worker threads of the episode's own pool (1: one core, as the benchmark measures).
     pub threads: usize,
+    /// Sea clutter on (the default); off leaves noise, rain and the targets.
+    pub sea_clutter: bool,
 }
 
 impl EpisodeConfig {
@@ -50,6 +52,7 @@ impl EpisodeConfig {
             image_size_px: 256,
             max_steps: 0,
             threads: 1,
+            sea_clutter: true,
         }
     }
 
@@ -146,6 +149,7 @@ pub struct Episode {
     refreshed: Vec<bool>,
     floor_db: f32,
     power: Vec<f32>,
+    row: Vec<f32>,
     ppi_db: Vec<f32>,
     plot_scratch: PlotScratch,
     /// Per target: found in this episode; detection history (newest last, 3 kept).
@@ -180,6 +184,7 @@ impl Episode {
             refreshed: Vec::new(),
             floor_db: Action::default().floor_db(),
             power: Vec::new(),
+            row: Vec::new(),
             ppi_db: Vec::new(),
             plot_scratch: PlotScratch::default(),
             found: Vec::new(),
@@ -249,6 +254,7 @@ impl Episode {
         self.refreshed.clear();
         self.refreshed.resize(spokes, false);
         self.power.resize(bins, 0.0);
+        self.row.resize(bins, 0.0);
         let outcome = self.revolution(&Action::default())?;
         // The warm-up revolution is frame 0; the agent's first step is frame 1.
         self.found.iter_mut().for_each(|f| *f = false);
@@ -315,8 +321,12 @@ impl Episode {
             .position(|&p| p == pulse)
             .unwrap_or(0);
         if self.sims[i].is_none() {
+            let mut settings = pulse.settings();
+            if !self.config.sea_clutter {
+                settings.push("environment.clutter=false".into());
+            }
             let spec = LoadedSpec::from_toml(&self.scene.toml, "episode scene", Path::new("."))?
-                .with_overrides(&pulse.settings())?;
+                .with_overrides(&settings)?;
             self.sims[i] = Some(Simulation::new(spec.build()?));
         }
         Ok(self.sims[i].as_ref().expect("made above"))
@@ -377,16 +387,28 @@ impl Episode {
         let schedule = self.schedule(sim, action, frame)?;
         let pulses = schedule.num_pulses();
         let frame_out = sim.run(&schedule, seed, &|| {})?;
-        // The display: refreshed spokes through the operator's controls.
+        // The display: refreshed spokes through the operator's controls. With the combined
+        // pulse each channel is shown over its own noise, as a radar's per-channel gain does:
+        // the short pulse's bins (under the join) sit `short_pulse_noise_db` over the long
+        // pulse's noise in the record (docs/physics.md §11).
         let (spokes, bins) = (self.spokes, self.bins);
+        let short_noise_db = radar.short_pulse_noise_db().unwrap_or(0.0) as f32;
+        let join = radar.join_bin().min(bins);
         for k in 0..spokes {
             self.refreshed[k] = match action.scan {
                 Scan::Full => true,
                 Scan::Quadrant(q) => quadrant_of(k, spokes) == q,
             };
             if self.refreshed[k] {
+                self.row
+                    .copy_from_slice(&frame_out.polar_db[k * bins..(k + 1) * bins]);
+                if short_noise_db != 0.0 {
+                    self.row[..join]
+                        .iter_mut()
+                        .for_each(|v| *v -= short_noise_db);
+                }
                 process_spoke(
-                    &frame_out.polar_db[k * bins..(k + 1) * bins],
+                    &self.row,
                     self.range_bin_m,
                     FTC_FRACTION[action.rain],
                     STC_LAW[action.sea],

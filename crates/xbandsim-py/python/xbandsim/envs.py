@@ -45,7 +45,7 @@ def action_vector(
     scan: int | str = "full",
     pulse: str = "combined",
     gain: int = 1,
-    sea: int = 1,
+    sea: int = 2,
     rain: int = 0,
     integration: int = 0,
 ) -> np.ndarray:
@@ -83,6 +83,9 @@ class RadarEnv(gym.Env):
     threads:
         Worker threads for the simulation (default 1: one core per environment; vector
         environments scale across processes).
+    sea_clutter:
+        Sea clutter on (default); ``False`` leaves noise, rain and the targets (an easier
+        curriculum step, or an ablation).
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 4}
@@ -96,6 +99,7 @@ class RadarEnv(gym.Env):
         max_steps: int | None = None,
         render_mode: str | None = None,
         threads: int = 1,
+        sea_clutter: bool = True,
     ) -> None:
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(
@@ -107,6 +111,7 @@ class RadarEnv(gym.Env):
         self.own_ship_state = bool(own_ship_state)
         self._max_steps = 0 if max_steps is None else int(max_steps)
         self._threads = int(threads)
+        self._sea_clutter = bool(sea_clutter)
         self.render_mode = render_mode
         self._env = self._make(self.level)
         self.action_space = spaces.MultiDiscrete(np.array(_NVEC, dtype=np.int64))
@@ -127,7 +132,9 @@ class RadarEnv(gym.Env):
 
     def _make(self, level: int) -> Any:
         # Bad settings raise xbandsim.errors.InvalidFieldError naming the field.
-        return _xbandsim.Env(self.task, level, self.image_size, self._max_steps, self._threads)
+        return _xbandsim.Env(
+            self.task, level, self.image_size, self._max_steps, self._threads, self._sea_clutter
+        )
 
     def _observation(self, image: np.ndarray, info: dict) -> Any:
         if not self.own_ship_state:
