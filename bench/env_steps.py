@@ -107,7 +107,7 @@ def main() -> int:
         print(f"{env_id:24s} {r['level']:5d} {r['steps_per_s_default_action']:8.0f} "
               f"{r['steps_per_s_random_actions']:8.0f} {r['rust_ms']:8.2f} {r['gym_ms']:8.2f} "
               f"{r['python_overhead_percent']:7.1f}% "
-              f"{r['steps_per_s_default_action'] * numpy_frame_s:13.0f}")
+              f"{r['steps_per_s_default_action'] * numpy_frame_s:13.1f}")
     print(f"reference: NumPy paper-equivalent frame (1 us) {numpy_frame_s * 1e3:.0f} ms "
           f"in this run; the last column is steps per reference frame")
     return 0
