@@ -26,7 +26,9 @@ pub struct DatasetArgs {
     /// Dataset seed: sample i depends only on (spec, seed, i).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Make only shard I of K (the samples with index mod K = I), e.g. --shard 0/4.
+    /// Make only shard I of K (the samples with index mod K = I), e.g. --shard 0/4. I may be
+    /// `k8s` (from JOB_COMPLETION_INDEX, set by a Kubernetes Indexed Job) or `slurm` (from
+    /// SLURM_ARRAY_TASK_ID less SLURM_ARRAY_TASK_MIN): --shard k8s/8.
     #[arg(long, value_name = "I/K")]
     pub shard: Option<String>,
     /// Samples rendered at once (default: one per core).
@@ -186,7 +188,7 @@ fn make(
     let spec = DatasetSpec::read(spec_path)
         .with_context(|| format!("reading the dataset spec {}", spec_path.display()))?;
     let shard = match &a.shard {
-        Some(s) => Shard::parse(s)?,
+        Some(s) => Shard::resolve(s, &|name| std::env::var(name).ok())?,
         None => Shard::ALL,
     };
     let format = match a.format {

@@ -57,6 +57,61 @@ impl Shard {
         Ok(Shard { index, count })
     }
 
+    /// Reads `I/K`, where I may also be `k8s` (the index from `JOB_COMPLETION_INDEX`, which a
+    /// Kubernetes Indexed Job sets in each pod) or `slurm` (`SLURM_ARRAY_TASK_ID` less
+    /// `SLURM_ARRAY_TASK_MIN`, 0 when unset: a Slurm job array's task). `env` looks a variable
+    /// up (the CLI passes the process environment); a missing or non-numeric variable is an
+    /// error naming it.
+    pub fn resolve(text: &str, env: &dyn Fn(&str) -> Option<String>) -> Result<Shard> {
+        let Some((from, k)) = text.split_once('/') else {
+            return Shard::parse(text);
+        };
+        let read = |name: &str, why: &str| -> Result<u64> {
+            let value = env(name).ok_or_else(|| {
+                DatasetError::spec("--shard", format!("{text}: {name} is not set ({why})"))
+            })?;
+            value.trim().parse().map_err(|_| {
+                DatasetError::spec(
+                    "--shard",
+                    format!("{text}: {name} = {value:?} is not a whole number"),
+                )
+            })
+        };
+        let index = match from.trim() {
+            "k8s" => read(
+                "JOB_COMPLETION_INDEX",
+                "a Kubernetes Indexed Job sets it in each pod",
+            )?,
+            "slurm" => {
+                let id = read(
+                    "SLURM_ARRAY_TASK_ID",
+                    "a Slurm job array sets it in each task",
+                )?;
+                let min = match env("SLURM_ARRAY_TASK_MIN") {
+                    Some(_) => read("SLURM_ARRAY_TASK_MIN", "")?,
+                    None => 0,
+                };
+                id.checked_sub(min).ok_or_else(|| {
+                    DatasetError::spec(
+                        "--shard",
+                        format!(
+                            "{text}: SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"
+                        ),
+                    )
+                })?
+            }
+            _ => return Shard::parse(text),
+        };
+        Shard::parse(&format!("{index}/{k}")).map_err(|_| {
+            DatasetError::spec(
+                "--shard",
+                format!(
+                    "{text}: index {index} from the environment is not below the shard count {k}"
+                ),
+            )
+        })
+    }
+
     /// Whether sample `i` is this shard's.
     pub fn holds(&self, i: u64) -> bool {
         i % self.count == self.index

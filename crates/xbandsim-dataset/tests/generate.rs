@@ -308,3 +308,67 @@ fn bad_specs_name_the_field() {
             .contains("--shard"));
     }
 }
+
+#[test]
+fn shard_index_from_a_kubernetes_indexed_job_or_a_slurm_array() {
+    let env = |vars: &'static [(&'static str, &'static str)]| {
+        move |name: &str| {
+            vars.iter()
+                .find(|(k, _)| *k == name)
+                .map(|(_, v)| v.to_string())
+        }
+    };
+    let k8s = env(&[("JOB_COMPLETION_INDEX", "3")]);
+    assert_eq!(
+        Shard::resolve("k8s/8", &k8s).unwrap(),
+        Shard { index: 3, count: 8 }
+    );
+    // Plain I/K ignores the environment.
+    assert_eq!(
+        Shard::resolve("1/4", &k8s).unwrap(),
+        Shard { index: 1, count: 4 }
+    );
+    let slurm = env(&[
+        ("SLURM_ARRAY_TASK_ID", "12"),
+        ("SLURM_ARRAY_TASK_MIN", "10"),
+    ]);
+    assert_eq!(
+        Shard::resolve("slurm/4", &slurm).unwrap(),
+        Shard { index: 2, count: 4 }
+    );
+    let slurm0 = env(&[("SLURM_ARRAY_TASK_ID", "5")]);
+    assert_eq!(
+        Shard::resolve("slurm/6", &slurm0).unwrap(),
+        Shard { index: 5, count: 6 }
+    );
+    for (text, vars, says) in [
+        ("k8s/8", &[][..], "JOB_COMPLETION_INDEX is not set"),
+        (
+            "k8s/8",
+            &[("JOB_COMPLETION_INDEX", "x")][..],
+            "not a whole number",
+        ),
+        (
+            "k8s/2",
+            &[("JOB_COMPLETION_INDEX", "2")][..],
+            "not below the shard count",
+        ),
+        ("slurm/4", &[][..], "SLURM_ARRAY_TASK_ID is not set"),
+        (
+            "slurm/4",
+            &[("SLURM_ARRAY_TASK_ID", "1"), ("SLURM_ARRAY_TASK_MIN", "2")][..],
+            "below SLURM_ARRAY_TASK_MIN",
+        ),
+    ] {
+        let lookup = |name: &str| {
+            vars.iter()
+                .find(|(k, _)| *k == name)
+                .map(|(_, v)| v.to_string())
+        };
+        let err = Shard::resolve(text, &lookup).unwrap_err().to_string();
+        assert!(
+            err.contains("--shard") && err.contains(says),
+            "{text}: {err}"
+        );
+    }
+}

@@ -317,7 +317,7 @@ fn generate_dataset<'py>(
     let run = py.detach(|| {
         let spec = DatasetSpec::read(&spec_path)?;
         let shard = match &shard {
-            Some(s) => Shard::parse(s)?,
+            Some(s) => Shard::resolve(s, &|name| std::env::var(name).ok())?,
             None => Shard::ALL,
         };
         let format = match shard_samples {
