@@ -10,7 +10,14 @@ use glam::DVec3;
 
 const NUM_BINS: usize = 16;
 const MAX_LEAF_SIZE: usize = 4;
-const TRAVERSAL_STACK: usize = 64;
+/// Below this depth nodes are split at the SAH's best plane; from it on, at the median of the
+/// widest axis of their centres, which halves the count each level. So no leaf is deeper
+/// than `SAH_MAX_DEPTH + 32` for up to 2^32 primitives, however unbalanced the SAH's splits
+/// are (primitives spaced geometrically make it peel one off per level).
+const SAH_MAX_DEPTH: usize = 64;
+/// A traversal holds at most one pending node per level plus the one being visited, so this
+/// bounds the stack of every tree `build` makes (`SAH_MAX_DEPTH + 32 + 1` entries at most).
+const TRAVERSAL_STACK: usize = 128;
 
 #[derive(Debug, Clone, Copy)]
 struct Node {
@@ -46,8 +53,8 @@ impl Bvh {
             first: 0,
             count: primitives.len() as u32,
         });
-        let mut stack = vec![0usize];
-        while let Some(ni) = stack.pop() {
+        let mut stack = vec![(0usize, 0usize)];
+        while let Some((ni, depth)) = stack.pop() {
             let first = nodes[ni].first as usize;
             let count = nodes[ni].count as usize;
             let slice = &mut order[first..first + count];
@@ -61,16 +68,21 @@ impl Bvh {
             if count <= MAX_LEAF_SIZE {
                 continue;
             }
-            let Some((axis, split_pos)) = best_split(slice, &bounds, &centres, &cb, &nb) else {
-                continue;
-            };
-            let mut left = 0;
-            for j in 0..slice.len() {
-                if centres[slice[j] as usize][axis] < split_pos {
-                    slice.swap(left, j);
-                    left += 1;
+            let (axis, mut left) = if depth < SAH_MAX_DEPTH {
+                let Some((axis, split_pos)) = best_split(slice, &bounds, &centres, &cb, &nb) else {
+                    continue;
+                };
+                let mut left = 0;
+                for j in 0..slice.len() {
+                    if centres[slice[j] as usize][axis] < split_pos {
+                        slice.swap(left, j);
+                        left += 1;
+                    }
                 }
-            }
+                (axis, left)
+            } else {
+                ((cb.max - cb.min).max_position(), 0)
+            };
             if left == 0 || left == count {
                 left = count / 2;
                 slice.sort_by(|a, b| {
@@ -90,8 +102,8 @@ impl Bvh {
             });
             nodes[ni].first = li as u32;
             nodes[ni].count = 0;
-            stack.push(li);
-            stack.push(li + 1);
+            stack.push((li, depth + 1));
+            stack.push((li + 1, depth + 1));
         }
         let reordered: Vec<Primitive> = order.iter().map(|&i| primitives[i as usize]).collect();
         primitives.clear();
@@ -109,6 +121,23 @@ impl Bvh {
     /// Number of nodes.
     pub fn num_nodes(&self) -> usize {
         self.nodes.len()
+    }
+
+    /// Levels below the root of the deepest leaf (0 for a single leaf or an empty tree).
+    pub fn depth(&self) -> usize {
+        let mut deepest = 0;
+        let mut stack = vec![(0usize, 0usize)];
+        while let Some((ni, depth)) = stack.pop() {
+            let Some(node) = self.nodes.get(ni) else {
+                break;
+            };
+            deepest = deepest.max(depth);
+            if node.count == 0 {
+                stack.push((node.first as usize, depth + 1));
+                stack.push((node.first as usize + 1, depth + 1));
+            }
+        }
+        deepest
     }
 
     /// Bounds of the whole scene (EMPTY when there are no primitives).
@@ -167,16 +196,11 @@ impl Bvh {
                 .hit_distance(ray.origin_m, inv, t_best);
             match (dl, dr) {
                 (Some(a), Some(b)) => {
+                    // Never more than TRAVERSAL_STACK: see its bound.
                     let (near, far) = if a <= b { (l, l + 1) } else { (l + 1, l) };
-                    if sp + 2 > TRAVERSAL_STACK {
-                        // Degenerate depth: fall back to testing both subtrees in order.
-                        stack[sp] = far as u32;
-                        sp += 1;
-                    } else {
-                        stack[sp] = far as u32;
-                        stack[sp + 1] = near as u32;
-                        sp += 2;
-                    }
+                    stack[sp] = far as u32;
+                    stack[sp + 1] = near as u32;
+                    sp += 2;
                 }
                 (Some(_), None) => {
                     stack[sp] = l as u32;
@@ -220,11 +244,9 @@ impl Bvh {
                 }
                 continue;
             }
-            if sp + 2 <= TRAVERSAL_STACK {
-                stack[sp] = node.first;
-                stack[sp + 1] = node.first + 1;
-                sp += 2;
-            }
+            stack[sp] = node.first;
+            stack[sp + 1] = node.first + 1;
+            sp += 2;
         }
         false
     }

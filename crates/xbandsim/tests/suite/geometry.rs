@@ -88,6 +88,71 @@ fn bvh_matches_brute_force() {
     assert!(hits > 2_000, "too few hits to mean anything: {hits}");
 }
 
+/// Primitives spaced geometrically by more than the SAH's 16 bins can split (each centre 17
+/// times the last) leave it one plane, between the farthest primitive and the rest: a chain
+/// one level per primitive. A ray along the chain meets both children's boxes at every level.
+/// The traversal must still find the nearest sphere (it used to drop the near subtree once its
+/// 64-entry stack filled, and missed it) and the shadow test must still see it.
+#[test]
+fn bvh_deep_chain_matches_brute_force() {
+    let n = 100;
+    let centre_m = |i: i32| 17f64.powi(i);
+    let prims: Vec<Primitive> = (0..n)
+        .map(|i| Primitive {
+            kind: PrimitiveKind::Sphere {
+                centre: DVec3::new(centre_m(i), 0.0, 0.0),
+                radius_m: 0.02 * centre_m(i),
+            },
+            object: i as u32,
+        })
+        .collect();
+    let bvh = Bvh::build(prims);
+    assert!(
+        (65..=72).contains(&bvh.depth()),
+        "depth {}: the SAH's chain should be cut to medians below level 64",
+        bvh.depth()
+    );
+    let ordered = bvh.primitives().to_vec();
+    let mut rng = Lcg(7);
+    let mut rays = vec![
+        Ray::new(DVec3::new(-10.0, 0.0, 0.0), DVec3::X),
+        Ray::new(DVec3::new(centre_m(n), 0.0, 0.0), -DVec3::X),
+    ];
+    for _ in 0..2_000 {
+        // From halfway to sphere k, along +x or -x with a small tilt: the nearest hit is
+        // sphere k or k - 1, deep in the chain or near its root.
+        let k = (rng.next() * n as f64) as i32;
+        let scale_m = centre_m(k);
+        let origin = DVec3::new(0.5 * scale_m, 0.0, 0.0) + rng.vec(0.005 * scale_m);
+        let sign = if rng.next() < 0.5 { 1.0 } else { -1.0 };
+        rays.push(Ray::new(
+            origin,
+            DVec3::new(sign, 0.0, 0.0) + rng.vec(0.002),
+        ));
+    }
+    let mut deep_hits = 0;
+    for ray in &rays {
+        let a = bvh.closest_hit(ray, f64::INFINITY);
+        let b = closest_hit_brute_force(&ordered, ray, f64::INFINITY);
+        match (a, b) {
+            (Some(x), Some(y)) => {
+                assert!(
+                    x.object == y.object && (x.t_m - y.t_m).abs() <= 1e-9 * y.t_m,
+                    "{ray:?}: bvh {x:?} vs brute force {y:?}"
+                );
+                deep_hits += usize::from(x.object < 30);
+            }
+            (None, None) => {}
+            (x, y) => panic!("{ray:?}: bvh {x:?} vs brute force {y:?}"),
+        }
+    }
+    assert!(deep_hits > 200, "too few hits below level 64: {deep_hits}");
+    // The first sphere's near side is 10.98 m along the first ray.
+    assert_eq!(bvh.closest_hit(&rays[0], f64::INFINITY).unwrap().object, 0);
+    assert!(bvh.any_hit(&rays[0], 11.0));
+    assert!(!bvh.any_hit(&rays[0], 10.9));
+}
+
 /// Exact distances: sphere, plate, cylinder side and cap against closed forms.
 #[test]
 fn analytic_intersections() {
