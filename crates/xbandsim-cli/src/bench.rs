@@ -415,6 +415,7 @@ fn dataset_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<
             shard: Shard::ALL,
             jobs: 0,
             format: Format::Dir,
+            assemble: true,
         };
         let _ = generate(&spec, &dir, &request, &|| {});
         let _ = std::fs::remove_dir_all(&dir);

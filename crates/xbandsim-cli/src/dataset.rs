@@ -28,7 +28,7 @@ pub struct DatasetArgs {
     pub seed: u64,
     /// Make only shard I of K (the samples with index mod K = I), e.g. --shard 0/4. I may be
     /// `k8s` (from JOB_COMPLETION_INDEX, set by a Kubernetes Indexed Job) or `slurm` (from
-    /// SLURM_ARRAY_TASK_ID less SLURM_ARRAY_TASK_MIN): --shard k8s/8.
+    /// SLURM_ARRAY_TASK_ID, a job array numbered 0 … K-1): --shard k8s/8.
     #[arg(long, value_name = "I/K")]
     pub shard: Option<String>,
     /// Samples rendered at once (default: one per core).
@@ -42,6 +42,11 @@ pub struct DatasetArgs {
     /// Samples per tar shard with --format webdataset.
     #[arg(long, default_value_t = 200)]
     pub shard_samples: u64,
+    /// Make this run's samples only and leave the index files (COCO, YOLO, targets.jsonl,
+    /// README.md) to a later run without this flag: for many --shard runs at once, which
+    /// would otherwise each scan the whole dataset when they finish.
+    #[arg(long)]
+    pub no_assemble: bool,
 }
 
 /// How `xbandsim dataset` stores samples.
@@ -203,6 +208,7 @@ fn make(
         seed: a.seed,
         shard,
         jobs: a.jobs,
+        assemble: !a.no_assemble,
     };
     let in_shard = request.samples_in_shard();
     let progress = crate::progress::bar(in_shard, "dataset: samples");
@@ -233,6 +239,9 @@ fn make(
             } else {
                 ""
             }
+        ),
+        (None, 0) if a.no_assemble => crate::say!(
+            "--no-assemble: the index files are left to a run without it, once every shard is done"
         ),
         (None, 0) => {}
         (None, n) => crate::say!(

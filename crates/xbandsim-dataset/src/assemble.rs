@@ -48,7 +48,10 @@ struct AtomicFile {
 
 impl AtomicFile {
     fn create(path: &Path) -> Result<AtomicFile> {
-        let tmp = path.with_extension(format!("partial-{}", std::process::id()));
+        let tmp = path.with_extension(format!(
+            "partial-{}",
+            xbandsim::products::output::temp_suffix()
+        ));
         let file = at(&tmp, std::fs::File::create(&tmp))?;
         Ok(AtomicFile {
             path: path.to_path_buf(),
@@ -192,12 +195,13 @@ pub fn assemble(
     // README.md, the dataset card, is the mark of a finished assembly: removed first, written
     // last (a run stopped in between leaves it missing, and the next run assembles again).
     let card_path = out.join("README.md");
-    if card_path.exists() {
-        at(&card_path, std::fs::remove_file(&card_path))?;
-    }
+    // Two runs may assemble at once (shard runs finishing together): every temporary name is
+    // the process's own, what one removes the other may already have removed, and both
+    // write the same bytes.
+    remove_if_there(&card_path, std::fs::remove_file(&card_path))?;
     let anns_path = out.join(format!(
         "annotations.json.annotations-{}",
-        std::process::id()
+        xbandsim::products::output::temp_suffix()
     ));
     let mut w = Writer {
         coco: AtomicFile::create(&out.join("annotations.json"))?,
@@ -281,7 +285,12 @@ fn assemble_dirs(
     let trees = ["yolo", "yolo_obb"];
     let staging: Vec<PathBuf> = trees
         .iter()
-        .map(|t| out.join(format!(".{t}.partial-{}", std::process::id())))
+        .map(|t| {
+            out.join(format!(
+                ".{t}.partial-{}",
+                xbandsim::products::output::temp_suffix()
+            ))
+        })
         .collect();
     let has_val = (0..count).any(|i| spec.is_validation(i));
     for dir in &staging {
@@ -332,13 +341,35 @@ fn assemble_dirs(
             &yaml,
             std::fs::write(&yaml, data_yaml(categories, has_val, kind, count, seed)),
         )?;
+        // The old tree is moved aside (one atomic rename: another assembly may be putting
+        // its own in place meanwhile), the new one renamed in, the old one deleted.
         let dest = out.join(tree);
-        if dest.exists() {
-            at(&dest, std::fs::remove_dir_all(&dest))?;
+        let old = out.join(format!(
+            ".{tree}.old-{}",
+            xbandsim::products::output::temp_suffix()
+        ));
+        remove_if_there(&dest, std::fs::rename(&dest, &old))?;
+        match std::fs::rename(dir, &dest) {
+            Ok(()) => {}
+            // Another assembly put its tree (the same files) there meanwhile: keep theirs.
+            Err(_) if dest.join("data.yaml").is_file() => {
+                at(dir, std::fs::remove_dir_all(dir))?;
+            }
+            Err(e) => return Err(crate::error::DatasetError::io(&dest, e)),
         }
-        at(&dest, std::fs::rename(dir, &dest))?;
+        if old.exists() {
+            at(&old, std::fs::remove_dir_all(&old))?;
+        }
     }
     Ok(())
+}
+
+/// A removal's result, where "already gone" is success.
+fn remove_if_there(path: &Path, result: std::io::Result<()>) -> Result<()> {
+    match result {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        other => at(path, other),
+    }
 }
 
 /// The dataset card: what the dataset is, how it was made and what it holds.

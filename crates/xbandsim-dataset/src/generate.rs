@@ -10,7 +10,8 @@
 //!     frame_0000/ frame_0001/ …          (a sequence, `dataset.frames` > 1)
 //! ```
 //!
-//! A sample is rendered into `DIR/.partial/<index>/` and renamed into place when complete,
+//! A sample is rendered into `DIR/.partial/<index>-<process tag>/` and renamed into place
+//! when complete,
 //! so a sample folder is either whole or absent: a run stopped at any moment (Ctrl-C,
 //! kill -9) and started again skips the finished samples and redoes the rest. Sample i's
 //! bytes depend only on (spec, seed, i), so shards, job counts and order do not change them.
@@ -58,58 +59,54 @@ impl Shard {
     }
 
     /// Reads `I/K`, where I may also be `k8s` (the index from `JOB_COMPLETION_INDEX`, which a
-    /// Kubernetes Indexed Job sets in each pod) or `slurm` (`SLURM_ARRAY_TASK_ID` less
-    /// `SLURM_ARRAY_TASK_MIN`, 0 when unset: a Slurm job array's task). `env` looks a variable
-    /// up (the CLI passes the process environment); a missing or non-numeric variable is an
-    /// error naming it.
+    /// Kubernetes Indexed Job sets in each pod) or `slurm` (`SLURM_ARRAY_TASK_ID`: a Slurm
+    /// job array's task, submitted as `--array=0-(K-1)`; a resubmission of some tasks,
+    /// `--array=3,7`, makes those same shards). `env` looks a variable up (the CLI passes the
+    /// process environment); a missing or non-numeric variable is an error naming it.
     pub fn resolve(text: &str, env: &dyn Fn(&str) -> Option<String>) -> Result<Shard> {
         let Some((from, k)) = text.split_once('/') else {
             return Shard::parse(text);
         };
-        let read = |name: &str, why: &str| -> Result<u64> {
-            let value = env(name).ok_or_else(|| {
-                DatasetError::spec("--shard", format!("{text}: {name} is not set ({why})"))
-            })?;
-            value.trim().parse().map_err(|_| {
-                DatasetError::spec(
-                    "--shard",
-                    format!("{text}: {name} = {value:?} is not a whole number"),
-                )
-            })
-        };
-        let index = match from.trim() {
-            "k8s" => read(
+        let variable = match from.trim() {
+            "k8s" => (
                 "JOB_COMPLETION_INDEX",
                 "a Kubernetes Indexed Job sets it in each pod",
-            )?,
-            "slurm" => {
-                let id = read(
-                    "SLURM_ARRAY_TASK_ID",
-                    "a Slurm job array sets it in each task",
-                )?;
-                let min = match env("SLURM_ARRAY_TASK_MIN") {
-                    Some(_) => read("SLURM_ARRAY_TASK_MIN", "")?,
-                    None => 0,
-                };
-                id.checked_sub(min).ok_or_else(|| {
-                    DatasetError::spec(
-                        "--shard",
-                        format!(
-                            "{text}: SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"
-                        ),
-                    )
-                })?
-            }
+            ),
+            "slurm" => (
+                "SLURM_ARRAY_TASK_ID",
+                "a Slurm job array sets it in each task",
+            ),
             _ => return Shard::parse(text),
         };
-        Shard::parse(&format!("{index}/{k}")).map_err(|_| {
+        let count: u64 = match k.trim().parse() {
+            Ok(k) if k > 0 => k,
+            _ => {
+                return Err(DatasetError::spec(
+                    "--shard",
+                    format!("{text}: the shard count {k:?} must be a whole number above 0"),
+                ))
+            }
+        };
+        let (name, why) = variable;
+        let value = env(name).ok_or_else(|| {
+            DatasetError::spec("--shard", format!("{text}: {name} is not set ({why})"))
+        })?;
+        let index: u64 = value.trim().parse().map_err(|_| {
             DatasetError::spec(
                 "--shard",
-                format!(
-                    "{text}: index {index} from the environment is not below the shard count {k}"
-                ),
+                format!("{text}: {name} = {value:?} is not a whole number"),
             )
-        })
+        })?;
+        if index >= count {
+            return Err(DatasetError::spec(
+                "--shard",
+                format!(
+                    "{text}: {name} = {index} is not below the shard count {count} (number the tasks 0 … {})",
+                    count - 1
+                ),
+            ));
+        }
+        Ok(Shard { index, count })
     }
 
     /// Whether sample `i` is this shard's.
@@ -131,6 +128,11 @@ pub struct Request {
     pub jobs: usize,
     /// How the samples are stored.
     pub format: Format,
+    /// Whether this run writes the index files when it finds the dataset complete (the
+    /// default). Off, it makes its shard's samples only and does not look at the others':
+    /// for runs of many shards at once, with one run without `--shard` (or with this on)
+    /// after them all (`xbandsim dataset --no-assemble`, `xbandsim.distributed`).
+    pub assemble: bool,
 }
 
 impl Request {
@@ -195,7 +197,8 @@ pub struct Summary {
     pub skipped: u64,
     /// Made now.
     pub made: u64,
-    /// Samples of the whole dataset still missing (other shards').
+    /// Samples of the whole dataset still missing (other shards'); with
+    /// [`Request::assemble`] off, only this shard's are counted.
     pub missing: u64,
     /// The index files, when the dataset is complete and they were (re)written.
     pub assembled: Option<crate::assemble::Assembled>,
@@ -297,6 +300,10 @@ pub fn generate(
             crate::webdataset::make_shards(spec, out, request, samples_per_shard, sample_done)
         })?,
     };
+    if !request.assemble {
+        summary.missing = summary.in_shard - summary.skipped - summary.made;
+        return Ok(summary);
+    }
     // The index files, once every sample of every shard is in place.
     summary.missing = match request.format {
         Format::Dir => (0..request.count)
@@ -309,6 +316,7 @@ pub fn generate(
     // README.md is written last by the assembly (crate::assemble): without it the index
     // files are missing or unfinished.
     if summary.missing == 0 && (summary.made > 0 || !out.join("README.md").is_file()) {
+        remove_stale_partials(out);
         summary.assembled = Some(crate::assemble::assemble(
             spec,
             out,
@@ -465,7 +473,12 @@ pub fn render_sample(
 /// renames it into place.
 pub fn make_sample(spec: &DatasetSpec, out: &Path, seed: u64, index: u64) -> Result<()> {
     let written = render_sample(spec, seed, index, Format::Dir)?;
-    let partial = out.join(".partial").join(format!("{index:09}"));
+    // Named for this process: two runs of one shard at once (a retried pod beside one still
+    // terminating) each write their own and the first rename wins.
+    let partial = out.join(".partial").join(format!(
+        "{index:09}-{}",
+        xbandsim::products::output::temp_suffix()
+    ));
     if partial.exists() {
         std::fs::remove_dir_all(&partial).map_err(|e| DatasetError::io(&partial, e))?;
     }
@@ -491,6 +504,38 @@ pub fn make_sample(spec: &DatasetSpec, out: &Path, seed: u64, index: u64) -> Res
             std::fs::remove_dir_all(&partial).map_err(|e| DatasetError::io(&partial, e))
         }
         Err(e) => Err(DatasetError::io(&dest, e)),
+    }
+}
+
+/// How long a temporary sample folder or tar must be untouched before a completing run
+/// deletes it as a killed run's leftover (a live writer touches its files every sample).
+const STALE_PARTIAL: std::time::Duration = std::time::Duration::from_secs(600);
+
+/// Deletes what killed runs left half-written (`.partial/<index>-<tag>/`,
+/// `shards/*.partial-<tag>`), once the dataset is complete and only when untouched for
+/// [`STALE_PARTIAL`]. Best effort: what cannot be read or removed stays (never read).
+fn remove_stale_partials(out: &Path) {
+    let stale = |path: &Path| {
+        std::fs::metadata(path)
+            .and_then(|m| m.modified())
+            .ok()
+            .and_then(|t| t.elapsed().ok())
+            .is_some_and(|age| age > STALE_PARTIAL)
+    };
+    if let Ok(entries) = std::fs::read_dir(out.join(".partial")) {
+        for e in entries.flatten() {
+            if stale(&e.path()) {
+                let _ = std::fs::remove_dir_all(e.path());
+            }
+        }
+    }
+    if let Ok(entries) = std::fs::read_dir(out.join("shards")) {
+        for e in entries.flatten() {
+            let name = e.file_name();
+            if name.to_string_lossy().contains(".partial") && stale(&e.path()) {
+                let _ = std::fs::remove_file(e.path());
+            }
+        }
     }
 }
 

@@ -5,7 +5,7 @@
 //! is the sample. Every header is fixed (mode 0644, mtime 0, uid and gid 0, no user names),
 //! so the same samples give the same bytes.
 //!
-//! A shard is written to `shards/shard-TTTTTT.tar.partial` with its manifest
+//! A shard is written to `shards/shard-TTTTTT.tar.partial-<process tag>` with its manifest
 //! (`shard-TTTTTT.manifest.json`: its samples, every member's size and sha256, the tar's own
 //! sha256 and size); the tar is renamed into place, then the manifest, and a shard is done
 //! when its manifest is there. A run stopped at any moment redoes only unfinished shards.
@@ -118,7 +118,10 @@ fn write_shard(
     let path = shard_path(out, t);
     let dir = path.parent().unwrap_or(out).to_path_buf();
     at(&dir, std::fs::create_dir_all(&dir))?;
-    let tmp = path.with_extension("tar.partial");
+    let tmp = path.with_extension(format!(
+        "tar.partial-{}",
+        xbandsim::products::output::temp_suffix()
+    ));
     let file = at(&tmp, std::fs::File::create(&tmp))?;
     let mut builder = tar::Builder::new(Hashing {
         inner: std::io::BufWriter::new(file),
@@ -174,7 +177,10 @@ fn write_shard(
         "members": members,
     });
     let manifest_file = manifest_path(out, t);
-    let manifest_tmp = manifest_file.with_extension("json.partial");
+    let manifest_tmp = manifest_file.with_extension(format!(
+        "json.partial-{}",
+        xbandsim::products::output::temp_suffix()
+    ));
     let mut text = serde_json::to_vec_pretty(&manifest)
         .map_err(|e| DatasetError::spec("(manifest)", e.to_string()))?;
     text.push(b'\n');

@@ -74,6 +74,7 @@ fn request(count: u64, seed: u64, shard: Shard, jobs: usize) -> Request {
         shard,
         jobs,
         format: Format::Dir,
+        assemble: true,
     }
 }
 
@@ -116,6 +117,44 @@ fn samples_do_not_depend_on_jobs_shards_or_resumes() {
     assert_ne!(files(&whole), files(&other));
     let err = generate(&spec, &whole, &request(6, 12, Shard::ALL, 1), &|| {}).unwrap_err();
     assert!(matches!(err, DatasetError::Mismatch { .. }), "{err}");
+}
+
+/// Shard runs with `assemble` off write their samples only; one run with it on afterwards
+/// writes the index files, and the folder is byte for byte one run's. Runs assembling at the
+/// same moment (shard runs finishing together) leave the same bytes too.
+#[test]
+fn index_files_left_to_one_run_or_written_by_several_at_once() {
+    let spec = spec();
+    let tmp = tempfile::tempdir().unwrap();
+    let whole = tmp.path().join("whole");
+    generate(&spec, &whole, &request(6, 11, Shard::ALL, 2), &|| {}).unwrap();
+    let split = tmp.path().join("split");
+    for i in 0..3 {
+        let r = Request {
+            assemble: false,
+            ..request(6, 11, Shard { index: i, count: 3 }, 1)
+        };
+        let s = generate(&spec, &split, &r, &|| {}).unwrap();
+        assert_eq!((s.made, s.missing), (2, 0));
+        assert!(s.assembled.is_none());
+        assert!(!split.join("annotations.json").exists() && !split.join("README.md").exists());
+    }
+    let s = generate(&spec, &split, &request(6, 11, Shard::ALL, 1), &|| {}).unwrap();
+    assert_eq!((s.made, s.skipped), (0, 6));
+    assert!(s.assembled.is_some());
+    assert_eq!(files(&whole), files(&split));
+    // Four assemblies at once, three times over (README.md removed so that each assembles).
+    for _ in 0..3 {
+        std::fs::remove_file(split.join("README.md")).unwrap();
+        std::thread::scope(|scope| {
+            for _ in 0..4 {
+                scope.spawn(|| {
+                    generate(&spec, &split, &request(6, 11, Shard::ALL, 1), &|| {}).unwrap()
+                });
+            }
+        });
+        assert_eq!(files(&whole), files(&split));
+    }
 }
 
 /// A sample's scene.toml, rendered with the seed it names, gives the sample's polar record
@@ -328,18 +367,14 @@ fn shard_index_from_a_kubernetes_indexed_job_or_a_slurm_array() {
         Shard::resolve("1/4", &k8s).unwrap(),
         Shard { index: 1, count: 4 }
     );
-    let slurm = env(&[
-        ("SLURM_ARRAY_TASK_ID", "12"),
-        ("SLURM_ARRAY_TASK_MIN", "10"),
-    ]);
+    // The task id as it is: a resubmission of tasks 3 and 7 alone (MIN = 3) makes shards 3, 7.
+    let slurm = env(&[("SLURM_ARRAY_TASK_ID", "7"), ("SLURM_ARRAY_TASK_MIN", "3")]);
     assert_eq!(
-        Shard::resolve("slurm/4", &slurm).unwrap(),
-        Shard { index: 2, count: 4 }
-    );
-    let slurm0 = env(&[("SLURM_ARRAY_TASK_ID", "5")]);
-    assert_eq!(
-        Shard::resolve("slurm/6", &slurm0).unwrap(),
-        Shard { index: 5, count: 6 }
+        Shard::resolve("slurm/16", &slurm).unwrap(),
+        Shard {
+            index: 7,
+            count: 16
+        }
     );
     for (text, vars, says) in [
         ("k8s/8", &[][..], "JOB_COMPLETION_INDEX is not set"),
@@ -351,13 +386,18 @@ fn shard_index_from_a_kubernetes_indexed_job_or_a_slurm_array() {
         (
             "k8s/2",
             &[("JOB_COMPLETION_INDEX", "2")][..],
-            "not below the shard count",
+            "not below the shard count 2 (number the tasks 0 … 1)",
         ),
         ("slurm/4", &[][..], "SLURM_ARRAY_TASK_ID is not set"),
         (
-            "slurm/4",
-            &[("SLURM_ARRAY_TASK_ID", "1"), ("SLURM_ARRAY_TASK_MIN", "2")][..],
-            "below SLURM_ARRAY_TASK_MIN",
+            "k8s/x",
+            &[("JOB_COMPLETION_INDEX", "3")][..],
+            "the shard count \"x\" must be a whole number above 0",
+        ),
+        (
+            "slurm/0",
+            &[("SLURM_ARRAY_TASK_ID", "0")][..],
+            "must be a whole number above 0",
         ),
     ] {
         let lookup = |name: &str| {

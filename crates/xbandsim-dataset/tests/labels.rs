@@ -52,6 +52,7 @@ fn make(dir: &Path, count: u64) -> DatasetSpec {
         shard: Shard::ALL,
         jobs: 2,
         format: Format::Dir,
+        assemble: true,
     };
     let s = generate(&spec, dir, &request, &|| {}).unwrap();
     assert!(s.assembled.is_some());
@@ -396,6 +397,7 @@ fn yolo_trees_follow_the_ultralytics_format() {
         shard: Shard::ALL,
         jobs: 1,
         format: Format::Dir,
+        assemble: true,
     };
     let s = generate(&spec, tmp.path(), &request, &|| {}).unwrap();
     assert_eq!(s.made, 0);
@@ -446,6 +448,7 @@ fn webdataset_shards_hold_the_same_samples() {
         shard,
         jobs: 2,
         format,
+        assemble: true,
     };
     let one = tmp.path().join("one");
     let s = generate(&spec, &one, &request(Shard::ALL), &|| {}).unwrap();
@@ -538,6 +541,7 @@ fn combined_pulse_masks_use_the_short_pulse_noise() {
         shard: Shard::ALL,
         jobs: 2,
         format: Format::Dir,
+        assemble: true,
     };
     generate(&spec, tmp.path(), &request, &|| {}).unwrap();
     let mut inside_join = 0;

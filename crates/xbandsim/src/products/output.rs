@@ -10,6 +10,44 @@ use crate::error::{Error, Result};
 use std::io::Write;
 use std::path::Path;
 
+/// This process's part of temporary file names: host name, process id and the start time's
+/// nanoseconds, so processes on different machines sharing one file system (pods, which are
+/// all process 1, or a job array's tasks) never pick the same temporary name.
+pub fn temp_tag() -> &'static str {
+    static TAG: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    TAG.get_or_init(|| {
+        let host = std::fs::read_to_string("/proc/sys/kernel/hostname")
+            .ok()
+            .or_else(|| std::env::var("HOSTNAME").ok())
+            .or_else(|| std::env::var("COMPUTERNAME").ok())
+            .unwrap_or_default();
+        let host: String = host
+            .trim()
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '-' {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .take(32)
+            .collect();
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.subsec_nanos());
+        format!("{host}-{}-{nanos:08x}", std::process::id())
+    })
+}
+
+/// A temporary name's suffix no other writer uses: [`temp_tag`] and a count of the
+/// process's temporary names (two threads of one process writing one file at once differ).
+pub fn temp_suffix() -> String {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    format!("{}-{n}", temp_tag())
+}
+
 /// Writes `bytes` to `path` atomically (temp file + rename).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let dir = path
@@ -20,7 +58,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "out".into());
-    let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
+    let tmp = dir.join(format!(".{name}.tmp-{}", temp_suffix()));
     let result = (|| -> std::io::Result<()> {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
@@ -56,7 +94,7 @@ pub fn write_set(dir: &Path, files: &[(&str, Vec<u8>)]) -> Result<()> {
             }
         }
     }
-    let staging = dir.join(format!(".xbandsim-staging-{}", std::process::id()));
+    let staging = dir.join(format!(".xbandsim-staging-{}", temp_suffix()));
     let _ = std::fs::remove_dir_all(&staging);
     std::fs::create_dir(&staging).map_err(|e| Error::io(&staging, e))?;
     let cleanup = |e: Error| {
