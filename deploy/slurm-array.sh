@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
-# A labelled dataset made by a Slurm job array: task i of 16 makes shard i of 16
-# (`--shard slurm/16`: SLURM_ARRAY_TASK_ID less SLURM_ARRAY_TASK_MIN) into a shared
-# filesystem (docs/distributed.md). Samples depend only on (spec, seed, index): tasks run in
-# any order, a requeued or resubmitted task skips what is written, and the result is byte for
-# byte one `xbandsim dataset` run's. The task that completes the dataset writes the index
-# files; `xbandsim dataset verify` checks every sample's sha256 afterwards.
+# A labelled dataset made by a Slurm job array: task i makes shard i of 16
+# (`--shard slurm/16` reads SLURM_ARRAY_TASK_ID; the array is numbered 0-15) into a shared
+# file system (docs/distributed.md). Samples depend only on (spec, seed, index): tasks run in
+# any order, a requeued task skips what is written, and the result is byte for byte one
+# `xbandsim dataset` run's. The task that completes the dataset writes the index files.
 #
-#   sbatch deploy/slurm-array.sh
+#   sbatch deploy/slurm-array.sh                  # all 16 shards
+#   sbatch --array=3,7 deploy/slurm-array.sh      # remake shards 3 and 7 only
+#   xbandsim dataset verify /shared/datasets/detection   # afterwards: every sample's sha256
+#
+# Logs go to the folder sbatch is run from (Slurm does not create folders for them).
 #
 #SBATCH --job-name=xbandsim-dataset
 #SBATCH --array=0-15
@@ -14,7 +17,7 @@
 #SBATCH --mem=8G
 #SBATCH --time=12:00:00
 #SBATCH --requeue
-#SBATCH --output=logs/xbandsim-%A_%a.out
+#SBATCH --output=xbandsim-%A_%a.out
 set -euo pipefail
 
 XBANDSIM="${XBANDSIM:-target/release/xbandsim}"   # built once: cargo build --release -p xbandsim-cli
@@ -25,4 +28,4 @@ SHARDS=16                                          # = the --array size
 
 "$XBANDSIM" dataset "$SPEC" --out "$OUT" --count "$COUNT" --seed 0 \
   --shard "slurm/$SHARDS" --jobs "$SLURM_CPUS_PER_TASK" \
-  --format webdataset --shard-samples 1000
+  --format webdataset --shard-samples 200

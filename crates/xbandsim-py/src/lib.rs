@@ -11,6 +11,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 use xbandsim::engine::{Outputs, Simulation};
 use xbandsim::products::frame_files::{frame_products, Images};
 use xbandsim::scene::LoadedSpec;
@@ -189,8 +190,11 @@ impl SceneSpec {
     /// Builds and checks the scene.
     fn build(&self, py: Python<'_>) -> PyResult<Sim> {
         let spec = &self.spec;
+        let pool = library_pool()?;
         let (scene, display) = py
-            .detach(|| Ok::<_, xbandsim::Error>((spec.build()?, spec.ppi_settings()?)))
+            .detach(|| {
+                pool.install(|| Ok::<_, xbandsim::Error>((spec.build()?, spec.ppi_settings()?)))
+            })
             .map_err(|e| library_error(py, e))?;
         Ok(Sim {
             sim: Simulation::new(scene),
@@ -198,6 +202,33 @@ impl SceneSpec {
             name: spec.origin().to_string(),
         })
     }
+}
+
+/// The thread pool the library's parallel work runs on. Rayon's global pool does not survive
+/// `fork()`: a process forked after using it (a torch DataLoader worker, multiprocessing's
+/// fork start method) has none of its threads and would wait for them forever. So the binding
+/// keeps one pool per process and builds a new one in a forked child (its parent's pool is
+/// left alone: its threads are not in this process). Threads: `RAYON_NUM_THREADS` or one per
+/// core.
+fn library_pool() -> PyResult<Arc<rayon::ThreadPool>> {
+    static POOL: Mutex<Option<(u32, Arc<rayon::ThreadPool>)>> = Mutex::new(None);
+    let pid = std::process::id();
+    let mut slot = POOL.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((owner, pool)) = slot.as_ref() {
+        if *owner == pid {
+            return Ok(pool.clone());
+        }
+    }
+    if let Some(parents) = slot.take() {
+        std::mem::forget(parents);
+    }
+    let pool = Arc::new(
+        rayon::ThreadPoolBuilder::new()
+            .build()
+            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?,
+    );
+    *slot = Some((pid, pool.clone()));
+    Ok(pool)
 }
 
 #[pymethods]
@@ -219,24 +250,27 @@ impl Sim {
             radial_velocity: self.display.doppler_colour,
         };
         let radar = self.sim.scene().radar();
+        let pool = library_pool()?;
         let rendered = py.detach(|| {
-            self.sim.check_outputs(outputs)?;
-            let f = self
-                .sim
-                .render_frame_outputs(seed, frame, outputs, &|| {})?;
-            let products = frame_products(
-                radar,
-                &self.display,
-                &f,
-                Path::new("."),
-                &self.name,
-                seed,
-                Images {
-                    colour: images,
-                    gray: images,
-                },
-            )?;
-            Ok::<_, xbandsim::Error>((f, products))
+            pool.install(|| {
+                self.sim.check_outputs(outputs)?;
+                let f = self
+                    .sim
+                    .render_frame_outputs(seed, frame, outputs, &|| {})?;
+                let products = frame_products(
+                    radar,
+                    &self.display,
+                    &f,
+                    Path::new("."),
+                    &self.name,
+                    seed,
+                    Images {
+                        colour: images,
+                        gray: images,
+                    },
+                )?;
+                Ok::<_, xbandsim::Error>((f, products))
+            })
         });
         let (f, p) = rendered.map_err(|e| library_error(py, e))?;
         let out = PyDict::new(py);
@@ -303,7 +337,7 @@ impl Sim {
 
 /// Generates (or resumes) a dataset; returns the run's counts.
 #[pyfunction]
-#[pyo3(signature = (spec_path, out, count, seed, shard, jobs, shard_samples))]
+#[pyo3(signature = (spec_path, out, count, seed, shard, jobs, shard_samples, assemble=true))]
 fn generate_dataset<'py>(
     py: Python<'py>,
     spec_path: PathBuf,
@@ -313,6 +347,7 @@ fn generate_dataset<'py>(
     shard: Option<String>,
     jobs: usize,
     shard_samples: Option<u64>,
+    assemble: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let run = py.detach(|| {
         let spec = DatasetSpec::read(&spec_path)?;
@@ -332,6 +367,7 @@ fn generate_dataset<'py>(
             shard,
             jobs,
             format,
+            assemble,
         };
         generate(&spec, &out, &request, &|| {})
     });
@@ -354,10 +390,13 @@ fn render_sample<'py>(
     seed: u64,
     index: u64,
 ) -> PyResult<Vec<(String, Bound<'py, pyo3::types::PyBytes>)>> {
+    let pool = library_pool()?;
     let files = py
         .detach(|| {
-            let spec = DatasetSpec::read(&spec_path)?;
-            xbandsim_dataset::render_sample(&spec, seed, index, Format::Dir)
+            pool.install(|| {
+                let spec = DatasetSpec::read(&spec_path)?;
+                xbandsim_dataset::render_sample(&spec, seed, index, Format::Dir)
+            })
         })
         .map_err(|e| dataset_error(py, e))?;
     Ok(files

@@ -195,6 +195,31 @@ def test_radar_dataset_folders_shards_and_on_the_fly_agree(tmp_path):
     assert labelled > 0
 
 
+def _render_in_child(index):
+    spec = ROOT / "datasets" / "detection.toml"
+    item = xbandsim.data.RadarDataset(spec, count=4, seed=5, tensors=False)[index]
+    frame = xbandsim.Simulation(ROOT / "scenes" / "paper.toml").render(seed=1)
+    return item[0].sum(), frame.polar_db.sum()
+
+
+@pytest.mark.skipif(
+    "fork" not in __import__("multiprocessing").get_all_start_methods(),
+    reason="no fork() on this platform",
+)
+def test_rendering_in_a_process_forked_after_rendering():
+    """A torch DataLoader worker is a fork of a process that has usually rendered already:
+    the library's threads are not in the child, and rendering there must not wait for them
+    (it did, forever, on rayon's global pool)."""
+    import multiprocessing
+
+    here = _render_in_child(1)  # the parent renders first, as a DataLoader's parent does
+    ctx = multiprocessing.get_context("fork")
+    with ctx.Pool(2) as pool:
+        results = [pool.apply_async(_render_in_child, (1,)) for _ in range(2)]
+        for r in results:
+            assert r.get(timeout=120) == here
+
+
 def test_radar_dataset_errors(tmp_path):
     with pytest.raises(FileNotFoundError):
         xbandsim.data.RadarDataset(tmp_path)

@@ -1,8 +1,7 @@
 """Dataset generation on Ray (docs/distributed.md): a local cluster on loopback with two
 workers makes a dataset while one worker is killed mid-run, and the result is complete and
-byte for byte a single-process run's; the ray.data path gives the same bytes; the deploy
-manifests agree with the CLI's --shard k8s/K and slurm/K. Skipped, with the reason, where Ray
-cannot be imported."""
+byte for byte a single-process run's; the ray.data path gives the same bytes. Skipped, with
+the reason, where Ray cannot be imported (scripts/test.sh says why it was not installed)."""
 
 import hashlib
 import os
@@ -33,10 +32,12 @@ COUNT = 16
 
 
 def tree_digest(root: Path) -> dict:
+    """Every file's sha256 but those in .partial/, where a killed worker's half-written
+    sample stays (never read; deleted by a later assembly once untouched for 10 minutes)."""
     return {
         str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest()
         for p in sorted(root.rglob("*"))
-        if p.is_file()
+        if p.is_file() and p.relative_to(root).parts[0] != ".partial"
     }
 
 
@@ -83,6 +84,9 @@ def worker_pids_running(name: str) -> list:
 def test_a_killed_worker_is_retried_and_the_dataset_is_a_single_runs(
     local_ray, single_run, tmp_path
 ):
+    """Two blocks on two worker CPUs (block b holds the samples of index parity b). Once both
+    blocks have written a sample and neither is finished, one worker is killed with SIGKILL:
+    Ray must run its block again, and the retry must skip what the dead worker wrote."""
     out = tmp_path / "ray"
     killed = []
 
@@ -90,21 +94,27 @@ def test_a_killed_worker_is_retried_and_the_dataset_is_a_single_runs(
         deadline = time.time() + 120
         while time.time() < deadline and not killed:
             samples = out / "samples"
-            made = list(samples.rglob("coco.json")) if samples.exists() else []
+            made = [int(p.name) for p in samples.glob("*/*")] if samples.exists() else []
+            per_block = [sum(1 for i in made if i % 2 == b) for b in (0, 1)]
             pids = worker_pids_running("make_block")
-            if made and pids:
-                os.kill(pids[0], signal.SIGKILL)
-                killed.append((pids[0], len(made)))
+            if pids and all(1 <= n < COUNT // 2 - 1 for n in per_block):
+                try:
+                    os.kill(pids[0], signal.SIGKILL)
+                except ProcessLookupError:  # it finished between the look and the kill
+                    continue
+                killed.append((pids[0], per_block))
                 return
-            time.sleep(0.05)
+            time.sleep(0.02)
 
     killer = threading.Thread(target=kill_one_worker_mid_run)
     killer.start()
-    summary = distributed.generate(SPEC, out, COUNT, seed=3, blocks=4, progress=False)
+    summary = distributed.generate(SPEC, out, COUNT, seed=3, blocks=2, progress=False)
     killer.join()
-    assert killed, "no worker was found running a block"
-    assert killed[0][1] < COUNT, "the kill came after every sample was made"
-    assert summary["complete"] and summary["missing"] == 0 and summary["blocks"] == 4
+    assert killed, "no worker was found mid-block"
+    assert summary["complete"] and summary["missing"] == 0 and summary["blocks"] == 2
+    # The killed block's retry found the samples its first attempt wrote.
+    assert summary["skipped"] >= 1, (summary, killed)
+    assert summary["made"] + summary["skipped"] == COUNT
     assert tree_digest(out) == tree_digest(single_run)
 
 
@@ -146,17 +156,3 @@ def test_bad_arguments_raise(local_ray, tmp_path):
         distributed.generate(bad, tmp_path / "y", 2, blocks=1, progress=False)
     with pytest.raises(xbandsim.XbandsimIOError, match="missing.toml"):
         distributed.generate(tmp_path / "missing.toml", tmp_path / "z", 2, progress=False)
-
-
-def test_deploy_manifests_match_the_clis_shard_from_the_environment():
-    yaml = pytest.importorskip("yaml")
-    job = yaml.safe_load((ROOT / "deploy" / "k8s-indexed-job.yaml").read_text())
-    spec = job["spec"]
-    assert spec["completionMode"] == "Indexed"
-    command = spec["template"]["spec"]["containers"][0]["command"]
-    assert command[command.index("--shard") + 1] == f"k8s/{spec['completions']}"
-    rayjob = yaml.safe_load((ROOT / "deploy" / "kuberay-rayjob.yaml").read_text())
-    assert rayjob["kind"] == "RayJob" and "distributed" in rayjob["spec"]["entrypoint"]
-    slurm = (ROOT / "deploy" / "slurm-array.sh").read_text()
-    assert "#SBATCH --array=0-15" in slurm and "SHARDS=16" in slurm
-    assert '--shard "slurm/$SHARDS"' in slurm

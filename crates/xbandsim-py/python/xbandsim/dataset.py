@@ -23,13 +23,17 @@ def generate(
     shard: Optional[str] = None,
     jobs: int = 0,
     shard_samples: Optional[int] = None,
+    assemble: bool = True,
 ) -> Dict[str, Union[int, bool]]:
     """Makes (or resumes) the dataset of ``spec`` (a dataset-spec TOML file) in ``out``.
 
     ``shard`` ``"I/K"`` makes only shard I of K; ``jobs`` samples at once (0: one per core);
     ``shard_samples`` writes WebDataset tar shards of that many samples instead of folders.
-    Returns the run's counts: ``in_shard``, ``skipped`` (already there), ``made``,
-    ``missing`` (other shards' samples not made yet) and ``assembled`` (index files written).
+    ``assemble=False`` makes this run's samples only and leaves the index files to a later
+    run (the CLI's ``--no-assemble``; for many shard runs at once). Returns the run's counts:
+    ``in_shard``, ``skipped`` (already there), ``made``, ``missing`` (other shards' samples
+    not made yet; with ``assemble=False`` this shard's only) and ``assembled`` (index files
+    written).
     """
     for name, v in (("count", count), ("seed", seed), ("jobs", jobs)):
         if int(v) < 0:
@@ -44,6 +48,7 @@ def generate(
         shard,
         int(jobs),
         None if shard_samples is None else int(shard_samples),
+        bool(assemble),
     )
 
 

@@ -6,8 +6,8 @@ of samples (block ``I`` of ``K`` is the generator's shard ``I/K``: the samples w
 guarantees carry over: sample ``i`` depends only on (spec, seed, i), a block that is run
 again skips the samples already written (each written whole, by a rename), so a task retried
 after its worker died finishes the block, and the result is byte for byte the dataset a
-single ``xbandsim dataset`` run makes. The index files are written once, by the driver, after
-every block is done.
+single ``xbandsim dataset`` run makes. The blocks write samples only; the index files are
+written once, by the driver, after every block is done.
 
 ``samples`` gives the same samples as a ``ray.data.Dataset`` (one row per sample, its files as
 bytes) for pipelines that stream into training or write with Ray's own writers.
@@ -60,6 +60,7 @@ def make_block(
         shard=f"{block}/{blocks}",
         jobs=jobs,
         shard_samples=shard_samples,
+        assemble=False,
     )
     return dict(summary, block=block)
 
@@ -106,6 +107,12 @@ def generate(
         from .errors import DatasetSpecError
 
         raise DatasetSpecError(f"count {count}: a dataset needs at least one sample")
+    if shard_samples is not None and int(shard_samples) < 1:
+        from .errors import DatasetSpecError
+
+        raise DatasetSpecError(
+            f"shard_samples {shard_samples}: a tar shard needs at least one sample"
+        )
     if not ray.is_initialized():
         ray.init()
     units = count if shard_samples is None else -(-count // int(shard_samples))
@@ -133,18 +140,24 @@ def generate(
         for b in range(blocks)
     }
     results: List[Dict[str, Any]] = []
-    while pending:
-        done, _ = ray.wait(list(pending), num_returns=1)
-        for ref in done:
-            pending.pop(ref)
-            results.append(ray.get(ref))  # a block that failed for good raises here
+    try:
+        while pending:
+            done, _ = ray.wait(list(pending), num_returns=1)
+            for ref in done:
+                pending.pop(ref)
+                results.append(ray.get(ref))  # a block that failed for good raises here
+            if progress:
+                sys.stderr.write(f"\rxbandsim: {len(results)}/{blocks} blocks done")
+                sys.stderr.flush()
+    finally:
+        # On an error (or Ctrl-C) the other blocks are stopped, so that calling generate
+        # again does not run beside them; what they wrote stays and is skipped then.
+        for ref in pending:
+            ray.cancel(ref, force=True)
         if progress:
-            sys.stderr.write(f"\rxbandsim: {len(results)}/{blocks} blocks done")
-            sys.stderr.flush()
-    if progress:
-        sys.stderr.write("\n")
+            sys.stderr.write("\n")
     # Every block is in place: one more pass over the whole dataset finds nothing to make and
-    # writes the index files (COCO, YOLO, targets.jsonl, the card) exactly once.
+    # writes the index files (COCO, YOLO, targets.jsonl, the card) once.
     final = _dataset.generate(spec, out, count, seed, jobs=1, shard_samples=shard_samples)
     made = sum(r["made"] for r in results)
     in_blocks = sum(r["in_shard"] for r in results)
@@ -154,8 +167,7 @@ def generate(
         "made": made,
         "skipped": in_blocks - made,
         "missing": final["missing"],
-        # The block that finished last usually wrote the index files; the driver's pass
-        # writes them when none did. README.md (the card) is written last.
+        # README.md (the card) is the index files' last.
         "complete": final["missing"] == 0 and os.path.isfile(os.path.join(out, "README.md")),
         "seconds": time.perf_counter() - start,
     }
@@ -165,8 +177,9 @@ def samples(spec: PathLike, count: int, seed: int = 0, *, cpus_per_task: float =
     """The samples of the dataset of ``spec`` as a ``ray.data.Dataset``, rendered by Ray's
     workers: one row per sample with ``index`` (int) and ``files`` (a dict of relative file
     name to bytes: the same bytes ``xbandsim dataset`` stores, PNGs, ``polar.npy``, labels).
-    Write it with Ray's writers (``ds.write_parquet(...)``, ``ds.write_webdataset(...)``) or
-    iterate it straight into training."""
+    Write it with Ray's writers (``ds.write_parquet(...)``) or iterate it straight into
+    training. (For WebDataset tar shards, ``generate(..., shard_samples=N)`` writes them with
+    manifests.)"""
     ray = _ray()
     spec = os.path.abspath(os.fspath(spec))
     seed = int(seed)
