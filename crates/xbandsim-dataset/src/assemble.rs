@@ -44,6 +44,17 @@ struct AtomicFile {
     path: PathBuf,
     tmp: PathBuf,
     file: std::io::BufWriter<std::fs::File>,
+    renamed: bool,
+}
+
+impl Drop for AtomicFile {
+    /// An assembly that fails part way removes its temporary file (a killed one leaves it to
+    /// the stale-file cleanup of a later run).
+    fn drop(&mut self) {
+        if !self.renamed {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
 }
 
 impl AtomicFile {
@@ -57,6 +68,7 @@ impl AtomicFile {
             path: path.to_path_buf(),
             tmp,
             file: std::io::BufWriter::new(file),
+            renamed: false,
         })
     }
 
@@ -66,7 +78,9 @@ impl AtomicFile {
 
     fn finish(mut self) -> Result<()> {
         at(&self.tmp, self.file.flush())?;
-        at(&self.path, std::fs::rename(&self.tmp, &self.path))
+        at(&self.path, std::fs::rename(&self.tmp, &self.path))?;
+        self.renamed = true;
+        Ok(())
     }
 }
 
@@ -292,11 +306,32 @@ fn assemble_dirs(
             ))
         })
         .collect();
-    let has_val = (0..count).any(|i| spec.is_validation(i));
-    for dir in &staging {
-        if dir.exists() {
-            at(dir, std::fs::remove_dir_all(dir))?;
+    // Where file times are coarser than the clock, a tree another assembly finishes in the
+    // tick this one starts counts as older and is replaced: more work, the same files.
+    let started = std::time::SystemTime::now();
+    let result = fill_yolo_trees(spec, out, count, seed, categories, w, &staging, started);
+    if result.is_err() {
+        for dir in &staging {
+            let _ = std::fs::remove_dir_all(dir);
         }
+    }
+    result
+}
+
+/// The samples' labels into `w`, and the YOLO trees staged in `staging` and put in place.
+fn fill_yolo_trees(
+    spec: &DatasetSpec,
+    out: &Path,
+    count: u64,
+    seed: u64,
+    categories: &[String],
+    w: &mut Writer,
+    staging: &[PathBuf],
+    started: std::time::SystemTime,
+) -> Result<()> {
+    let trees = ["yolo", "yolo_obb"];
+    let has_val = (0..count).any(|i| spec.is_validation(i));
+    for dir in staging {
         for split in ["train", "val"] {
             for kind in ["images", "labels"] {
                 let d = dir.join(kind).join(split);
@@ -335,33 +370,54 @@ fn assemble_dirs(
             }
         }
     }
-    for ((tree, dir), kind) in trees.iter().zip(&staging).zip(["detect", "oriented boxes"]) {
+    for ((tree, dir), kind) in trees.iter().zip(staging).zip(["detect", "oriented boxes"]) {
         let yaml = dir.join("data.yaml");
         at(
             &yaml,
             std::fs::write(&yaml, data_yaml(categories, has_val, kind, count, seed)),
         )?;
-        // The old tree is moved aside (one atomic rename: another assembly may be putting
-        // its own in place meanwhile), the new one renamed in, the old one deleted.
-        let dest = out.join(tree);
-        let old = out.join(format!(
-            ".{tree}.old-{}",
-            xbandsim::products::output::temp_suffix()
-        ));
-        remove_if_there(&dest, std::fs::rename(&dest, &old))?;
-        match std::fs::rename(dir, &dest) {
-            Ok(()) => {}
-            // Another assembly put its tree (the same files) there meanwhile: keep theirs.
-            Err(_) if dest.join("data.yaml").is_file() => {
-                at(dir, std::fs::remove_dir_all(dir))?;
-            }
-            Err(e) => return Err(crate::error::DatasetError::io(&dest, e)),
-        }
-        if old.exists() {
-            at(&old, std::fs::remove_dir_all(&old))?;
-        }
+        put_tree_in_place(dir, &out.join(tree), started)?;
     }
     Ok(())
+}
+
+/// Renames the staged tree `staged` to `dest`, replacing what was there before this assembly
+/// `started`. A tree whose `data.yaml` (written last into a staged tree) is newer than that
+/// was put there meanwhile by another assembly of this same dataset running at once, and
+/// holds the same files: it stays, and `staged` is deleted. So any number of assemblies at
+/// once leave one whole tree, and one stopped part-way leaves the tree whole or absent.
+fn put_tree_in_place(staged: &Path, dest: &Path, started: std::time::SystemTime) -> Result<()> {
+    let put_there_meanwhile = || {
+        std::fs::metadata(dest.join("data.yaml"))
+            .and_then(|m| m.modified())
+            .is_ok_and(|t| t >= started)
+    };
+    let mut last_error = None;
+    for _ in 0..8 {
+        match std::fs::rename(staged, dest) {
+            Ok(()) => return Ok(()),
+            Err(_) if put_there_meanwhile() => {
+                return remove_if_there(staged, std::fs::remove_dir_all(staged));
+            }
+            Err(e) => {
+                last_error = Some(e);
+                // The old tree (or whatever is there) is moved aside by one rename, then
+                // deleted; another assembly may be doing the same: try again.
+                let aside = dest.with_file_name(format!(
+                    ".{}.old-{}",
+                    dest.file_name().unwrap_or_default().to_string_lossy(),
+                    xbandsim::products::output::temp_suffix()
+                ));
+                if std::fs::rename(dest, &aside).is_ok() {
+                    let _ = std::fs::remove_dir_all(&aside);
+                }
+            }
+        }
+    }
+    Err(crate::error::DatasetError::io(
+        dest,
+        last_error.unwrap_or_else(|| std::io::Error::other("could not be renamed into place")),
+    ))
 }
 
 /// A removal's result, where "already gone" is success.

@@ -468,7 +468,7 @@ pub fn render_sample(
     Ok(written)
 }
 
-/// Renders sample `index` ([`render_sample`]) into `out/.partial/<index>/` with its
+/// Renders sample `index` ([`render_sample`]) into `out/.partial/<index>-<tag>/` with its
 /// files.sha256 (the sha256 of every other file, in `sha256sum -c` form, written last) and
 /// renames it into place.
 pub fn make_sample(spec: &DatasetSpec, out: &Path, seed: u64, index: u64) -> Result<()> {
@@ -507,33 +507,79 @@ pub fn make_sample(spec: &DatasetSpec, out: &Path, seed: u64, index: u64) -> Res
     }
 }
 
-/// How long a temporary sample folder or tar must be untouched before a completing run
-/// deletes it as a killed run's leftover (a live writer touches its files every sample).
+/// How long a temporary file or folder must be untouched before a completing run deletes it
+/// as a killed run's leftover (a live writer touches its files every sample).
 const STALE_PARTIAL: std::time::Duration = std::time::Duration::from_secs(600);
 
+/// The dataset root's temporary names (crate::assemble and the record's write), each
+/// followed by a process tag (`xbandsim::products::output::temp_suffix`).
+const ROOT_TEMPORARY_PREFIXES: [&str; 9] = [
+    "annotations.partial-",
+    "targets.partial-",
+    "README.partial-",
+    "annotations.json.annotations-",
+    ".yolo.partial-",
+    ".yolo_obb.partial-",
+    ".yolo.old-",
+    ".yolo_obb.old-",
+    ".dataset.json.tmp-",
+];
+
+/// Whether `path` and everything in it down to `depth` levels (a folder's time changes only
+/// when its own entries do) is older than [`STALE_PARTIAL`].
+fn untouched(path: &Path, depth: u32) -> bool {
+    let Ok(meta) = std::fs::symlink_metadata(path) else {
+        return false;
+    };
+    let old = meta
+        .modified()
+        .ok()
+        .and_then(|t| t.elapsed().ok())
+        .is_some_and(|age| age > STALE_PARTIAL);
+    if !old || !meta.is_dir() || depth == 0 {
+        return old;
+    }
+    match std::fs::read_dir(path) {
+        Ok(entries) => entries.flatten().all(|e| untouched(&e.path(), depth - 1)),
+        Err(_) => false,
+    }
+}
+
 /// Deletes what killed runs left half-written (`.partial/<index>-<tag>/`,
-/// `shards/*.partial-<tag>`), once the dataset is complete and only when untouched for
-/// [`STALE_PARTIAL`]. Best effort: what cannot be read or removed stays (never read).
+/// `shards/*.partial-<tag>`, the assembly's temporary files and trees in the root), once the
+/// dataset is complete and only when untouched for [`STALE_PARTIAL`]. Best effort: what
+/// cannot be read or removed stays (never read).
 fn remove_stale_partials(out: &Path) {
-    let stale = |path: &Path| {
-        std::fs::metadata(path)
-            .and_then(|m| m.modified())
-            .ok()
-            .and_then(|t| t.elapsed().ok())
-            .is_some_and(|age| age > STALE_PARTIAL)
+    let remove = |path: &Path| {
+        let _ = if path.is_dir() {
+            std::fs::remove_dir_all(path)
+        } else {
+            std::fs::remove_file(path)
+        };
     };
     if let Ok(entries) = std::fs::read_dir(out.join(".partial")) {
         for e in entries.flatten() {
-            if stale(&e.path()) {
-                let _ = std::fs::remove_dir_all(e.path());
+            if untouched(&e.path(), 2) {
+                remove(&e.path());
             }
         }
     }
     if let Ok(entries) = std::fs::read_dir(out.join("shards")) {
         for e in entries.flatten() {
             let name = e.file_name();
-            if name.to_string_lossy().contains(".partial") && stale(&e.path()) {
-                let _ = std::fs::remove_file(e.path());
+            if name.to_string_lossy().contains(".partial-") && untouched(&e.path(), 0) {
+                remove(&e.path());
+            }
+        }
+    }
+    if let Ok(entries) = std::fs::read_dir(out) {
+        for e in entries.flatten() {
+            let name = e.file_name();
+            let name = name.to_string_lossy();
+            if ROOT_TEMPORARY_PREFIXES.iter().any(|p| name.starts_with(p))
+                && untouched(&e.path(), 3)
+            {
+                remove(&e.path());
             }
         }
     }

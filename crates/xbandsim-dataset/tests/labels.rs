@@ -454,13 +454,46 @@ fn webdataset_shards_hold_the_same_samples() {
     let s = generate(&spec, &one, &request(Shard::ALL), &|| {}).unwrap();
     assert_eq!((s.in_shard, s.made), (5, 5));
     let two = tmp.path().join("two");
-    // A partial tar left by a killed run is replaced.
+    // Temporary files of killed runs, untouched for 20 minutes, are deleted by the run that
+    // assembles; one touched a moment ago may be a live run's and stays.
     std::fs::create_dir_all(two.join("shards")).unwrap();
-    std::fs::write(two.join("shards/shard-000001.tar.partial"), b"half").unwrap();
+    std::fs::create_dir_all(two.join(".yolo.partial-deadhost-1-0-3/images")).unwrap();
+    let long_ago = std::time::SystemTime::now() - std::time::Duration::from_secs(1200);
+    let dead = [
+        "shards/shard-000001.tar.partial-deadhost-1-0-0",
+        "annotations.partial-deadhost-1-0-1",
+        "annotations.json.annotations-deadhost-1-0-2",
+        ".yolo.partial-deadhost-1-0-3/images/000000001.png",
+    ];
+    for name in dead {
+        std::fs::write(two.join(name), b"half").unwrap();
+        let f = std::fs::File::options()
+            .write(true)
+            .open(two.join(name))
+            .unwrap();
+        f.set_modified(long_ago).unwrap();
+    }
+    for dir in [
+        ".yolo.partial-deadhost-1-0-3/images",
+        ".yolo.partial-deadhost-1-0-3",
+    ] {
+        std::fs::File::open(two.join(dir))
+            .unwrap()
+            .set_modified(long_ago)
+            .unwrap();
+    }
+    let live = "shards/shard-000002.tar.partial-livehost-7-0-0";
+    std::fs::write(two.join(live), b"being written").unwrap();
     for i in [1, 0] {
         let s = generate(&spec, &two, &request(Shard { index: i, count: 2 }), &|| {}).unwrap();
         assert_eq!(s.in_shard, if i == 0 { 3 } else { 2 });
     }
+    for name in dead {
+        assert!(!two.join(name).exists(), "{name} should be deleted");
+    }
+    assert!(!two.join(".yolo.partial-deadhost-1-0-3").exists());
+    assert!(two.join(live).is_file(), "a live run's file was deleted");
+    std::fs::remove_file(two.join(live)).unwrap();
     let read = |dir: &Path| {
         let mut m = BTreeMap::new();
         for t in 0..3 {

@@ -9,6 +9,12 @@ after its worker died finishes the block, and the result is byte for byte the da
 single ``xbandsim dataset`` run makes. The blocks write samples only; the index files are
 written once, by the driver, after every block is done.
 
+``out`` may also be an fsspec URL (``s3://bucket/ds``, ``gs://…``, ``file:///…``) with tar
+shards (``shard_samples``): each task then renders one tar shard at a time into a local
+folder and uploads the tar, then its manifest (a shard is done when its manifest is there),
+and the driver writes the index files from the label members of the uploaded tars, read by
+byte range. The tree under the URL is byte for byte the local run's.
+
 ``samples`` gives the same samples as a ``ray.data.Dataset`` (one row per sample, its files as
 bytes) for pipelines that stream into training or write with Ray's own writers.
 
@@ -17,17 +23,24 @@ Needs ``pip install ray`` (not a dependency of xbandsim).
 
 from __future__ import annotations
 
+import hashlib
+import io
+import json
 import os
+import shutil
 import sys
+import tarfile
+import tempfile
 import time
-from typing import Any, Dict, List, Optional, Union
+from typing import Any, Dict, List, Optional, Tuple, Union
 
 from . import _xbandsim
 from . import dataset as _dataset
+from .errors import XbandsimError, XbandsimIOError
 
 PathLike = Union[str, "os.PathLike[str]"]
 
-__all__ = ["generate", "samples", "make_block"]
+__all__ = ["generate", "samples", "webdataset_rows", "make_block", "make_block_at_url"]
 
 
 def _ray():
@@ -38,6 +51,147 @@ def _ray():
             "xbandsim.distributed needs Ray: pip install 'ray>=2.9'"
         ) from e
     return ray
+
+
+def _fsspec(url: str) -> Tuple[Any, str]:
+    """The fsspec file system and root path of ``url``."""
+    try:
+        import fsspec
+    except ImportError as e:
+        raise ImportError(
+            f"out {url!r}: a URL needs fsspec (pip install fsspec, and the file system's "
+            "own package: s3fs, gcsfs, adlfs, ...)"
+        ) from e
+    fs, root = fsspec.core.url_to_fs(url)
+    return fs, root.rstrip("/")
+
+
+def _shard_name(t: int) -> str:
+    return f"shards/shard-{t:06d}"
+
+
+def _fetch_record(fs: Any, root: str, folder: str) -> None:
+    """Copies the URL's dataset.json (if any) into a local folder, so that the generator run
+    there checks it (a URL holding another spec, seed or count is refused before rendering)."""
+    remote = f"{root}/dataset.json"
+    if fs.exists(remote):
+        fs.get_file(remote, os.path.join(folder, "dataset.json"))
+
+
+def _check_record(fs: Any, root: str, url: str, spec: str, count: int, seed: int,
+                  shard_samples: int) -> None:
+    """Refuses a URL that holds another dataset, and writes dataset.json there if absent."""
+    with tempfile.TemporaryDirectory(prefix="xbandsim-record-") as local:
+        _fetch_record(fs, root, local)
+        shards = -(-count // shard_samples)
+        # Shard `shards` of `shards + 1` holds no tar shard: the generator checks (or writes)
+        # the dataset record and renders nothing.
+        try:
+            _dataset.generate(spec, local, count, seed, shard=f"{shards}/{shards + 1}",
+                              jobs=1, shard_samples=shard_samples, assemble=False)
+        except XbandsimError as e:
+            raise type(e)(f"out {url!r}: {e}".replace(local, url)) from None
+        # Object stores have no folders (a no-op there); local and network file systems do.
+        fs.makedirs(f"{root}/shards", exist_ok=True)
+        if not fs.exists(f"{root}/dataset.json"):
+            fs.put_file(os.path.join(local, "dataset.json"), f"{root}/dataset.json")
+
+
+def make_block_at_url(
+    spec: str,
+    url: str,
+    count: int,
+    seed: int,
+    block: int,
+    blocks: int,
+    jobs: int,
+    shard_samples: int,
+) -> Dict[str, Any]:
+    """Makes the tar shards ``t`` with ``t mod blocks = block`` of the dataset at ``url``: each
+    one not yet there (no manifest) is rendered into a local folder and uploaded, the tar
+    first and its manifest last; what a Ray task runs for a URL."""
+    fs, root = _fsspec(url)
+    shards = -(-count // shard_samples)
+    summary = dict(in_shard=0, skipped=0, made=0, block=block)
+    for t in range(block, shards, blocks):
+        n = min((t + 1) * shard_samples, count) - t * shard_samples
+        summary["in_shard"] += n
+        name = _shard_name(t)
+        if fs.exists(f"{root}/{name}.manifest.json"):
+            summary["skipped"] += n
+            continue
+        stage = tempfile.mkdtemp(prefix="xbandsim-shard-")
+        try:
+            _fetch_record(fs, root, stage)
+            _dataset.generate(spec, stage, count, seed, shard=f"{t}/{shards}", jobs=jobs,
+                              shard_samples=shard_samples, assemble=False)
+            fs.put_file(os.path.join(stage, name + ".tar"), f"{root}/{name}.tar")
+            fs.put_file(os.path.join(stage, name + ".manifest.json"),
+                        f"{root}/{name}.manifest.json")
+        finally:
+            shutil.rmtree(stage, ignore_errors=True)
+        summary["made"] += n
+    return summary
+
+
+def _assemble_at_url(fs: Any, root: str, url: str, spec: str, count: int, seed: int,
+                     shard_samples: int) -> int:
+    """Writes the index files of the dataset at ``url`` once every shard's manifest is there:
+    the label members each shard's COCO and table rows come from are read by byte range (a
+    ustar member is a 512-byte header and its data padded to 512 bytes; each is checked
+    against the manifest's sha256) into a local mirror of label-only tars, the generator
+    assembles the mirror, and annotations.json, targets.jsonl and README.md (last) are
+    uploaded. Returns the samples still missing (then nothing is written)."""
+    shards = -(-count // shard_samples)
+    missing = sum(
+        min((t + 1) * shard_samples, count) - t * shard_samples
+        for t in range(shards)
+        if not fs.exists(f"{root}/{_shard_name(t)}.manifest.json")
+    )
+    if missing:
+        return missing
+    mirror = tempfile.mkdtemp(prefix="xbandsim-mirror-")
+    try:
+        os.makedirs(os.path.join(mirror, "shards"))
+        _fetch_record(fs, root, mirror)
+        for t in range(shards):
+            name = _shard_name(t)
+            local_manifest = os.path.join(mirror, name + ".manifest.json")
+            fs.get_file(f"{root}/{name}.manifest.json", local_manifest)
+            with open(local_manifest, "rb") as f:
+                manifest = json.load(f)
+            wanted, starts, ends, offset = [], [], [], 0
+            for member in manifest["members"]:
+                size = int(member["size"])
+                if member["name"].endswith((".coco.json", ".targets.jsonl")):
+                    wanted.append(member)
+                    starts.append(offset + 512)
+                    ends.append(offset + 512 + size)
+                offset += 512 + -(-size // 512) * 512
+            paths = [f"{root}/{name}.tar"] * len(wanted)
+            datas = fs.cat_ranges(paths, starts, ends) if wanted else []
+            with tarfile.open(os.path.join(mirror, name + ".tar"), "w",
+                              format=tarfile.USTAR_FORMAT) as tar:
+                for member, data in zip(wanted, datas):
+                    if hashlib.sha256(data).hexdigest() != member["sha256"]:
+                        raise XbandsimIOError(
+                            f"{url}/{name}.tar: member {member['name']} differs from "
+                            "its manifest (xbandsim dataset verify on a mounted copy says more)"
+                        )
+                    info = tarfile.TarInfo(member["name"])
+                    info.size = len(data)
+                    tar.addfile(info, io.BytesIO(data))
+        if fs.exists(f"{root}/README.md"):
+            fs.rm_file(f"{root}/README.md")  # the card marks a finished assembly: gone first
+        final = _dataset.generate(spec, mirror, count, seed, jobs=1,
+                                  shard_samples=shard_samples)
+        if final["missing"]:
+            return int(final["missing"])
+        for index_file in ("annotations.json", "targets.jsonl", "README.md"):
+            fs.put_file(os.path.join(mirror, index_file), f"{root}/{index_file}")
+        return 0
+    finally:
+        shutil.rmtree(mirror, ignore_errors=True)
 
 
 def make_block(
@@ -83,25 +237,28 @@ def generate(
     """Makes (or resumes) the dataset of ``spec`` in ``out`` on the Ray cluster this process
     is connected to (``ray.init()`` first; a local one is started when none is).
 
-    ``spec`` and ``out`` must be paths every worker can read and write (a shared filesystem).
+    ``spec`` and ``out`` must be paths every worker can read and write (a shared filesystem),
+    or ``out`` an fsspec URL every worker can write with ``shard_samples`` set (see the
+    module doc; the file system's fsspec package must be installed on every worker).
     ``blocks`` tasks are submitted (default: four per CPU of the cluster, at most one per
     sample or tar shard), each asking ``cpus_per_task`` CPUs and rendering ``jobs_per_task``
     samples at a time (``memory_per_task`` bytes and custom ``resources`` are passed to Ray's
-    scheduler as they are; a 512x512 sample needs about 0.3 GB); a task whose worker dies is retried up to ``max_retries`` times and
-    skips what was written. ``shard_samples`` writes WebDataset tar shards. A bad spec raises
+    scheduler as they are; a 512x512 sample needs about 0.3 GB); a task whose worker dies is
+    retried up to ``max_retries`` times and skips what was written. ``shard_samples`` writes WebDataset tar shards. A bad spec raises
     its ``DatasetSpecError`` from the first task (errors are not retried; only lost workers
     are). Returns the counts (``count``, ``blocks``, ``made`` and ``skipped`` by the tasks'
     last attempts, ``missing``, ``complete``: every sample and the index files are in place,
     ``seconds``).
     """
-    if "://" in os.fspath(out):
+    url = os.fspath(out) if "://" in os.fspath(out) else None
+    if url is not None and shard_samples is None:
         raise ValueError(
-            f"out {os.fspath(out)!r}: URLs are not supported; mount the storage on every "
-            "worker (NFS, CephFS, s3fs, gcsfuse, ...) and pass its path (docs/distributed.md)"
+            f"out {url!r}: a URL needs tar shards (shard_samples=N): sample folders of many "
+            "small files cannot be renamed into place on object storage (docs/distributed.md)"
         )
     ray = _ray()
     spec = os.path.abspath(os.fspath(spec))
-    out = os.path.abspath(os.fspath(out))
+    out = url if url is not None else os.path.abspath(os.fspath(out))
     count, seed = int(count), int(seed)
     if count <= 0:
         from .errors import DatasetSpecError
@@ -113,6 +270,9 @@ def generate(
         raise DatasetSpecError(
             f"shard_samples {shard_samples}: a tar shard needs at least one sample"
         )
+    if url is not None:
+        fs, root = _fsspec(url)
+        _check_record(fs, root, url, spec, count, seed, int(shard_samples))
     if not ray.is_initialized():
         ray.init()
     units = count if shard_samples is None else -(-count // int(shard_samples))
@@ -133,7 +293,7 @@ def generate(
         options["memory"] = int(memory_per_task)
     if resources:
         options["resources"] = dict(resources)
-    task = ray.remote(make_block).options(**options)
+    task = ray.remote(make_block if url is None else make_block_at_url).options(**options)
     start = time.perf_counter()
     pending = {
         task.remote(spec, out, count, seed, b, blocks, jobs_per_task, shard_samples): b
@@ -154,11 +314,28 @@ def generate(
         # again does not run beside them; what they wrote stays and is skipped then.
         for ref in pending:
             ray.cancel(ref, force=True)
+        # Their outcomes (the same error, or the cancellation) are collected, so that Ray does
+        # not print them as unhandled: the first error is the one raised.
+        for ref in pending:
+            try:
+                ray.get(ref, timeout=30)
+            except Exception:
+                pass
         if progress:
             sys.stderr.write("\n")
     # Every block is in place: one more pass over the whole dataset finds nothing to make and
     # writes the index files (COCO, YOLO, targets.jsonl, the card) once.
-    final = _dataset.generate(spec, out, count, seed, jobs=1, shard_samples=shard_samples)
+    if url is None:
+        missing = int(
+            _dataset.generate(spec, out, count, seed, jobs=1, shard_samples=shard_samples)[
+                "missing"
+            ]
+        )
+        # README.md (the card) is the index files' last.
+        card = os.path.isfile(os.path.join(out, "README.md"))
+    else:
+        missing = _assemble_at_url(fs, root, url, spec, count, seed, int(shard_samples))
+        card = fs.exists(f"{root}/README.md")
     made = sum(r["made"] for r in results)
     in_blocks = sum(r["in_shard"] for r in results)
     return {
@@ -166,9 +343,8 @@ def generate(
         "blocks": blocks,
         "made": made,
         "skipped": in_blocks - made,
-        "missing": final["missing"],
-        # README.md (the card) is the index files' last.
-        "complete": final["missing"] == 0 and os.path.isfile(os.path.join(out, "README.md")),
+        "missing": missing,
+        "complete": missing == 0 and card,
         "seconds": time.perf_counter() - start,
     }
 
@@ -177,9 +353,9 @@ def samples(spec: PathLike, count: int, seed: int = 0, *, cpus_per_task: float =
     """The samples of the dataset of ``spec`` as a ``ray.data.Dataset``, rendered by Ray's
     workers: one row per sample with ``index`` (int) and ``files`` (a dict of relative file
     name to bytes: the same bytes ``xbandsim dataset`` stores, PNGs, ``polar.npy``, labels).
-    Write it with Ray's writers (``ds.write_parquet(...)``) or iterate it straight into
-    training. (For WebDataset tar shards, ``generate(..., shard_samples=N)`` writes them with
-    manifests.)"""
+    Write it with Ray's writers (``ds.write_parquet(...)``; for ``write_webdataset`` see
+    ``webdataset_rows``) or iterate it straight into training. (``generate(...,
+    shard_samples=N)`` writes tar shards with manifests, byte for byte reproducible.)"""
     ray = _ray()
     spec = os.path.abspath(os.fspath(spec))
     seed = int(seed)
@@ -193,3 +369,24 @@ def samples(spec: PathLike, count: int, seed: int = 0, *, cpus_per_task: float =
     return ray.data.range(int(count)).map_batches(
         render, batch_size=1, num_cpus=cpus_per_task, batch_format="numpy"
     )
+
+
+def _webdataset_row(row: Dict[str, Any]) -> Dict[str, Any]:
+    flat: Dict[str, Any] = {"__key__": f"{int(row['index']):09d}"}
+    for name, data in row["files"].items():
+        flat[name.replace("/", ".")] = bytes(data)
+    return flat
+
+
+def webdataset_rows(ds: Any) -> Any:
+    """``samples``' rows in the layout Ray's WebDataset writer takes: ``__key__`` (the index as
+    nine digits) and one column per file (``ppi_gray.png``, ``coco.json``, ...; a frame's
+    files as ``frame_0003.ppi_gray.png``). Write them unencoded, so that each member holds
+    the file's bytes::
+
+        distributed.webdataset_rows(distributed.samples(spec, n)).write_webdataset(
+            path, encoder=None)
+
+    Members are named ``<key>.<file>``, as in the tar shards of ``xbandsim dataset``; Ray
+    chooses how rows are split into tars and stamps the time into the headers."""
+    return ds.map(_webdataset_row)

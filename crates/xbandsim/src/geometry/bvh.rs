@@ -12,12 +12,13 @@ const NUM_BINS: usize = 16;
 const MAX_LEAF_SIZE: usize = 4;
 /// Below this depth nodes are split at the SAH's best plane; from it on, at the median of the
 /// widest axis of their centres, which halves the count each level. So no leaf is deeper
-/// than `SAH_MAX_DEPTH + 32` for up to 2^32 primitives, however unbalanced the SAH's splits
+/// than `SAH_MAX_DEPTH + 32` for up to 2^31 primitives (node indices are `u32`), however unbalanced the SAH's splits
 /// are (primitives spaced geometrically make it peel one off per level).
 const SAH_MAX_DEPTH: usize = 64;
 /// A traversal holds at most one pending node per level plus the one being visited, so this
 /// bounds the stack of every tree `build` makes (`SAH_MAX_DEPTH + 32 + 1` entries at most).
 const TRAVERSAL_STACK: usize = 128;
+const _: () = assert!(SAH_MAX_DEPTH + 32 < TRAVERSAL_STACK);
 
 #[derive(Debug, Clone, Copy)]
 struct Node {

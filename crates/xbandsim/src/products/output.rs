@@ -10,18 +10,20 @@ use crate::error::{Error, Result};
 use std::io::Write;
 use std::path::Path;
 
-/// This process's part of temporary file names: host name, process id and the start time's
-/// nanoseconds, so processes on different machines sharing one file system (pods, which are
-/// all process 1, or a job array's tasks) never pick the same temporary name.
-pub fn temp_tag() -> &'static str {
-    static TAG: std::sync::OnceLock<String> = std::sync::OnceLock::new();
-    TAG.get_or_init(|| {
+/// This process's part of temporary file names: host name, process id and the nanoseconds of
+/// the first temporary name the process (or the one it was forked from) made, so processes on
+/// different machines sharing one file system (pods, which are all process 1, or a job
+/// array's tasks) and processes forked from one another never pick the same temporary name.
+/// The process id is read at every call: a forked child's names differ from its parent's.
+pub fn temp_tag() -> String {
+    static HOST_AND_TIME: std::sync::OnceLock<(String, u32)> = std::sync::OnceLock::new();
+    let (host, nanos) = HOST_AND_TIME.get_or_init(|| {
         let host = std::fs::read_to_string("/proc/sys/kernel/hostname")
             .ok()
             .or_else(|| std::env::var("HOSTNAME").ok())
             .or_else(|| std::env::var("COMPUTERNAME").ok())
             .unwrap_or_default();
-        let host: String = host
+        let host: Vec<char> = host
             .trim()
             .chars()
             .map(|c| {
@@ -31,13 +33,15 @@ pub fn temp_tag() -> &'static str {
                     '_'
                 }
             })
-            .take(32)
             .collect();
+        // The end of a long name: pods of one job share the start and differ at the end.
+        let host = host[host.len().saturating_sub(32)..].iter().collect();
         let nanos = std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
             .map_or(0, |d| d.subsec_nanos());
-        format!("{host}-{}-{nanos:08x}", std::process::id())
-    })
+        (host, nanos)
+    });
+    format!("{host}-{}-{nanos:08x}", std::process::id())
 }
 
 /// A temporary name's suffix no other writer uses: [`temp_tag`] and a count of the
