@@ -232,3 +232,34 @@ def test_radar_dataset_errors(tmp_path):
         ds[1]
     with pytest.raises(ValueError):
         xbandsim._xbandsim.decode_rle("a b", 2, 2)
+
+
+def test_radar_dataset_through_torch_dataloader_workers(tmp_path):
+    """With torch installed, items are tensors and torch's DataLoader with worker processes
+    (forked after the parent rendered) gives the NumPy path's arrays, from folders, tar shards
+    and on the fly. Skipped without torch: scripts/test.sh does not install it (torch from
+    PyPI brings several GB of CUDA libraries; docs/python.md says how it was checked)."""
+    torch = pytest.importorskip("torch", reason="torch is not installed (docs/python.md)")
+    from torch.utils.data import DataLoader
+
+    spec = ROOT / "datasets" / "detection.toml"
+    xbandsim.dataset.generate(spec, tmp_path / "dir", count=4, seed=5)
+    xbandsim.dataset.generate(spec, tmp_path / "wds", count=4, seed=5, shard_samples=3)
+    for source in (dict(source=tmp_path / "dir"), dict(source=tmp_path / "wds"),
+                   dict(source=spec, count=4, seed=5)):
+        want = _items(xbandsim.data.RadarDataset(tensors=False, **source))
+        loader = DataLoader(
+            xbandsim.data.RadarDataset(**source),
+            batch_size=2,
+            num_workers=2,
+            collate_fn=lambda batch: tuple(zip(*batch)),
+            timeout=120,
+        )
+        got = [item for images, targets in loader for item in zip(images, targets)]
+        assert len(got) == len(want)
+        for (image, target), (want_image, want_target) in zip(got, want):
+            assert isinstance(image, torch.Tensor) and image.dtype == torch.float32
+            assert np.array_equal(image.numpy(), want_image)
+            for key in ("boxes", "labels", "masks", "area", "iscrowd", "track_ids"):
+                assert isinstance(target[key], torch.Tensor), key
+                assert np.array_equal(target[key].numpy(), want_target[key]), key
