@@ -27,5 +27,5 @@ COUNT="${COUNT:-1000000}"
 SHARDS=16                                          # = the --array size
 
 "$XBANDSIM" dataset "$SPEC" --out "$OUT" --count "$COUNT" --seed 0 \
-  --shard "slurm/$SHARDS" --jobs "$SLURM_CPUS_PER_TASK" \
+  --shard "slurm/$SHARDS" --jobs "${SLURM_CPUS_PER_TASK:-0}" \
   --format webdataset --shard-samples 200

@@ -245,7 +245,12 @@ fn make(
         ),
         (None, 0) => {}
         (None, n) => crate::say!(
-            "{n} samples of other shards are not made yet: the dataset's index files (annotations.json, yolo/, targets.jsonl, README.md) are written by the run that completes it"
+            "{n} samples of other shards are not made yet: the dataset's index files (annotations.json, {}targets.jsonl, README.md) are written by the run that completes it",
+            if format == Format::Dir {
+                "yolo/, yolo_obb/, "
+            } else {
+                ""
+            }
         ),
     }
     Ok(())

@@ -191,13 +191,16 @@ impl SceneSpec {
     fn build(&self, py: Python<'_>) -> PyResult<Sim> {
         let spec = &self.spec;
         let pool = library_pool()?;
-        let (scene, display) = py
+        // The scene, its BVH and its caches are built with the GIL released.
+        let (sim, display) = py
             .detach(|| {
-                pool.install(|| Ok::<_, xbandsim::Error>((spec.build()?, spec.ppi_settings()?)))
+                pool.install(|| {
+                    Ok::<_, xbandsim::Error>((Simulation::new(spec.build()?), spec.ppi_settings()?))
+                })
             })
             .map_err(|e| library_error(py, e))?;
         Ok(Sim {
-            sim: Simulation::new(scene),
+            sim,
             display,
             name: spec.origin().to_string(),
         })

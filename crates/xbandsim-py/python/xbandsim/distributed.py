@@ -18,7 +18,8 @@ byte range. The tree under the URL is byte for byte the local run's.
 ``samples`` gives the same samples as a ``ray.data.Dataset`` (one row per sample, its files as
 bytes) for pipelines that stream into training or write with Ray's own writers.
 
-Needs ``pip install ray`` (not a dependency of xbandsim).
+Needs Ray: ``pip install "./crates/xbandsim-py[ray]"`` (``ray[data]`` and fsspec; not
+dependencies of xbandsim itself).
 """
 
 from __future__ import annotations
@@ -48,7 +49,8 @@ def _ray():
         import ray
     except ImportError as e:  # pragma: no cover - exercised where ray is absent
         raise ImportError(
-            "xbandsim.distributed needs Ray: pip install 'ray>=2.9'"
+            "xbandsim.distributed needs Ray: pip install 'ray[data]>=2.9' (or the package's "
+            "[ray] extra: pip install './crates/xbandsim-py[ray]')"
         ) from e
     return ray
 
@@ -307,7 +309,10 @@ def generate(
                 pending.pop(ref)
                 results.append(ray.get(ref))  # a block that failed for good raises here
             if progress:
-                sys.stderr.write(f"\rxbandsim: {len(results)}/{blocks} blocks done")
+                # Rewritten in place on a terminal; a line each in logs (a RayJob's, a file).
+                end = "" if sys.stderr.isatty() else "\n"
+                start = "\r" if end == "" else ""
+                sys.stderr.write(f"{start}xbandsim: {len(results)}/{blocks} blocks done{end}")
                 sys.stderr.flush()
     finally:
         # On an error (or Ctrl-C) the other blocks are stopped, so that calling generate
@@ -321,7 +326,7 @@ def generate(
                 ray.get(ref, timeout=30)
             except Exception:
                 pass
-        if progress:
+        if progress and sys.stderr.isatty():
             sys.stderr.write("\n")
     # Every block is in place: one more pass over the whole dataset finds nothing to make and
     # writes the index files (COCO, YOLO, targets.jsonl, the card) once.
