@@ -287,6 +287,18 @@ pub fn assemble(
     Ok(summary)
 }
 
+/// Staged YOLO trees, deleted when dropped if still there (an assembly that fails part way;
+/// a tree renamed into place is no longer at its staged path).
+struct StagedTrees(Vec<PathBuf>);
+
+impl Drop for StagedTrees {
+    fn drop(&mut self) {
+        for dir in &self.0 {
+            let _ = std::fs::remove_dir_all(dir);
+        }
+    }
+}
+
 /// The sample folders' labels, and the YOLO trees.
 fn assemble_dirs(
     spec: &DatasetSpec,
@@ -297,39 +309,21 @@ fn assemble_dirs(
     w: &mut Writer,
 ) -> Result<()> {
     let trees = ["yolo", "yolo_obb"];
-    let staging: Vec<PathBuf> = trees
-        .iter()
-        .map(|t| {
-            out.join(format!(
-                ".{t}.partial-{}",
-                xbandsim::products::output::temp_suffix()
-            ))
-        })
-        .collect();
+    let staged = StagedTrees(
+        trees
+            .iter()
+            .map(|t| {
+                out.join(format!(
+                    ".{t}.partial-{}",
+                    xbandsim::products::output::temp_suffix()
+                ))
+            })
+            .collect(),
+    );
+    let staging = &staged.0;
     // Where file times are coarser than the clock, a tree another assembly finishes in the
     // tick this one starts counts as older and is replaced: more work, the same files.
     let started = std::time::SystemTime::now();
-    let result = fill_yolo_trees(spec, out, count, seed, categories, w, &staging, started);
-    if result.is_err() {
-        for dir in &staging {
-            let _ = std::fs::remove_dir_all(dir);
-        }
-    }
-    result
-}
-
-/// The samples' labels into `w`, and the YOLO trees staged in `staging` and put in place.
-fn fill_yolo_trees(
-    spec: &DatasetSpec,
-    out: &Path,
-    count: u64,
-    seed: u64,
-    categories: &[String],
-    w: &mut Writer,
-    staging: &[PathBuf],
-    started: std::time::SystemTime,
-) -> Result<()> {
-    let trees = ["yolo", "yolo_obb"];
     let has_val = (0..count).any(|i| spec.is_validation(i));
     for dir in staging {
         for split in ["train", "val"] {

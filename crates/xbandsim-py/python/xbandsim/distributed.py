@@ -68,6 +68,11 @@ def _fsspec(url: str) -> Tuple[Any, str]:
     return fs, root.rstrip("/")
 
 
+def _shard_sizes(count: int, shard_samples: int) -> List[int]:
+    """Samples in each tar shard (the last may hold fewer)."""
+    return [min(shard_samples, count - start) for start in range(0, count, shard_samples)]
+
+
 def _shard_name(t: int) -> str:
     return f"shards/shard-{t:06d}"
 
@@ -85,7 +90,7 @@ def _check_record(fs: Any, root: str, url: str, spec: str, count: int, seed: int
     """Refuses a URL that holds another dataset, and writes dataset.json there if absent."""
     with tempfile.TemporaryDirectory(prefix="xbandsim-record-") as local:
         _fetch_record(fs, root, local)
-        shards = -(-count // shard_samples)
+        shards = len(_shard_sizes(count, shard_samples))
         # Shard `shards` of `shards + 1` holds no tar shard: the generator checks (or writes)
         # the dataset record and renders nothing.
         try:
@@ -113,10 +118,11 @@ def make_block_at_url(
     one not yet there (no manifest) is rendered into a local folder and uploaded, the tar
     first and its manifest last; what a Ray task runs for a URL."""
     fs, root = _fsspec(url)
-    shards = -(-count // shard_samples)
+    sizes = _shard_sizes(count, shard_samples)
+    shards = len(sizes)
     summary = dict(in_shard=0, skipped=0, made=0, block=block)
     for t in range(block, shards, blocks):
-        n = min((t + 1) * shard_samples, count) - t * shard_samples
+        n = sizes[t]
         summary["in_shard"] += n
         name = _shard_name(t)
         if fs.exists(f"{root}/{name}.manifest.json"):
@@ -144,11 +150,10 @@ def _assemble_at_url(fs: Any, root: str, url: str, spec: str, count: int, seed: 
     against the manifest's sha256) into a local mirror of label-only tars, the generator
     assembles the mirror, and annotations.json, targets.jsonl and README.md (last) are
     uploaded. Returns the samples still missing (then nothing is written)."""
-    shards = -(-count // shard_samples)
+    sizes = _shard_sizes(count, shard_samples)
+    shards = len(sizes)
     missing = sum(
-        min((t + 1) * shard_samples, count) - t * shard_samples
-        for t in range(shards)
-        if not fs.exists(f"{root}/{_shard_name(t)}.manifest.json")
+        n for t, n in enumerate(sizes) if not fs.exists(f"{root}/{_shard_name(t)}.manifest.json")
     )
     if missing:
         return missing
@@ -246,9 +251,9 @@ def generate(
     sample or tar shard), each asking ``cpus_per_task`` CPUs and rendering ``jobs_per_task``
     samples at a time (``memory_per_task`` bytes and custom ``resources`` are passed to Ray's
     scheduler as they are; a 512x512 sample needs about 0.3 GB); a task whose worker dies is
-    retried up to ``max_retries`` times and skips what was written. ``shard_samples`` writes WebDataset tar shards. A bad spec raises
-    its ``DatasetSpecError`` from the first task (errors are not retried; only lost workers
-    are). Returns the counts (``count``, ``blocks``, ``made`` and ``skipped`` by the tasks'
+    retried up to ``max_retries`` times and skips what was written. ``shard_samples`` writes
+    WebDataset tar shards. A bad spec raises its ``DatasetSpecError`` from the first task
+    (errors are not retried; only lost workers are). Returns the counts (``count``, ``blocks``, ``made`` and ``skipped`` by the tasks'
     last attempts, ``missing``, ``complete``: every sample and the index files are in place,
     ``seconds``).
     """
