@@ -241,21 +241,21 @@ def generate(
     shard_samples: Optional[int] = None,
     progress: bool = True,
 ) -> Dict[str, Any]:
-    """Makes (or resumes) the dataset of ``spec`` in ``out`` on the Ray cluster this process
-    is connected to (``ray.init()`` first; a local one is started when none is).
+    """Makes (or resumes) the dataset of ``spec`` in ``out`` on the Ray cluster this process is
+    connected to (``ray.init()`` first; a local one is started when none is).
 
-    ``spec`` and ``out`` must be paths every worker can read and write (a shared filesystem),
-    or ``out`` an fsspec URL every worker can write with ``shard_samples`` set (see the
-    module doc; the file system's fsspec package must be installed on every worker).
-    ``blocks`` tasks are submitted (default: four per CPU of the cluster, at most one per
-    sample or tar shard), each asking ``cpus_per_task`` CPUs and rendering ``jobs_per_task``
-    samples at a time (``memory_per_task`` bytes and custom ``resources`` are passed to Ray's
-    scheduler as they are; a 512x512 sample needs about 0.3 GB); a task whose worker dies is
-    retried up to ``max_retries`` times and skips what was written. ``shard_samples`` writes
-    WebDataset tar shards. A bad spec raises its ``DatasetSpecError`` from the first task
-    (errors are not retried; only lost workers are). Returns the counts (``count``, ``blocks``, ``made`` and ``skipped`` by the tasks'
-    last attempts, ``missing``, ``complete``: every sample and the index files are in place,
-    ``seconds``).
+    ``spec`` and ``out`` must be paths every worker can read and write (a shared filesystem), or
+    ``out`` an fsspec URL every worker can write with ``shard_samples`` set (see the module doc;
+    the file system's fsspec package must be installed on every worker). ``blocks`` tasks are
+    submitted (default: four per CPU of the cluster, at most one per sample or tar shard), each
+    asking ``cpus_per_task`` CPUs and rendering ``jobs_per_task`` samples at a time
+    (``memory_per_task`` bytes and custom ``resources`` are passed to Ray's scheduler as they
+    are; a 512x512 sample needs about 0.3 GB); a task whose worker dies is retried up to
+    ``max_retries`` times and skips what was written. ``shard_samples`` writes WebDataset tar
+    shards. A bad spec raises its ``DatasetSpecError`` from the first task (errors are not
+    retried; only lost workers are). Returns the counts (``count``, ``blocks``, ``made`` and
+    ``skipped`` by the tasks' last attempts, ``missing``, ``complete``: every sample and the
+    index files are in place, ``seconds``).
     """
     url = os.fspath(out) if "://" in os.fspath(out) else None
     if url is not None and shard_samples is None:
