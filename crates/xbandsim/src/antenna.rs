@@ -41,7 +41,7 @@ pub fn sinc2_pattern(off_axis_rad: f64, beamwidth_3db_rad: f64) -> f64 {
     if u.abs() < 1e-8 {
         1.0
     } else {
-        let s = u.sin() / u;
+        let s = crate::special::sin_fast(u) / u;
         s * s
     }
 }

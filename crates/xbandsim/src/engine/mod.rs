@@ -53,6 +53,8 @@ pub struct Simulation {
     short: Option<ShortChannel>,
     /// Sea and rain clutter on (off in [`Simulation::targets_only`]).
     clutter: bool,
+    /// The spokes a spoke-mode revolution renders (all when None; [`Simulation::only_spokes`]).
+    spokes_rendered: Option<Arc<[bool]>>,
 }
 
 /// The short pulse's receive channel in combined pulse mode (docs/physics.md §11): its own
@@ -131,6 +133,7 @@ impl Simulation {
             doppler,
             short,
             clutter: true,
+            spokes_rendered: None,
         }
     }
 
@@ -151,6 +154,19 @@ impl Simulation {
             ch.receiver = ch.receiver.without_noise();
         }
         s.clutter = false;
+        s
+    }
+
+    /// The same simulation rendering only the spokes `k` with `wanted[k]` in spoke processing
+    /// mode (spokes beyond the slice are not rendered): every other spoke of its frames holds
+    /// [`POLAR_FLOOR_DB`], as if nothing were received there. Each spoke's record depends on
+    /// its own dwell alone, so the rendered spokes are byte for byte those of the full frame.
+    /// For a caller that reads only those spokes, such as the dataset's masks (drawn from the
+    /// target-only render within each object's polar box). Pulse processing mode renders
+    /// every spoke.
+    pub fn only_spokes(&self, wanted: &[bool]) -> Simulation {
+        let mut s = self.clone();
+        s.spokes_rendered = Some(wanted.into());
         s
     }
 
@@ -521,6 +537,13 @@ impl Simulation {
                 || self.scratch(),
                 |scratch, (k, (row, iq_slab))| {
                     let dwell = &schedule.dwells()[dwell_of_spoke[k]];
+                    if let Some(wanted) = &self.spokes_rendered {
+                        if !wanted.get(k).copied().unwrap_or(false) {
+                            row.fill(POLAR_FLOOR_DB);
+                            dwell_done();
+                            return;
+                        }
+                    }
                     row.fill(0.0);
                     scratch.capture_received = iq_slab.is_some();
                     for (m, pulse) in dwell.pulses.iter().enumerate() {

@@ -107,10 +107,32 @@ impl Aabb {
     /// Slab test: entry distance if the ray meets the box before `t_max`.
     #[inline]
     pub fn hit_distance(&self, origin: DVec3, inv_dir: DVec3, t_max: f64) -> Option<f64> {
-        let t0 = (self.min - origin) * inv_dir;
-        let t1 = (self.max - origin) * inv_dir;
-        let tmin = t0.min(t1).max_element().max(0.0);
-        let tmax = t0.max(t1).min_element().min(t_max);
+        // Compare-and-select (minsd/maxsd) rather than IEEE minNum/maxNum, which cost a NaN
+        // check each. A NaN slab (0·∞: a ray parallel to a face, starting in its plane; a
+        // set of measure zero) is then taken or ignored by operand order.
+        #[inline(always)]
+        fn lo(a: f64, b: f64) -> f64 {
+            if a < b {
+                a
+            } else {
+                b
+            }
+        }
+        #[inline(always)]
+        fn hi(a: f64, b: f64) -> f64 {
+            if a > b {
+                a
+            } else {
+                b
+            }
+        }
+        let (mut tmin, mut tmax) = (0.0f64, t_max);
+        for axis in 0..3 {
+            let t0 = (self.min[axis] - origin[axis]) * inv_dir[axis];
+            let t1 = (self.max[axis] - origin[axis]) * inv_dir[axis];
+            tmin = hi(lo(t0, t1), tmin);
+            tmax = lo(hi(t0, t1), tmax);
+        }
         (tmin <= tmax).then_some(tmin)
     }
 }

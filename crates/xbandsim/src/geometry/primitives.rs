@@ -100,21 +100,16 @@ impl Primitive {
         let d = ray.dir;
         match self.kind {
             PrimitiveKind::Triangle { v0, e1, e2 } => {
-                let (t, u, v) = moller_trumbore(o, d, v0, e1, e2)?;
-                (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > SELF_HIT_EPSILON_M && t < t_max_m)
-                    .then(|| (t, e1.cross(e2).normalize()))
+                let t = moller_trumbore(o, d, v0, e1, e2, false, t_max_m)?;
+                Some((t, e1.cross(e2).normalize()))
             }
             PrimitiveKind::Parallelogram {
                 corner,
                 edge_u,
                 edge_v,
             } => {
-                let (t, u, v) = moller_trumbore(o, d, corner, edge_u, edge_v)?;
-                ((0.0..=1.0).contains(&u)
-                    && (0.0..=1.0).contains(&v)
-                    && t > SELF_HIT_EPSILON_M
-                    && t < t_max_m)
-                    .then(|| (t, edge_u.cross(edge_v).normalize()))
+                let t = moller_trumbore(o, d, corner, edge_u, edge_v, true, t_max_m)?;
+                Some((t, edge_u.cross(edge_v).normalize()))
             }
             PrimitiveKind::Sphere { centre, radius_m } => {
                 let oc = o - centre;
@@ -179,10 +174,21 @@ impl Primitive {
     }
 }
 
-/// Ray `o + t·d` against the plane `p0 + u·e1 + v·e2`: (t, u, v), or None if parallel
-/// (Möller & Trumbore 1997).
+/// Möller–Trumbore ray/triangle test (Möller & Trumbore, "Fast, minimum storage
+/// ray-triangle intersection", J. Graphics Tools 2(1), 1997) on the triangle `p0, p0+e1,
+/// p0+e2` (`u, v ≥ 0, u + v ≤ 1`) or, with `parallelogram`, the parallelogram they span
+/// (`u, v ∈ [0, 1]`): the distance if the ray meets it in `(SELF_HIT_EPSILON_M, t_max)`.
+/// Each barycentric coordinate is checked as soon as it is known, so that a miss costs less.
 #[inline]
-fn moller_trumbore(o: DVec3, d: DVec3, p0: DVec3, e1: DVec3, e2: DVec3) -> Option<(f64, f64, f64)> {
+fn moller_trumbore(
+    o: DVec3,
+    d: DVec3,
+    p0: DVec3,
+    e1: DVec3,
+    e2: DVec3,
+    parallelogram: bool,
+    t_max: f64,
+) -> Option<f64> {
     let p = d.cross(e2);
     let det = e1.dot(p);
     if det.abs() < 1e-300 {
@@ -190,8 +196,22 @@ fn moller_trumbore(o: DVec3, d: DVec3, p0: DVec3, e1: DVec3, e2: DVec3) -> Optio
     }
     let inv = 1.0 / det;
     let s = o - p0;
+    let u = s.dot(p) * inv;
+    if !((0.0..=1.0).contains(&u)) {
+        return None;
+    }
     let q = s.cross(e1);
-    Some((e2.dot(q) * inv, s.dot(p) * inv, d.dot(q) * inv))
+    let v = d.dot(q) * inv;
+    let inside = if parallelogram {
+        (0.0..=1.0).contains(&v)
+    } else {
+        v >= 0.0 && u + v <= 1.0
+    };
+    if !inside {
+        return None;
+    }
+    let t = e2.dot(q) * inv;
+    (t > SELF_HIT_EPSILON_M && t < t_max).then_some(t)
 }
 
 #[inline]

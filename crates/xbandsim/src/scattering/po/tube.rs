@@ -413,16 +413,17 @@ pub fn trace_tube(
     let max_interactions = s.max_bounces + usize::from(grid.via_sea);
     for interaction in 1..=max_interactions {
         rays += 1;
+        // The sea first: an object hit beyond it cannot be the first, so the search stops
+        // there (a hit exactly at the sea's distance counts as the sea's).
+        let sea_t = sea.and_then(|_| sea_distance(origin, k));
         let hit = bvh.closest_hit(
             &Ray {
                 origin_m: origin,
                 dir: k,
             },
-            f64::INFINITY,
+            sea_t.unwrap_or(f64::INFINITY),
         );
-        let sea_t = sea.and_then(|_| sea_distance(origin, k));
         let (t, normal, object) = match (hit, sea_t) {
-            (Some(h), Some(ts)) if ts < h.t_m => (ts, DVec3::Z, None),
             (Some(h), _) => (h.t_m, h.normal, Some(h.object)),
             (None, Some(ts)) => (ts, DVec3::Z, None),
             (None, None) => break,
