@@ -72,8 +72,9 @@ impl FractionalDelayKernel {
     /// Taps for a delay of `delay_samples`: returns (index of the first tap, taps).
     #[inline]
     pub fn taps(&self, delay_samples: f64) -> (i64, &[f32]) {
-        let base = delay_samples.floor();
-        let mut idx = ((delay_samples - base) * KERNEL_PHASES as f64).round() as usize;
+        let base = crate::special::floor_exact(delay_samples);
+        let mut idx =
+            crate::special::round_exact((delay_samples - base) * KERNEL_PHASES as f64) as usize;
         let mut first = base as i64 + Self::FIRST_TAP_OFFSET;
         if idx == KERNEL_PHASES {
             idx = 0;
@@ -168,6 +169,8 @@ impl EchoGroups {
         let mut arena: Vec<Complex32> = Vec::new();
         let mut start = 0;
         let inv_noise = 1.0 / noise_rms_v;
+        // One group's sum before rounding to f32, reused from group to group.
+        let mut acc: Vec<Complex64> = Vec::new();
         while start < order.len() {
             let k = order[start].0;
             let mut end = start;
@@ -185,15 +188,18 @@ impl EchoGroups {
                 let (first, _) = kernel.taps(d);
                 lo = lo.min(first.max(0));
                 hi = hi.max(first + KERNEL_TAPS as i64);
-                az_tx_sum += Complex64::from_polar(1.0, c.az_tx_rad);
-                az_rx_sum += Complex64::from_polar(1.0, c.az_rx_rad);
+                let (sin_tx, cos_tx) = crate::special::sin_cos_fast(c.az_tx_rad);
+                let (sin_rx, cos_rx) = crate::special::sin_cos_fast(c.az_rx_rad);
+                az_tx_sum += Complex64::new(cos_tx, sin_tx);
+                az_rx_sum += Complex64::new(cos_rx, sin_rx);
             }
             let lo = lo as usize;
             let len = (hi.max(lo as i64 + 1) as usize) - lo;
             let offset = arena.len();
             arena.resize(offset + len, Complex32::new(0.0, 0.0));
             let slot = &mut arena[offset..offset + len];
-            let mut acc = vec![Complex64::new(0.0, 0.0); len];
+            acc.clear();
+            acc.resize(len, Complex64::new(0.0, 0.0));
             let tilted;
             let ant =
                 match object_tilt_rad.get(contributions[members[0].1 as usize].object as usize) {

@@ -1,7 +1,7 @@
 //! Special functions used by several stages, each in one place: the modified Bessel function
 //! I0 (Kaiser kernel, wind-direction factor, Miller–Brown–Vegh roughness), the complementary
 //! error function, ln Γ and the regularised incomplete gamma function (clutter statistics),
-//! and a sine for the hot paths (antenna patterns evaluated per group and pulse).
+//! and, for the hot paths, a sine and cosine and rounding without libm calls.
 //! docs/physics.md lists where each is used; docs/architecture.md says why these are ours and
 //! not a crate's.
 
@@ -127,42 +127,98 @@ pub fn gamma_p(a: f64, x: f64) -> f64 {
     }
 }
 
-/// `sin x` without libm, for the per-pulse antenna patterns: the argument is reduced to
-/// `r = x − k·π/2`, |r| ≤ π/4, with π/2 split in three parts (Cody & Waite, "Software Manual
-/// for the Elementary Functions", 1980; the split of fdlibm's `__ieee754_rem_pio2`), then
-/// the Taylor series of sin or cos on r, to r¹³ and r¹⁴ (truncation below 3·10⁻¹⁴ at
-/// |r| = π/4). Absolute error below 10⁻¹³ for |x| ≤ 10⁶ (tested against `f64::sin`); beyond
-/// that, and for non-finite x, it is `f64::sin`.
+/// `x.trunc()` without a libm call (the x86-64 baseline has no rounding instruction, so
+/// `f64::trunc`, `floor` and `round` are calls): the same value, signed zero included.
+#[inline]
+pub fn trunc_exact(x: f64) -> f64 {
+    if x.abs() < 4_503_599_627_370_496.0 {
+        ((x as i64) as f64).copysign(x)
+    } else {
+        x // integral already, infinite or NaN
+    }
+}
+
+/// `x.floor()` without a libm call: the same value.
+#[inline]
+pub fn floor_exact(x: f64) -> f64 {
+    let t = trunc_exact(x);
+    if t > x {
+        t - 1.0
+    } else {
+        t
+    }
+}
+
+/// `x.round()` (half away from zero) without a libm call: the same value. `x − trunc x` is
+/// exact, so the half-way test is.
+#[inline]
+pub fn round_exact(x: f64) -> f64 {
+    let t = trunc_exact(x);
+    let d = x - t;
+    if d >= 0.5 {
+        t + 1.0
+    } else if d <= -0.5 {
+        t - 1.0
+    } else {
+        t
+    }
+}
+
+/// The first 33 bits of π/2, the next 33, and the rest (Cody & Waite's three-part split, as
+/// in fdlibm's `__ieee754_rem_pio2`): `k·PIO2_1` and `k·PIO2_2` are exact for |k| < 2²⁰.
+const PIO2_1: f64 = 1.570_796_326_734_125_6;
+const PIO2_2: f64 = 6.077_100_506_303_966e-11;
+const PIO2_3: f64 = 2.022_266_248_795_950_6e-21;
+
+/// `x = k·π/2 + r` with |r| ≤ π/4 (for |x| ≤ 10⁶): r and k mod 4.
+#[inline]
+fn reduce_half_pi(x: f64) -> (f64, i64) {
+    let k = round_exact(x * std::f64::consts::FRAC_2_PI);
+    let r = ((x - k * PIO2_1) - k * PIO2_2) - k * PIO2_3;
+    (r, (k as i64) & 3)
+}
+
+/// Taylor series of sin r to r¹³ (truncation below 3·10⁻¹⁴ at |r| = π/4).
+#[inline]
+fn sin_poly(r: f64) -> f64 {
+    let r2 = r * r;
+    r + r
+        * r2
+        * (-1.0 / 6.0
+            + r2 * (1.0 / 120.0
+                + r2 * (-1.0 / 5040.0
+                    + r2 * (1.0 / 362_880.0
+                        + r2 * (-1.0 / 39_916_800.0 + r2 * (1.0 / 6_227_020_800.0))))))
+}
+
+/// Taylor series of cos r to r¹⁴ (truncation below 10⁻¹⁵ at |r| = π/4).
+#[inline]
+fn cos_poly(r: f64) -> f64 {
+    let r2 = r * r;
+    1.0 + r2
+        * (-0.5
+            + r2 * (1.0 / 24.0
+                + r2 * (-1.0 / 720.0
+                    + r2 * (1.0 / 40_320.0
+                        + r2 * (-1.0 / 3_628_800.0
+                            + r2 * (1.0 / 479_001_600.0 + r2 * (-1.0 / 87_178_291_200.0)))))))
+}
+
+/// `sin x` without libm, for the hot paths (antenna patterns per group and pulse, tube
+/// footprints): the argument is reduced to `r = x − k·π/2`, |r| ≤ π/4, with π/2 split in
+/// three parts (Cody & Waite, "Software Manual for the Elementary Functions", 1980), then the
+/// Taylor series of sin or cos on r. Absolute error below 10⁻¹³ for |x| ≤ 10⁶ (tested
+/// against `f64::sin`); beyond that, and for non-finite x, it is `f64::sin`.
 #[inline]
 pub fn sin_fast(x: f64) -> f64 {
-    const PIO2_1: f64 = 1.570_796_326_734_125_6; // first 33 bits of π/2
-    const PIO2_2: f64 = 6.077_100_506_303_966e-11; // next 33 bits
-    const PIO2_3: f64 = 2.022_266_248_795_950_6e-21; // π/2 − PIO2_1 − PIO2_2
     if x.is_nan() || x.abs() > 1e6 {
         return x.sin();
     }
-    let k = (x * std::f64::consts::FRAC_2_PI).round();
-    let r = ((x - k * PIO2_1) - k * PIO2_2) - k * PIO2_3;
-    let r2 = r * r;
-    let quadrant = (k as i64) & 3;
+    let (r, quadrant) = reduce_half_pi(x);
     let value = if quadrant & 1 == 0 {
-        // sin r
-        r + r
-            * r2
-            * (-1.0 / 6.0
-                + r2 * (1.0 / 120.0
-                    + r2 * (-1.0 / 5040.0
-                        + r2 * (1.0 / 362_880.0
-                            + r2 * (-1.0 / 39_916_800.0 + r2 * (1.0 / 6_227_020_800.0))))))
+        sin_poly(r)
     } else {
-        // cos r
-        1.0 + r2
-            * (-0.5
-                + r2 * (1.0 / 24.0
-                    + r2 * (-1.0 / 720.0
-                        + r2 * (1.0 / 40_320.0
-                            + r2 * (-1.0 / 3_628_800.0
-                                + r2 * (1.0 / 479_001_600.0 + r2 * (-1.0 / 87_178_291_200.0)))))))
+        cos_poly(r)
     };
     if quadrant >= 2 {
         -value
@@ -171,33 +227,96 @@ pub fn sin_fast(x: f64) -> f64 {
     }
 }
 
+/// `(sin x, cos x)` as [`sin_fast`] computes them (one reduction for both; the same error
+/// bound, tested against libm's).
+#[inline]
+pub fn sin_cos_fast(x: f64) -> (f64, f64) {
+    if x.is_nan() || x.abs() > 1e6 {
+        return x.sin_cos();
+    }
+    let (r, quadrant) = reduce_half_pi(x);
+    let (s, c) = (sin_poly(r), cos_poly(r));
+    match quadrant {
+        0 => (s, c),
+        1 => (c, -s),
+        2 => (-s, -c),
+        _ => (-c, s),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// The fast sine against libm's over the antenna patterns' range (|u| up to a few
+    /// The libm-free trunc, floor and round give `f64`'s values bit for bit, halves, signed
+    /// zeros, huge values and non-finite ones included.
+    #[test]
+    fn rounding_without_libm_matches_std() {
+        let mut xs = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.5,
+            -1.5,
+            2.5,
+            0.499_999_999_999_999_94,
+            -0.499_999_999_999_999_94,
+            4_503_599_627_370_495.5,
+            -4_503_599_627_370_495.5,
+            9.1e15,
+            -9.1e15,
+            1e300,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
+        ];
+        let mut x = -1000.0f64;
+        while x < 1000.0 {
+            xs.push(x);
+            x += 0.123_456_7;
+        }
+        for x in xs {
+            assert_eq!(trunc_exact(x).to_bits(), x.trunc().to_bits(), "trunc {x}");
+            assert_eq!(floor_exact(x).to_bits(), x.floor().to_bits(), "floor {x}");
+            assert_eq!(round_exact(x).to_bits(), x.round().to_bits(), "round {x}");
+        }
+        assert!(trunc_exact(f64::NAN).is_nan() && floor_exact(f64::NAN).is_nan());
+        assert!(round_exact(f64::NAN).is_nan());
+    }
+
+    /// The fast sine and cosine against libm's over the antenna patterns' range (|u| up to a few
     /// hundred) and far beyond, including the quadrant boundaries and signed zero.
     #[test]
     fn sin_fast_matches_libm() {
         let mut worst = 0f64;
+        let mut check = |x: f64| {
+            let (s, c) = sin_cos_fast(x);
+            worst = worst
+                .max((sin_fast(x) - x.sin()).abs())
+                .max((s - x.sin()).abs())
+                .max((c - x.cos()).abs());
+        };
         let mut x = -2000.0f64;
         while x <= 2000.0 {
-            worst = worst.max((sin_fast(x) - x.sin()).abs());
+            check(x);
             x += 0.000_731;
         }
         for k in -400..=400 {
             for d in [-1e-12, 0.0, 1e-12] {
-                let x = k as f64 * std::f64::consts::FRAC_PI_2 + d;
-                worst = worst.max((sin_fast(x) - x.sin()).abs());
+                check(k as f64 * std::f64::consts::FRAC_PI_2 + d);
             }
         }
         for x in [1e3, 12_345.678, 9.99e5, -7.77e5] {
-            worst = worst.max((sin_fast(x) - x.sin()).abs());
+            check(x);
         }
         assert!(worst < 1e-13, "largest error {worst:e}");
         assert_eq!(sin_fast(0.0), 0.0);
         assert!(sin_fast(f64::NAN).is_nan());
         assert_eq!(sin_fast(3e6), 3e6f64.sin());
+        assert_eq!(sin_cos_fast(0.0), (0.0, 1.0));
+        assert_eq!(sin_cos_fast(-3e6), (-3e6f64).sin_cos());
     }
 
     /// I0 against tabulated values (Abramowitz & Stegun, Table 9.8: I0(1) = 1.266065878,

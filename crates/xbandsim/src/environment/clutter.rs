@@ -338,7 +338,7 @@ impl GammaQuantile {
     #[inline]
     pub fn level_from_log10(log10_shape: f64) -> usize {
         let x = (log10_shape * std::f64::consts::LN_10 - Self::LEVEL_MIN.ln()) / Self::LEVEL_STEP;
-        (x.round().max(0.0) as usize).min(Self::LEVELS - 1)
+        (crate::special::round_exact(x).max(0.0) as usize).min(Self::LEVELS - 1)
     }
 
     /// The shape of a level.

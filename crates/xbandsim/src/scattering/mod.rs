@@ -152,8 +152,10 @@ pub fn path_volts_per_root_m2(
 /// Carrier phase term `exp(−j2πℓ/λ)`, computed so that f64 keeps the phase at long ranges.
 #[inline]
 pub fn carrier_phase(path_m: f64, wavelength_m: f64) -> Complex64 {
-    let cycles = (path_m / wavelength_m).fract();
-    Complex64::from_polar(1.0, -std::f64::consts::TAU * cycles)
+    let turns = path_m / wavelength_m;
+    let cycles = turns - crate::special::trunc_exact(turns); // turns.fract()
+    let (sin, cos) = crate::special::sin_cos_fast(-std::f64::consts::TAU * cycles);
+    Complex64::new(cos, sin)
 }
 
 /// Builds the ray-tracing acceleration structure of a scene (all objects' primitives).

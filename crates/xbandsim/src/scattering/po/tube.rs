@@ -116,7 +116,7 @@ fn sinc(x: f64) -> f64 {
     if x.abs() < 1e-9 {
         1.0
     } else {
-        x.sin() / x
+        crate::special::sin_fast(x) / x
     }
 }
 
