@@ -119,18 +119,24 @@ pub fn trace_object(
     for grid in &grids {
         // Only the tubes that can meet the object's box: the rest return nothing.
         let (columns, rows) = grid.window(&bounds);
-        let rows: Vec<(Vec<TubeReturn>, u64)> = rows
+        // Rows in runs of at least four per task, each run's returns in one vector; the runs
+        // are contiguous and collected in order, so the returns keep the row order whatever
+        // the thread count.
+        let runs: Vec<(Vec<TubeReturn>, u64)> = rows
             .into_par_iter()
-            .map(|j| {
-                let mut out = Vec::new();
-                let mut rays = 0;
-                for i in columns.clone() {
-                    rays += trace_tube(bvh, grid, i, j, index, s, &mut out);
-                }
-                (out, rays)
-            })
+            .with_min_len(4)
+            .fold(
+                || (Vec::new(), 0u64),
+                |(mut out, mut rays), j| {
+                    for i in columns.clone() {
+                        rays += trace_tube(bvh, grid, i, j, index, s, &mut out);
+                    }
+                    (out, rays)
+                },
+            )
             .collect();
-        for (r, n) in rows {
+        returns.reserve(runs.iter().map(|(r, _)| r.len()).sum());
+        for (r, n) in runs {
             returns.extend(r);
             rays += n;
         }
