@@ -350,6 +350,17 @@ impl ClutterMap {
             .as_ref()
             .map(|r| r.attenuator(freq_ghz, horizontal));
         let has_rain = env.rain().is_some();
+        // The quantile tables of the per-cell K shapes (empty unless that is the
+        // distribution), fetched from the process-wide cache once per map, not per spoke.
+        let per_cell_levels = fixed_gamma.is_none() && textured;
+        let tables: Vec<std::sync::OnceLock<std::sync::Arc<GammaQuantile>>> = (0
+            ..if per_cell_levels {
+                GammaQuantile::LEVELS
+            } else {
+                0
+            })
+            .map(|_| std::sync::OnceLock::new())
+            .collect();
         // One spoke's rows of sea mean, rain and texture.
         let spoke_rows = |k: usize| -> (Vec<f32>, Vec<f32>, Vec<f32>) {
             let mut sea_row = vec![0f32; samples];
@@ -367,17 +378,6 @@ impl ClutterMap {
                     .as_ref()
                     .map_or(0.0, |a| a.one_way_db_along(&chords, g))
             };
-            // Quantile tables used by this spoke, fetched once each from the shared cache
-            // (empty unless the K shape is the per-cell default).
-            let per_cell_levels = fixed_gamma.is_none() && textured;
-            let mut tables: Vec<Option<std::sync::Arc<GammaQuantile>>> = vec![
-                None;
-                if per_cell_levels {
-                    GammaQuantile::LEVELS
-                } else {
-                    0
-                }
-            ];
             let wind_rel = clutter.map_or(0.0, |c| az - c.wind_from_rad());
             let swell_rel = clutter.map_or(0.0, |c| az - c.swell_from_rad());
             let cos_rel = wind_rel.cos();
@@ -441,7 +441,7 @@ impl ClutterMap {
                                         row.log_nu_row - cos_2swell / 3.0,
                                     );
                                     tables[level]
-                                        .get_or_insert_with(|| GammaQuantile::for_level(level))
+                                        .get_or_init(|| GammaQuantile::for_level(level))
                                         .of_normal(g)
                                 }
                             },
