@@ -56,7 +56,7 @@ pub fn uniform_aperture_gain(az_beamwidth_rad: f64, el_beamwidth_rad: f64) -> f6
 #[inline]
 pub fn wrap_angle_rad(angle_rad: f64) -> f64 {
     let two_pi = std::f64::consts::TAU;
-    let mut a = angle_rad.rem_euclid(two_pi);
+    let mut a = crate::special::rem_euclid_tau(angle_rad);
     if a > std::f64::consts::PI {
         a -= two_pi;
     }

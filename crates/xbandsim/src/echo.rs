@@ -153,9 +153,9 @@ impl EchoGroups {
         let cells = (std::f64::consts::TAU / cell_rad).ceil() as u64;
         let key = |c: &Contribution| -> u64 {
             let tx =
-                ((c.az_tx_rad.rem_euclid(std::f64::consts::TAU) / cell_rad) as u64).min(cells - 1);
+                ((crate::special::rem_euclid_tau(c.az_tx_rad) / cell_rad) as u64).min(cells - 1);
             let rx =
-                ((c.az_rx_rad.rem_euclid(std::f64::consts::TAU) / cell_rad) as u64).min(cells - 1);
+                ((crate::special::rem_euclid_tau(c.az_rx_rad) / cell_rad) as u64).min(cells - 1);
             ((c.object as u64) << 40) | (tx << 20) | rx
         };
         let mut order: Vec<(u64, u32)> = contributions
@@ -231,8 +231,8 @@ impl EchoGroups {
             let c0 = &contributions[members[0].1 as usize];
             groups.push(EchoGroup {
                 object: c0.object,
-                az_tx_rad: az_tx_sum.arg().rem_euclid(std::f64::consts::TAU),
-                az_rx_rad: az_rx_sum.arg().rem_euclid(std::f64::consts::TAU),
+                az_tx_rad: crate::special::rem_euclid_tau(az_tx_sum.arg()),
+                az_rx_rad: crate::special::rem_euclid_tau(az_rx_sum.arg()),
                 first_sample: lo,
                 len,
                 offset,

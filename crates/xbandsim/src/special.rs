@@ -1,7 +1,7 @@
 //! Special functions used by several stages, each in one place: the modified Bessel function
 //! I0 (Kaiser kernel, wind-direction factor, Miller–Brown–Vegh roughness), the complementary
 //! error function, ln Γ and the regularised incomplete gamma function (clutter statistics),
-//! and, for the hot paths, a sine and cosine and rounding without libm calls.
+//! and, for the hot paths, sine, cosine and rounding without libm calls.
 //! docs/physics.md lists where each is used; docs/architecture.md says why these are ours and
 //! not a crate's.
 
@@ -164,6 +164,22 @@ pub fn round_exact(x: f64) -> f64 {
     }
 }
 
+/// `x.rem_euclid(2π)` without libm's `fmod` for |x| < 2π (every azimuth difference of the
+/// hot paths): there `x % 2π` is x itself, so this is the same value bit for bit.
+#[inline]
+pub fn rem_euclid_tau(x: f64) -> f64 {
+    const TAU: f64 = std::f64::consts::TAU;
+    if x.abs() < TAU {
+        if x < 0.0 {
+            x + TAU
+        } else {
+            x
+        }
+    } else {
+        x.rem_euclid(TAU)
+    }
+}
+
 /// The first 33 bits of π/2, the next 33, and the rest (Cody & Waite's three-part split, as
 /// in fdlibm's `__ieee754_rem_pio2`): `k·PIO2_1` and `k·PIO2_2` are exact for |k| < 2²⁰.
 const PIO2_1: f64 = 1.570_796_326_734_125_6;
@@ -248,8 +264,8 @@ pub fn sin_cos_fast(x: f64) -> (f64, f64) {
 mod tests {
     use super::*;
 
-    /// The libm-free trunc, floor and round give `f64`'s values bit for bit, halves, signed
-    /// zeros, huge values and non-finite ones included.
+    /// The libm-free trunc, floor, round and rem_euclid(2π) give `f64`'s values bit for
+    /// bit, halves, signed zeros, huge values and non-finite ones included.
     #[test]
     fn rounding_without_libm_matches_std() {
         let mut xs = vec![
@@ -276,6 +292,20 @@ mod tests {
         while x < 1000.0 {
             xs.push(x);
             x += 0.123_456_7;
+        }
+        for x in xs.iter().copied().chain([
+            std::f64::consts::TAU,
+            -std::f64::consts::TAU,
+            std::f64::consts::TAU - 1e-15,
+            -std::f64::consts::TAU + 1e-15,
+            -1e-300,
+        ]) {
+            let want = x.rem_euclid(std::f64::consts::TAU);
+            assert_eq!(
+                rem_euclid_tau(x).to_bits(),
+                want.to_bits(),
+                "rem_euclid {x}"
+            );
         }
         for x in xs {
             assert_eq!(trunc_exact(x).to_bits(), x.trunc().to_bits(), "trunc {x}");

@@ -112,7 +112,7 @@ impl ScatterSet {
 /// Nautical azimuth (0 = north = +y, clockwise) and elevation of a direction, rad.
 #[inline]
 pub fn azimuth_elevation_rad(dir: DVec3) -> (f64, f64) {
-    let az = dir.x.atan2(dir.y).rem_euclid(std::f64::consts::TAU);
+    let az = crate::special::rem_euclid_tau(dir.x.atan2(dir.y));
     let el = dir.z.atan2(dir.x.hypot(dir.y));
     (az, el)
 }
