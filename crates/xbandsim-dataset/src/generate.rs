@@ -17,7 +17,7 @@
 //! bytes depend only on (spec, seed, i), so shards, job counts and order do not change them.
 
 use crate::error::{DatasetError, Result};
-use crate::labels::{frame_labels, object_masks, FrameContext};
+use crate::labels::{frame_labels, mask_spokes, object_masks, FrameContext};
 use crate::spec::DatasetSpec;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
@@ -410,17 +410,8 @@ pub fn render_sample(
             spec.image.images(),
         )
         .map_err(scene_err)?;
-        // Masks read the target-only render only inside the objects' polar boxes (a pixel
-        // interpolates along its own spoke): the other spokes are not rendered.
-        let mut wanted = vec![false; frame.spokes];
-        for b in encoded.objects.iter().filter_map(|o| o.polar_box.as_ref()) {
-            let width = (b.spoke_max + frame.spokes - b.spoke_min) % frame.spokes + 1;
-            for s in 0..width {
-                wanted[(b.spoke_min + s) % frame.spokes] = true;
-            }
-        }
         let targets_only = quiet
-            .only_spokes(&wanted)
+            .only_spokes(&mask_spokes(&encoded.objects, frame.spokes))
             .render_frame_outputs(sample.render_seed, k, Outputs::default(), &|| {})
             .map_err(scene_err)?;
         let masks = object_masks(

@@ -190,13 +190,26 @@ fn box_contains(b: &PolarBox, spoke: usize, bin: usize) -> bool {
 
 /// Distance of a cell from a polar box's centre in half-widths (spokes wrap).
 fn box_distance(b: &PolarBox, spoke: usize, bin: usize, spokes: usize) -> f64 {
-    let width = (b.spoke_max + spokes - b.spoke_min) % spokes + 1;
+    let width = b.spoke_count(spokes);
     let centre = (b.spoke_min as f64 + (width as f64 - 1.0) / 2.0) % spokes as f64;
     let mut ds = (spoke as f64 - centre).abs();
     ds = ds.min(spokes as f64 - ds);
     let bin_centre = 0.5 * (b.bin_min + b.bin_max) as f64;
     let half_bins = 0.5 * (b.bin_max - b.bin_min + 1) as f64;
     ds / (0.5 * width as f64) + (bin as f64 - bin_centre).abs() / half_bins
+}
+
+/// The spokes [`object_masks`] reads: those of the objects' polar boxes (a mask pixel lies in
+/// a box, and scan conversion interpolates along the pixel's own spoke). The target-only
+/// render needs no other ([`xbandsim::Simulation::only_spokes`]).
+pub fn mask_spokes(objects: &[ObjectTruth], spokes: usize) -> Vec<bool> {
+    let mut wanted = vec![false; spokes];
+    for b in objects.iter().filter_map(|o| o.polar_box.as_ref()) {
+        for k in b.spoke_indices(spokes) {
+            wanted[k] = true;
+        }
+    }
+    wanted
 }
 
 /// Every object's mask on the image of `conv` (None for objects without a polar box) from
@@ -528,5 +541,26 @@ mod tests {
         assert_eq!(m.area(), 3);
         m.pixels = vec![true; 6];
         assert_eq!(m.rle_counts(), vec![0, 6]);
+    }
+
+    /// A polar box's spokes, in the order and across north, agree with `box_contains`.
+    #[test]
+    fn polar_box_spokes_agree_with_containment() {
+        for (lo, hi) in [(3, 7), (358, 1), (0, 0), (359, 359), (5, 4)] {
+            let b = PolarBox {
+                spoke_min: lo,
+                spoke_max: hi,
+                bin_min: 0,
+                bin_max: 0,
+            };
+            let listed: Vec<usize> = b.spoke_indices(360).collect();
+            let contained: Vec<usize> = (0..360).filter(|&k| box_contains(&b, k, 0)).collect();
+            let mut sorted = listed.clone();
+            sorted.sort_unstable();
+            assert_eq!(sorted, contained, "box {lo}..{hi}");
+            assert_eq!(listed.len(), b.spoke_count(360));
+            assert_eq!(listed.first(), Some(&lo));
+            assert_eq!(listed.last(), Some(&hi));
+        }
     }
 }

@@ -138,6 +138,13 @@ pub fn trunc_exact(x: f64) -> f64 {
     }
 }
 
+/// `⌊x⌋` as an integer without a libm call (x well inside the i64 range).
+#[inline]
+pub fn floor_i64(x: f64) -> i64 {
+    let i = x as i64;
+    i - i64::from((i as f64) > x)
+}
+
 /// `x.floor()` without a libm call: the same value.
 #[inline]
 pub fn floor_exact(x: f64) -> f64 {
@@ -264,7 +271,7 @@ pub fn sin_cos_fast(x: f64) -> (f64, f64) {
 mod tests {
     use super::*;
 
-    /// The libm-free trunc, floor, round and rem_euclid(2π) give `f64`'s values bit for
+    /// The libm-free trunc, floor (also as an integer), round and rem_euclid(2π) give `f64`'s values bit for
     /// bit, halves, signed zeros, huge values and non-finite ones included.
     #[test]
     fn rounding_without_libm_matches_std() {
@@ -311,6 +318,9 @@ mod tests {
             assert_eq!(trunc_exact(x).to_bits(), x.trunc().to_bits(), "trunc {x}");
             assert_eq!(floor_exact(x).to_bits(), x.floor().to_bits(), "floor {x}");
             assert_eq!(round_exact(x).to_bits(), x.round().to_bits(), "round {x}");
+            if x.abs() < 1e15 {
+                assert_eq!(floor_i64(x), x.floor() as i64, "floor_i64 {x}");
+            }
         }
         assert!(trunc_exact(f64::NAN).is_nan() && floor_exact(f64::NAN).is_nan());
         assert!(round_exact(f64::NAN).is_nan());

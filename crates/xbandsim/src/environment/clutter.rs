@@ -32,7 +32,7 @@
 //! periodic and drifts with the waves from frame to frame.
 
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
-use crate::special::{bessel_i0, gamma_p, ln_gamma};
+use crate::special::{bessel_i0, floor_i64, gamma_p, ln_gamma, round_exact};
 
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg64Mcg;
@@ -256,13 +256,6 @@ impl NormalTable {
     }
 }
 
-/// `⌊x⌋` as an integer without a libm call (x well inside the i64 range).
-#[inline]
-fn floor_i64(x: f64) -> i64 {
-    let i = x as i64;
-    i - i64::from((i as f64) > x)
-}
-
 /// `i mod n` in `0..n`, with the common in-range case first.
 #[inline]
 fn wrap(i: i64, n: usize) -> usize {
@@ -338,7 +331,7 @@ impl GammaQuantile {
     #[inline]
     pub fn level_from_log10(log10_shape: f64) -> usize {
         let x = (log10_shape * std::f64::consts::LN_10 - Self::LEVEL_MIN.ln()) / Self::LEVEL_STEP;
-        (crate::special::round_exact(x).max(0.0) as usize).min(Self::LEVELS - 1)
+        (round_exact(x).max(0.0) as usize).min(Self::LEVELS - 1)
     }
 
     /// The shape of a level.

@@ -76,6 +76,19 @@ pub struct PolarBox {
     pub bin_max: usize,
 }
 
+impl PolarBox {
+    /// Number of spokes the box spans out of `spokes`, counting across north.
+    pub fn spoke_count(&self, spokes: usize) -> usize {
+        (self.spoke_max + spokes - self.spoke_min) % spokes + 1
+    }
+
+    /// The box's spokes from `spoke_min` to `spoke_max`, across north if it wraps.
+    pub fn spoke_indices(&self, spokes: usize) -> impl Iterator<Item = usize> {
+        let first = self.spoke_min;
+        (0..self.spoke_count(spokes)).map(move |s| (first + s) % spokes)
+    }
+}
+
 /// The losses of an object's echo against the free-space radar equation on the beam axis,
 /// dB (each ≥ 0; subtract them all, and add the multipath gain, to get the expected SNR).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
