@@ -256,13 +256,27 @@ impl NormalTable {
     }
 }
 
-/// `i mod n` in `0..n`, with the common in-range case first.
+/// `i mod n` in `0..n`, without an integer division in the common cases (in range, or one
+/// period below it: points west or south of the field's origin).
 #[inline]
 fn wrap(i: i64, n: usize) -> usize {
-    if (0..n as i64).contains(&i) {
+    let n_i = n as i64;
+    if (0..n_i).contains(&i) {
         i as usize
+    } else if (-n_i..0).contains(&i) {
+        (i + n_i) as usize
     } else {
-        i.rem_euclid(n as i64) as usize
+        i.rem_euclid(n_i) as usize
+    }
+}
+
+/// `(i + 1) mod n` for `i` in `0..n`, without an integer division.
+#[inline]
+fn next_wrapped(i: usize, n: usize) -> usize {
+    if i + 1 == n {
+        0
+    } else {
+        i + 1
     }
 }
 
@@ -305,6 +319,21 @@ impl GammaQuantile {
     #[inline]
     pub fn of_normal(&self, g: f64) -> f64 {
         NormalTable::lookup(&self.of_normal, |u| self.quantile(u), g)
+    }
+
+    /// [`GammaQuantile::of_normal`] of every value of `gs`, passed to `each` with its index:
+    /// the same values, with the table fetched once for all of them.
+    #[inline]
+    pub fn of_normal_each(&self, gs: &[f64], mut each: impl FnMut(usize, f64)) {
+        let table = self
+            .of_normal
+            .get_or_init(|| NormalTable::new(|u| self.quantile(u)));
+        for (i, &g) in gs.iter().enumerate() {
+            each(
+                i,
+                table.at(g).unwrap_or_else(|| self.quantile(normal_cdf(g))),
+            );
+        }
     }
 
     /// The table for shape ν exactly (cached process-wide by ν).
@@ -399,8 +428,11 @@ impl GaussianField {
             data.par_chunks_mut(side).for_each_init(
                 || vec![0f32; side + 2 * h],
                 |ext, line| {
-                    for (i, e) in ext.iter_mut().enumerate() {
-                        *e = line[(i + side * (h / side + 1) - h) % side];
+                    // ext[i] = line[(i − h) mod side], stepping the index instead of dividing.
+                    let mut j = (side - h % side) % side;
+                    for e in ext.iter_mut() {
+                        *e = line[j];
+                        j = if j + 1 == side { 0 } else { j + 1 };
                     }
                     for (c, out) in line.iter_mut().enumerate() {
                         *out = kernel
@@ -445,20 +477,33 @@ impl GaussianField {
     /// copula's marginals would be less spiky between grid points.
     #[inline]
     pub fn at(&self, x_m: f64, y_m: f64) -> f64 {
+        let (bilinear, variance) = self.bilinear_and_variance(x_m, y_m);
+        bilinear / variance.sqrt()
+    }
+
+    /// The two halves of [`GaussianField::at`]: the bilinear value and the variance it is
+    /// normalised by (`at = bilinear / √variance`). Apart so that a caller evaluating many
+    /// points can take the square roots and divisions in a loop of their own, where they
+    /// overlap, rather than each at the end of a long dependency chain.
+    #[inline]
+    pub fn bilinear_and_variance(&self, x_m: f64, y_m: f64) -> (f64, f64) {
         let fx = x_m / self.spacing_m;
         let fy = y_m / self.spacing_m;
         let (x0, y0) = (floor_i64(fx), floor_i64(fy));
         let (tx, ty) = ((fx - x0 as f64) as f32, (fy - y0 as f64) as f32);
         let ix = wrap(x0, self.side);
         let iy = wrap(y0, self.side);
-        let ix1 = (ix + 1) % self.side;
-        let iy1 = (iy + 1) % self.side;
+        let ix1 = next_wrapped(ix, self.side);
+        let iy1 = next_wrapped(iy, self.side);
         let v = |r: usize, c: usize| self.values[r * self.side + c];
         let a = v(iy, ix) * (1.0 - tx) + v(iy, ix1) * tx;
         let b = v(iy1, ix) * (1.0 - tx) + v(iy1, ix1) * tx;
         let rho = self.neighbour_correlation;
         let var = |t: f64| (1.0 - t) * (1.0 - t) + t * t + 2.0 * t * (1.0 - t) * rho;
-        (a * (1.0 - ty) + b * ty) as f64 / (var(tx as f64) * var(ty as f64)).sqrt()
+        (
+            (a * (1.0 - ty) + b * ty) as f64,
+            var(tx as f64) * var(ty as f64),
+        )
     }
 }
 

@@ -61,6 +61,17 @@ pub struct ClutterMap {
     distribution: ClutterDistribution,
 }
 
+/// Reusable buffers of one spoke's texture in [`ClutterMap::with_beam_tilts`].
+#[derive(Debug, Default)]
+struct TextureScratch {
+    /// Sample index and field coordinates (m) of each sea cell.
+    cells: Vec<(usize, f64, f64)>,
+    /// The field's bilinear value at each cell, then its normalised value.
+    values: Vec<f64>,
+    /// The variance each bilinear value is normalised by.
+    variances: Vec<f64>,
+}
+
 /// A Gaussian Doppler spectrum: mean and standard deviation, Hz.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GaussianDoppler {
@@ -362,7 +373,11 @@ impl ClutterMap {
             .map(|_| std::sync::OnceLock::new())
             .collect();
         // One spoke's rows of sea mean, rain and texture.
-        let spoke_rows = |k: usize| -> (Vec<f32>, Vec<f32>, Vec<f32>) {
+        let spoke_rows = |scratch: &mut TextureScratch,
+                          k: usize|
+         -> (Vec<f32>, Vec<f32>, Vec<f32>) {
+            let textured_cells = &mut scratch.cells;
+            textured_cells.clear();
             let mut sea_row = vec![0f32; samples];
             let mut rain_row = vec![0f32; if has_rain { samples } else { 0 }];
             let mut texture_row = vec![0f32; if textured { samples } else { 0 }];
@@ -431,28 +446,9 @@ impl ClutterMap {
                     };
                     let mean = sigma0 * sea_factor;
                     sea_row[n] = (mean * rain_loss * delta) as f32;
-                    if let Some(f) = &field {
-                        let g = f.at(p.x - drift.x, p.y - drift.y);
-                        texture_row[n] = match c.distribution() {
-                            ClutterDistribution::K { .. } => match &fixed_gamma {
-                                Some(q) => q.of_normal(g),
-                                None => {
-                                    let level = GammaQuantile::level_from_log10(
-                                        row.log_nu_row - cos_2swell / 3.0,
-                                    );
-                                    tables[level]
-                                        .get_or_init(|| GammaQuantile::for_level(level))
-                                        .of_normal(g)
-                                }
-                            },
-                            ClutterDistribution::Weibull { .. } => {
-                                weibull.as_ref().map_or(1.0, |q| q.of_normal(g))
-                            }
-                            ClutterDistribution::LogNormal { sigma_db } => {
-                                lognormal_texture(g, sigma_db)
-                            }
-                            ClutterDistribution::Rayleigh => 1.0,
-                        } as f32;
+                    if field.is_some() {
+                        let x = p - drift;
+                        textured_cells.push((n, x.x, x.y));
                     }
                 }
                 if let Some(rain) = &env.rain() {
@@ -464,10 +460,77 @@ impl ClutterMap {
                     rain_row[n] = (last_rain.1 * rain_volume_factor * rain_loss * delta) as f32;
                 }
             }
+            if let (Some(f), Some(c)) = (&field, clutter) {
+                // The texture in three passes over the spoke's cells, each a short loop whose
+                // iterations overlap: the field's bilinear values and variances, their
+                // normalisation (a square root and a division per cell), the marginal.
+                let (values, variances) = (&mut scratch.values, &mut scratch.variances);
+                values.clear();
+                variances.clear();
+                for &(_, x, y) in textured_cells.iter() {
+                    let (value, variance) = f.bilinear_and_variance(x, y);
+                    values.push(value);
+                    variances.push(variance);
+                }
+                for (g, variance) in values.iter_mut().zip(variances.iter()) {
+                    *g /= variance.sqrt();
+                }
+                let cells = textured_cells.iter().zip(values.iter());
+                match c.distribution() {
+                    ClutterDistribution::K { .. } => match &fixed_gamma {
+                        Some(q) => {
+                            for (&(n, _, _), &g) in cells {
+                                texture_row[n] = q.of_normal(g) as f32;
+                            }
+                        }
+                        None => {
+                            // Consecutive cells mostly share a shape level: each run of one
+                            // level looks its table up once.
+                            let mut start = 0;
+                            while start < values.len() {
+                                let level_of = |i: usize| {
+                                    let n = textured_cells[i].0;
+                                    let log_nu = rows[n].as_ref().map_or(0.0, |r| r.log_nu_row);
+                                    GammaQuantile::level_from_log10(log_nu - cos_2swell / 3.0)
+                                };
+                                let level = level_of(start);
+                                let mut end = start + 1;
+                                while end < values.len() && level_of(end) == level {
+                                    end += 1;
+                                }
+                                tables[level]
+                                    .get_or_init(|| GammaQuantile::for_level(level))
+                                    .of_normal_each(&values[start..end], |i, t| {
+                                        texture_row[textured_cells[start + i].0] = t as f32;
+                                    });
+                                start = end;
+                            }
+                        }
+                    },
+                    ClutterDistribution::Weibull { .. } => {
+                        for (&(n, _, _), &g) in cells {
+                            texture_row[n] =
+                                weibull.as_ref().map_or(1.0, |q| q.of_normal(g)) as f32;
+                        }
+                    }
+                    ClutterDistribution::LogNormal { sigma_db } => {
+                        for (&(n, _, _), &g) in cells {
+                            texture_row[n] = lognormal_texture(g, sigma_db) as f32;
+                        }
+                    }
+                    ClutterDistribution::Rayleigh => {
+                        for &(n, _, _) in textured_cells.iter() {
+                            texture_row[n] = 1.0;
+                        }
+                    }
+                }
+            }
             (sea_row, rain_row, texture_row)
         };
-        let per_spoke: Vec<(Vec<f32>, Vec<f32>, Vec<f32>)> =
-            (0..spokes).into_par_iter().map(spoke_rows).collect();
+        let per_spoke: Vec<(Vec<f32>, Vec<f32>, Vec<f32>)> = (0..spokes)
+            .into_par_iter()
+            .map_init(TextureScratch::default, spoke_rows)
+            .collect();
         let mut sea = Vec::with_capacity(spokes);
         let mut rain = Vec::with_capacity(spokes);
         let mut texture = Vec::with_capacity(spokes);
