@@ -226,8 +226,13 @@ impl NormalTable {
     #[inline]
     fn lookup(cell: &OnceLock<NormalTable>, quantile: impl Fn(f64) -> f64, g: f64) -> f64 {
         cell.get_or_init(|| NormalTable::new(&quantile))
-            .at(g)
-            .unwrap_or_else(|| quantile(normal_cdf(g)))
+            .value(g, quantile)
+    }
+
+    /// `quantile(Φ(g))`: from the table inside it, evaluated outside it.
+    #[inline]
+    fn value(&self, g: f64, quantile: impl Fn(f64) -> f64) -> f64 {
+        self.at(g).unwrap_or_else(|| quantile(normal_cdf(g)))
     }
 
     /// `T(g)`, or None outside the table's inner intervals (the cubic needs a neighbour on
@@ -329,10 +334,7 @@ impl GammaQuantile {
             .of_normal
             .get_or_init(|| NormalTable::new(|u| self.quantile(u)));
         for (i, &g) in gs.iter().enumerate() {
-            each(
-                i,
-                table.at(g).unwrap_or_else(|| self.quantile(normal_cdf(g))),
-            );
+            each(i, table.value(g, |u| self.quantile(u)));
         }
     }
 

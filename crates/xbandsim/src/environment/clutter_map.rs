@@ -486,13 +486,13 @@ impl ClutterMap {
                         None => {
                             // Consecutive cells mostly share a shape level: each run of one
                             // level looks its table up once.
+                            let level_of = |i: usize| {
+                                let n = textured_cells[i].0;
+                                let log_nu = rows[n].as_ref().map_or(0.0, |r| r.log_nu_row);
+                                GammaQuantile::level_from_log10(log_nu - cos_2swell / 3.0)
+                            };
                             let mut start = 0;
                             while start < values.len() {
-                                let level_of = |i: usize| {
-                                    let n = textured_cells[i].0;
-                                    let log_nu = rows[n].as_ref().map_or(0.0, |r| r.log_nu_row);
-                                    GammaQuantile::level_from_log10(log_nu - cos_2swell / 3.0)
-                                };
                                 let level = level_of(start);
                                 let mut end = start + 1;
                                 while end < values.len() && level_of(end) == level {
@@ -518,11 +518,8 @@ impl ClutterMap {
                             texture_row[n] = lognormal_texture(g, sigma_db) as f32;
                         }
                     }
-                    ClutterDistribution::Rayleigh => {
-                        for &(n, _, _) in textured_cells.iter() {
-                            texture_row[n] = 1.0;
-                        }
-                    }
+                    // Rayleigh clutter has no texture field, so no cells here.
+                    ClutterDistribution::Rayleigh => {}
                 }
             }
             (sea_row, rain_row, texture_row)
