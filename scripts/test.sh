@@ -3,8 +3,8 @@
 # the labels, the CLI, `xbandsim validate`'s checks, the golden hashes —, then a dataset's
 # label files through a real COCO client (pycocotools in a virtual environment under target/,
 # installed from PyPI on first use; scripts/check_labels.py), then the Python package
-# (crates/xbandsim-py, built by pip with maturin into the same environment) and its pytest
-# suite.
+# (crates/xbandsim-py, built by pip with maturin into the same environment), a check that it
+# writes the CLI's bytes for the same dataset, and its pytest suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -43,6 +43,13 @@ else
   exit 1
 fi
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check --force-reinstall --no-deps ./crates/xbandsim-py
+# The package is a second build of the same library (a Python extension, with other
+# dependencies): it must write the CLI's bytes, so that shards made by Ray workers and by
+# the CLI merge into one dataset (docs/architecture.md, "Determinism and the golden hashes").
+echo "== the Python package writes the CLI's bytes (the detection set above, made again)"
+rm -rf target/check-labels-py
+"$venv/bin/python" -c "import xbandsim.dataset as d; d.generate('datasets/detection.toml', 'target/check-labels-py', 24, 7)"
+diff -r target/check-labels target/check-labels-py
 # The suite runs in a network namespace of its own with only the loopback interface (as root,
 # or as a user where user namespaces are allowed): nothing in it reaches the network, and the
 # local Ray cluster of test_distributed.py listens on 127.0.0.1 alone (outside one, Ray's
