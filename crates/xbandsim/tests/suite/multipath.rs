@@ -100,9 +100,11 @@ fn objects_shadow_each_other() {
     );
 }
 
-/// Tube culling (`TubeGrid::window`) is exact: for ship-sized and small objects over the sea,
-/// one behind another, every tube outside an object's window (direct and via-sea grids)
-/// traced anyway returns nothing, and the window's tubes give `trace_object`'s returns.
+/// Tube culling (`TubeGrid::window`, then `TubeGrid::coverage`: the union of the object's
+/// primitives' windows) is exact: for ship-sized and small objects over the sea, one behind
+/// another, every tube an object's coverage leaves out (direct and via-sea grids) traced
+/// anyway returns nothing, and the covered tubes give `trace_object`'s returns. The coverage
+/// leaves out tubes of the object's window too (the ship's oblique hull, the masts).
 #[test]
 fn tubes_outside_the_window_return_nothing() {
     use xbandsim::scattering::po::{
@@ -122,8 +124,14 @@ fn tubes_outside_the_window_return_nothing() {
         let index = index as u32;
         let (centre, radius) = (obj.bounding_centre_m(), obj.shape().bounding_radius_m());
         let bounds = bvh.object_bounds(index);
+        let parts: Vec<_> = bvh
+            .primitives()
+            .iter()
+            .filter(|p| p.object == index)
+            .map(|p| p.bounds())
+            .collect();
         let mut all = Vec::new();
-        let (mut inside, mut outside) = (0usize, 0usize);
+        let (mut inside, mut outside, mut in_window) = (0usize, 0usize, 0usize);
         for via_sea in [false, true] {
             let image = if via_sea {
                 glam::DVec3::new(centre.x, centre.y, -centre.z)
@@ -140,18 +148,22 @@ fn tubes_outside_the_window_return_nothing() {
             );
             let (columns, rows) = grid.window(&bounds);
             assert!(columns.len() < grid.cells_per_side || rows.len() < grid.cells_per_side);
+            let coverage = grid.coverage(&bounds, &parts);
+            assert_eq!((&coverage.columns, &coverage.rows), (&columns, &rows));
+            in_window += columns.len() * rows.len();
             for j in 0..grid.cells_per_side {
                 for i in 0..grid.cells_per_side {
                     let mut out = Vec::new();
                     trace_tube(&bvh, &grid, i, j, index, &settings, &mut out);
-                    if columns.contains(&i) && rows.contains(&j) {
+                    if coverage.covers(i, j) {
+                        assert!(columns.contains(&i) && rows.contains(&j));
                         inside += 1;
                         all.extend(out);
                     } else {
                         outside += 1;
                         assert!(
                             out.is_empty(),
-                            "object {index} tube ({i}, {j}) outside its window returned"
+                            "object {index} tube ({i}, {j}) outside its coverage returned"
                         );
                     }
                 }
@@ -160,6 +172,10 @@ fn tubes_outside_the_window_return_nothing() {
         assert!(
             outside > inside / 4,
             "object {index}: only {outside} tubes culled"
+        );
+        assert!(
+            inside < in_window * 9 / 10,
+            "object {index}: the coverage keeps {inside} of the windows' {in_window} tubes"
         );
         let traced = trace_object(&bvh, illumination, centre, radius, index, &settings);
         assert!(

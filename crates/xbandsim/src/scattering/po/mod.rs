@@ -31,8 +31,8 @@
 mod tube;
 
 pub use tube::{
-    polarisation_vector, sea_reflect, trace_tube, ComplexVec3, Illumination, SbrSettings, TubeGrid,
-    TubeReturn,
+    polarisation_vector, sea_reflect, trace_tube, ComplexVec3, Illumination, SbrSettings,
+    TubeCoverage, TubeGrid, TubeReturn,
 };
 
 use super::{azimuth_elevation_rad, carrier_phase, Contribution, ScatterSet};
@@ -116,9 +116,17 @@ pub fn trace_object(
     let mut returns = Vec::new();
     let mut rays = 0;
     let bounds = bvh.object_bounds(index);
+    let parts: Vec<_> = bvh
+        .primitives()
+        .iter()
+        .filter(|p| p.object == index)
+        .map(|p| p.bounds())
+        .collect();
     for grid in &grids {
-        // Only the tubes that can meet the object's box: the rest return nothing.
-        let (columns, rows) = grid.window(&bounds);
+        // Only the tubes that can meet one of the object's primitives' boxes: the rest
+        // return nothing.
+        let coverage = grid.coverage(&bounds, &parts);
+        let (columns, rows) = (coverage.columns.clone(), coverage.rows.clone());
         // Rows in runs of at least four per task, each run's returns in one vector; the runs
         // are contiguous and collected in order, so the returns keep the row order whatever
         // the thread count.
@@ -129,7 +137,9 @@ pub fn trace_object(
                 || (Vec::new(), 0u64),
                 |(mut out, mut rays), j| {
                     for i in columns.clone() {
-                        rays += trace_tube(bvh, grid, i, j, index, s, &mut out);
+                        if coverage.covers(i, j) {
+                            rays += trace_tube(bvh, grid, i, j, index, s, &mut out);
+                        }
                     }
                     (out, rays)
                 },

@@ -163,6 +163,32 @@ pub struct TubeGrid {
     plane_origin_m: DVec3,
 }
 
+/// The tubes of a grid that may meet one object ([`TubeGrid::coverage`]).
+#[derive(Debug, Clone)]
+pub struct TubeCoverage {
+    /// Columns of the object's window.
+    pub columns: Range<usize>,
+    /// Rows of the object's window.
+    pub rows: Range<usize>,
+    /// Row-major over the window: whether the tube may meet the object.
+    covered: Vec<bool>,
+}
+
+impl TubeCoverage {
+    /// Whether tube (i, j) may meet the object (false outside the window).
+    #[inline]
+    pub fn covers(&self, i: usize, j: usize) -> bool {
+        self.columns.contains(&i)
+            && self.rows.contains(&j)
+            && self.covered[(j - self.rows.start) * self.columns.len() + i - self.columns.start]
+    }
+
+    /// Number of tubes that may meet the object.
+    pub fn count(&self) -> usize {
+        self.covered.iter().filter(|&&c| c).count()
+    }
+}
+
 impl TubeGrid {
     /// Grid over the bounding sphere (`centre_m`, `radius_m`) for `illumination`.
     pub fn new(
@@ -293,6 +319,35 @@ impl TubeGrid {
         (cells(x_lo, x_hi), cells(y_lo, y_hi))
     }
 
+    /// The tubes that may meet an object made of `parts` (its primitives' boxes) within
+    /// `bounds` (the object's box): the union of the parts' windows, inside the object's
+    /// window. A tube counts only if its ray meets the object, so inside one of its parts'
+    /// boxes, so inside that part's window ([`TubeGrid::window`]); the others return
+    /// nothing. Tighter than the object's window alone for objects whose box is much larger
+    /// than their silhouette (a hull seen obliquely, a mast above a deck).
+    pub fn coverage(&self, bounds: &Aabb, parts: &[Aabb]) -> TubeCoverage {
+        let (columns, rows) = self.window(bounds);
+        let width = columns.len();
+        let mut covered = vec![false; width * rows.len()];
+        for part in parts {
+            let (c, r) = self.window(part);
+            let c = c.start.max(columns.start)..c.end.min(columns.end);
+            let r = r.start.max(rows.start)..r.end.min(rows.end);
+            if c.is_empty() {
+                continue;
+            }
+            for j in r {
+                let row = (j - rows.start) * width;
+                covered[row + c.start - columns.start..row + c.end - columns.start].fill(true);
+            }
+        }
+        TubeCoverage {
+            columns,
+            rows,
+            covered,
+        }
+    }
+
     /// Launch of tube (i, j): origin, unit direction, the tube's unit transverse axes, and the
     /// path length at which its side equals `spacing_m` (None for parallel tubes).
     #[inline]
@@ -410,6 +465,8 @@ pub fn trace_tube(
     let mut rays = 0u64;
     let mut object_hits = 0usize;
     let mut sea_hits = 0u8;
+    // A sea reflection whose field is not computed yet: the field and direction before it.
+    let mut pending_sea: Option<(ComplexVec3, DVec3)> = None;
     let max_interactions = s.max_bounces + usize::from(grid.via_sea);
     for interaction in 1..=max_interactions {
         rays += 1;
@@ -442,9 +499,15 @@ pub fn trace_tube(
         path_m += t;
         let Some(_) = object else {
             // Sea reflection: no return of its own (that is clutter), the tube carries on.
+            // Its Fresnel coefficients wait until the reflected ray meets an object it may
+            // return from (most via-sea tubes of the window miss theirs); the direction
+            // does not depend on them.
             let sea = sea.expect("sea hit only when the sea is on");
-            let (e_r, k_r) = sea_reflect(e_field, k, &sea, s.wavelength_m);
-            e_field = e_r;
+            if let Some((e, k_in)) = pending_sea.take() {
+                e_field = sea_reflect(e, k_in, &sea, s.wavelength_m).0;
+            }
+            pending_sea = Some((e_field, k));
+            let k_r = DVec3::new(k.x, k.y, -k.z);
             sea_hits += 1;
             let mirror = |v: DVec3| DVec3::new(v.x, v.y, -v.z);
             unit_u = mirror(unit_u);
@@ -461,6 +524,9 @@ pub fn trace_tube(
             if !crate::propagation::above_horizon(radar_m.z, ground, hit_p.z) {
                 break; // below the radar horizon
             }
+        }
+        if let (Some((e, k_in)), Some(sea)) = (pending_sea.take(), sea) {
+            e_field = sea_reflect(e, k_in, &sea, s.wavelength_m).0;
         }
         object_hits += 1;
         if object_hits == 1 {
