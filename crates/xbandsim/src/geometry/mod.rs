@@ -104,6 +104,17 @@ impl Aabb {
         (self.min + self.max) * 0.5
     }
 
+    /// The eight corners (bit 0 of the index picks x's maximum, bit 1 y's, bit 2 z's).
+    pub fn corners(&self) -> [DVec3; 8] {
+        std::array::from_fn(|c| {
+            DVec3::new(
+                if c & 1 == 0 { self.min.x } else { self.max.x },
+                if c & 2 == 0 { self.min.y } else { self.max.y },
+                if c & 4 == 0 { self.min.z } else { self.max.z },
+            )
+        })
+    }
+
     /// Slab test: entry distance if the ray meets the box before `t_max`.
     #[inline]
     pub fn hit_distance(&self, origin: DVec3, inv_dir: DVec3, t_max: f64) -> Option<f64> {

@@ -92,6 +92,32 @@ impl Primitive {
         b
     }
 
+    /// Points whose convex hull holds the primitive, and how many of the eight are used: a
+    /// triangle's or parallelogram's vertices, else the corners of its box.
+    pub fn hull_points(&self) -> ([DVec3; 8], usize) {
+        let mut points = [DVec3::ZERO; 8];
+        match self.kind {
+            PrimitiveKind::Triangle { v0, e1, e2 } => {
+                points[..3].copy_from_slice(&[v0, v0 + e1, v0 + e2]);
+                (points, 3)
+            }
+            PrimitiveKind::Parallelogram {
+                corner,
+                edge_u,
+                edge_v,
+            } => {
+                points[..4].copy_from_slice(&[
+                    corner,
+                    corner + edge_u,
+                    corner + edge_v,
+                    corner + edge_u + edge_v,
+                ]);
+                (points, 4)
+            }
+            _ => (self.bounds().corners(), 8),
+        }
+    }
+
     /// Intersection distance and unit normal if the ray meets this primitive in
     /// `(SELF_HIT_EPSILON_M, t_max_m)`.
     #[inline]

@@ -101,7 +101,7 @@ fn objects_shadow_each_other() {
 }
 
 /// Tube culling (`TubeGrid::window`, then `TubeGrid::coverage`: the union of the object's
-/// primitives' windows) is exact: for ship-sized and small objects over the sea, one behind
+/// primitives' windows, from their vertices or boxes) is exact: for ship-sized and small objects over the sea, one behind
 /// another, every tube an object's coverage leaves out (direct and via-sea grids) traced
 /// anyway returns nothing, and the covered tubes give `trace_object`'s returns. The coverage
 /// leaves out tubes of the object's window too (the ship's oblique hull, the masts).
@@ -128,7 +128,7 @@ fn tubes_outside_the_window_return_nothing() {
             .primitives()
             .iter()
             .filter(|p| p.object == index)
-            .map(|p| p.bounds())
+            .map(|p| p.hull_points())
             .collect();
         let mut all = Vec::new();
         let (mut inside, mut outside, mut in_window) = (0usize, 0usize, 0usize);

@@ -120,10 +120,10 @@ pub fn trace_object(
         .primitives()
         .iter()
         .filter(|p| p.object == index)
-        .map(|p| p.bounds())
+        .map(|p| p.hull_points())
         .collect();
     for grid in &grids {
-        // Only the tubes that can meet one of the object's primitives' boxes: the rest
+        // Only the tubes that can meet one of the object's primitives: the rest
         // return nothing.
         let coverage = grid.coverage(&bounds, &parts);
         let (columns, rows) = (coverage.columns.clone(), coverage.rows.clone());

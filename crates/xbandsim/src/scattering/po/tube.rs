@@ -257,35 +257,29 @@ impl TubeGrid {
     /// ray that meets the box crosses the plane inside the corners' bounding rectangle; one
     /// cell of margin covers rounding. If a corner is not in front of the radar, every tube.
     pub fn window(&self, bounds: &Aabb) -> (Range<usize>, Range<usize>) {
-        let all = (0..self.cells_per_side, 0..self.cells_per_side);
         if !(bounds.min.cmple(bounds.max).all()) {
             return (0..0, 0..0);
         }
-        let (lo_z, hi_z) = if self.via_sea {
-            (-bounds.max.z, -bounds.min.z)
-        } else {
-            (bounds.min.z, bounds.max.z)
-        };
+        self.window_of_points(&bounds.corners())
+    }
+
+    /// As [`TubeGrid::window`] for anything inside the convex hull of `points` (a ray that
+    /// meets it crosses the grid plane inside the projected points' bounding rectangle).
+    pub fn window_of_points(&self, points: &[DVec3]) -> (Range<usize>, Range<usize>) {
+        let all = (0..self.cells_per_side, 0..self.cells_per_side);
         let (mut x_lo, mut x_hi, mut y_lo, mut y_hi) = (
             f64::INFINITY,
             f64::NEG_INFINITY,
             f64::INFINITY,
             f64::NEG_INFINITY,
         );
-        for corner in 0..8 {
-            let p = DVec3::new(
-                if corner & 1 == 0 {
-                    bounds.min.x
-                } else {
-                    bounds.max.x
-                },
-                if corner & 2 == 0 {
-                    bounds.min.y
-                } else {
-                    bounds.max.y
-                },
-                if corner & 4 == 0 { lo_z } else { hi_z },
-            );
+        for &point in points {
+            // Via-sea tubes: the reflected rays continue the straight line to the image.
+            let p = if self.via_sea {
+                DVec3::new(point.x, point.y, -point.z)
+            } else {
+                point
+            };
             let on_plane = match self.illumination {
                 Illumination::FromPoint { radar_m } => {
                     let axis = self.centre_m - radar_m;
@@ -319,18 +313,19 @@ impl TubeGrid {
         (cells(x_lo, x_hi), cells(y_lo, y_hi))
     }
 
-    /// The tubes that may meet an object made of `parts` (its primitives' boxes) within
-    /// `bounds` (the object's box): the union of the parts' windows, inside the object's
-    /// window. A tube counts only if its ray meets the object, so inside one of its parts'
-    /// boxes, so inside that part's window ([`TubeGrid::window`]); the others return
-    /// nothing. Tighter than the object's window alone for objects whose box is much larger
-    /// than their silhouette (a hull seen obliquely, a mast above a deck).
-    pub fn coverage(&self, bounds: &Aabb, parts: &[Aabb]) -> TubeCoverage {
+    /// The tubes that may meet an object made of `parts` (each primitive's hull points,
+    /// [`Primitive::hull_points`](crate::geometry::Primitive::hull_points)) within `bounds`
+    /// (the object's box): the union of the parts' windows, inside the object's window. A
+    /// tube counts only if its ray meets the object, so one of its parts, so it crosses the
+    /// grid plane inside that part's window ([`TubeGrid::window_of_points`]); the others
+    /// return nothing. Tighter than the object's window alone for objects whose box is much
+    /// larger than their silhouette (a hull seen obliquely, a mast above a deck).
+    pub fn coverage(&self, bounds: &Aabb, parts: &[([DVec3; 8], usize)]) -> TubeCoverage {
         let (columns, rows) = self.window(bounds);
         let width = columns.len();
         let mut covered = vec![false; width * rows.len()];
-        for part in parts {
-            let (c, r) = self.window(part);
+        for (points, n) in parts {
+            let (c, r) = self.window_of_points(&points[..*n]);
             let c = c.start.max(columns.start)..c.end.min(columns.end);
             let r = r.start.max(rows.start)..r.end.min(rows.end);
             if c.is_empty() {
