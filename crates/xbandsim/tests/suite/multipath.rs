@@ -108,7 +108,7 @@ fn objects_shadow_each_other() {
 #[test]
 fn tubes_outside_the_window_return_nothing() {
     use xbandsim::scattering::po::{
-        settings_for, trace_object, trace_tube, Illumination, TubeGrid,
+        object_parts, settings_for, trace_object, trace_tube, Illumination, TubeGrid,
     };
     let s = scene(
         "[environment]\nnoise = false\nclutter = false\n[radar]\nposition_m = [0.0, 0.0, 12.0]\nmax_range_m = 1500.0\n[scattering]\nmax_rays_per_object = 4096\n\
@@ -124,12 +124,7 @@ fn tubes_outside_the_window_return_nothing() {
         let index = index as u32;
         let (centre, radius) = (obj.bounding_centre_m(), obj.shape().bounding_radius_m());
         let bounds = bvh.object_bounds(index);
-        let parts: Vec<_> = bvh
-            .primitives()
-            .iter()
-            .filter(|p| p.object == index)
-            .map(|p| p.hull_points())
-            .collect();
+        let parts = object_parts(&bvh, index);
         let mut all = Vec::new();
         let (mut inside, mut outside, mut in_window) = (0usize, 0usize, 0usize);
         for via_sea in [false, true] {

@@ -116,12 +116,7 @@ pub fn trace_object(
     let mut returns = Vec::new();
     let mut rays = 0;
     let bounds = bvh.object_bounds(index);
-    let parts: Vec<_> = bvh
-        .primitives()
-        .iter()
-        .filter(|p| p.object == index)
-        .map(|p| p.hull_points())
-        .collect();
+    let parts = object_parts(bvh, index);
     for grid in &grids {
         // Only the tubes that can meet one of the object's primitives: the rest
         // return nothing.
@@ -156,6 +151,16 @@ pub fn trace_object(
         rays,
         budget,
     }
+}
+
+/// The hull points of the primitives of object `index` in `bvh`, for
+/// [`TubeGrid::coverage`].
+pub fn object_parts(bvh: &Bvh, index: u32) -> Vec<([DVec3; 8], usize)> {
+    bvh.primitives()
+        .iter()
+        .filter(|p| p.object == index)
+        .map(|p| p.hull_points())
+        .collect()
 }
 
 /// Monostatic RCS of everything in `bvh` tagged `index`, lit by a plane wave from
