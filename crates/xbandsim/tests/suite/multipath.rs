@@ -124,7 +124,6 @@ fn tubes_outside_the_window_return_nothing() {
         let index = index as u32;
         let (centre, radius) = (obj.bounding_centre_m(), obj.shape().bounding_radius_m());
         let bounds = bvh.object_bounds(index);
-        let parts = object_parts(&bvh, index);
         let mut all = Vec::new();
         let (mut inside, mut outside, mut in_window) = (0usize, 0usize, 0usize);
         for via_sea in [false, true] {
@@ -143,7 +142,7 @@ fn tubes_outside_the_window_return_nothing() {
             );
             let (columns, rows) = grid.window(&bounds);
             assert!(columns.len() < grid.cells_per_side || rows.len() < grid.cells_per_side);
-            let coverage = grid.coverage(&bounds, &parts);
+            let coverage = grid.coverage(&bounds, object_parts(&bvh, index));
             assert_eq!((&coverage.columns, &coverage.rows), (&columns, &rows));
             in_window += columns.len() * rows.len();
             for j in 0..grid.cells_per_side {

@@ -116,11 +116,10 @@ pub fn trace_object(
     let mut returns = Vec::new();
     let mut rays = 0;
     let bounds = bvh.object_bounds(index);
-    let parts = object_parts(bvh, index);
     for grid in &grids {
         // Only the tubes that can meet one of the object's primitives: the rest
         // return nothing.
-        let coverage = grid.coverage(&bounds, &parts);
+        let coverage = grid.coverage(&bounds, object_parts(bvh, index));
         let (columns, rows) = (coverage.columns.clone(), coverage.rows.clone());
         // Rows in runs of at least four per task, each run's returns in one vector; the runs
         // are contiguous and collected in order, so the returns keep the row order whatever
@@ -154,13 +153,12 @@ pub fn trace_object(
 }
 
 /// The hull points of the primitives of object `index` in `bvh`, for
-/// [`TubeGrid::coverage`].
-pub fn object_parts(bvh: &Bvh, index: u32) -> Vec<([DVec3; 8], usize)> {
+/// [`TubeGrid::coverage`] (made as they are read: a mesh's would be 200 bytes a triangle).
+pub fn object_parts(bvh: &Bvh, index: u32) -> impl Iterator<Item = ([DVec3; 8], usize)> + '_ {
     bvh.primitives()
         .iter()
-        .filter(|p| p.object == index)
+        .filter(move |p| p.object == index)
         .map(|p| p.hull_points())
-        .collect()
 }
 
 /// Monostatic RCS of everything in `bvh` tagged `index`, lit by a plane wave from

@@ -320,12 +320,16 @@ impl TubeGrid {
     /// grid plane inside that part's window ([`TubeGrid::window_of_points`]); the others
     /// return nothing. Tighter than the object's window alone for objects whose box is much
     /// larger than their silhouette (a hull seen obliquely, a mast above a deck).
-    pub fn coverage(&self, bounds: &Aabb, parts: &[([DVec3; 8], usize)]) -> TubeCoverage {
+    pub fn coverage(
+        &self,
+        bounds: &Aabb,
+        parts: impl IntoIterator<Item = ([DVec3; 8], usize)>,
+    ) -> TubeCoverage {
         let (columns, rows) = self.window(bounds);
         let width = columns.len();
         let mut covered = vec![false; width * rows.len()];
         for (points, n) in parts {
-            let (c, r) = self.window_of_points(&points[..*n]);
+            let (c, r) = self.window_of_points(&points[..n]);
             let c = c.start.max(columns.start)..c.end.min(columns.end);
             let r = r.start.max(rows.start)..r.end.min(rows.end);
             if c.is_empty() {
