@@ -182,11 +182,6 @@ impl TubeCoverage {
             && self.rows.contains(&j)
             && self.covered[(j - self.rows.start) * self.columns.len() + i - self.columns.start]
     }
-
-    /// Number of tubes that may meet the object.
-    pub fn count(&self) -> usize {
-        self.covered.iter().filter(|&&c| c).count()
-    }
 }
 
 impl TubeGrid {
@@ -265,6 +260,7 @@ impl TubeGrid {
 
     /// As [`TubeGrid::window`] for anything inside the convex hull of `points` (a ray that
     /// meets it crosses the grid plane inside the projected points' bounding rectangle).
+    /// No points give every tube (unlike an empty box, which gives none).
     pub fn window_of_points(&self, points: &[DVec3]) -> (Range<usize>, Range<usize>) {
         let all = (0..self.cells_per_side, 0..self.cells_per_side);
         let (mut x_lo, mut x_hi, mut y_lo, mut y_hi) = (
@@ -498,9 +494,9 @@ pub fn trace_tube(
         path_m += t;
         let Some(_) = object else {
             // Sea reflection: no return of its own (that is clutter), the tube carries on.
-            // Its Fresnel coefficients wait until the reflected ray meets an object it may
-            // return from (most via-sea tubes of the window miss theirs); the direction
-            // does not depend on them.
+            // Its Fresnel coefficients wait until the reflected ray meets an object it
+            // returns from (past the horizon check): many via-sea tubes miss their object,
+            // and the direction does not depend on them.
             let sea = sea.expect("sea hit only when the sea is on");
             if let Some((e, k_in)) = pending_sea.take() {
                 e_field = sea_reflect(e, k_in, &sea, s.wavelength_m).0;
