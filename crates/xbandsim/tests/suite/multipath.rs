@@ -101,15 +101,15 @@ fn objects_shadow_each_other() {
 }
 
 /// Tube culling (`TubeGrid::window`, then `TubeGrid::coverage`: the union of the object's
-/// primitives' windows, from their vertices or boxes) is exact: for ship-sized and small objects over the sea, one behind
-/// another, every tube an object's coverage leaves out (direct and via-sea grids) traced
-/// anyway returns nothing, and the covered tubes give `trace_object`'s returns. The coverage
+/// primitives' windows, from their vertices or boxes) is exact: for ship-sized and small
+/// objects over the sea, one behind another, every tube an object's coverage leaves out
+/// (direct and via-sea grids) traced anyway returns nothing, and the covered tubes give `trace_object`'s returns. The coverage
 /// leaves out tubes of the object's window too (the ship's oblique hull, the masts), and
 /// with a plane wave (the `rcs` command's illumination) the same holds.
 #[test]
 fn tubes_outside_the_window_return_nothing() {
     use xbandsim::scattering::po::{
-        object_parts, settings_for, trace_object, trace_tube, Illumination, TubeGrid,
+        object_parts, sea_mirror, settings_for, trace_object, trace_tube, Illumination, TubeGrid,
     };
     let s = scene(
         "[environment]\nnoise = false\nclutter = false\n[radar]\nposition_m = [0.0, 0.0, 12.0]\nmax_range_m = 1500.0\n[scattering]\nmax_rays_per_object = 4096\n\
@@ -128,11 +128,7 @@ fn tubes_outside_the_window_return_nothing() {
         let mut all = Vec::new();
         let (mut inside, mut outside, mut in_window) = (0usize, 0usize, 0usize);
         for via_sea in [false, true] {
-            let image = if via_sea {
-                glam::DVec3::new(centre.x, centre.y, -centre.z)
-            } else {
-                centre
-            };
+            let image = if via_sea { sea_mirror(centre) } else { centre };
             let grid = TubeGrid::new(
                 illumination,
                 image,

@@ -31,8 +31,8 @@
 mod tube;
 
 pub use tube::{
-    polarisation_vector, sea_reflect, trace_tube, ComplexVec3, Illumination, SbrSettings,
-    TubeCoverage, TubeGrid, TubeReturn,
+    polarisation_vector, sea_mirror, sea_reflect, trace_tube, ComplexVec3, Illumination,
+    SbrSettings, TubeCoverage, TubeGrid, TubeReturn,
 };
 
 use super::{azimuth_elevation_rad, carrier_phase, Contribution, ScatterSet};
@@ -89,7 +89,7 @@ pub fn trace_object(
     )];
     if let (Some(_), Illumination::FromPoint { radar_m }) = (s.sea, illumination) {
         if radar_m.z > 0.0 && centre_m.z + radius_m > 0.0 {
-            let image = DVec3::new(centre_m.x, centre_m.y, -centre_m.z);
+            let image = sea_mirror(centre_m);
             grids.push(TubeGrid::new(
                 illumination,
                 image,
@@ -227,7 +227,7 @@ fn point_leg(
             if radar_m.z <= 0.0 || target_m.z <= 0.0 {
                 return None;
             }
-            let image = DVec3::new(target_m.x, target_m.y, -target_m.z);
+            let image = sea_mirror(target_m);
             let v = image - radar_m;
             let len = v.length();
             let dir = v / len;

@@ -66,6 +66,12 @@ impl ComplexVec3 {
     }
 }
 
+/// The mirror image of a point or direction in the sea plane z = 0.
+#[inline]
+pub fn sea_mirror(v: DVec3) -> DVec3 {
+    DVec3::new(v.x, v.y, -v.z)
+}
+
 /// Reflection of field `e` travelling along `k` (downward) off the sea: the horizontal part
 /// scaled by Γ_H, the vertical part by Γ_V and carried onto the reflected direction's basis.
 /// Returns the reflected field and direction.
@@ -82,7 +88,7 @@ pub fn sea_reflect(
     }
     let h = h.normalize();
     let v_in = h.cross(k);
-    let k_r = DVec3::new(k.x, k.y, -k.z);
+    let k_r = sea_mirror(k);
     let v_out = h.cross(k_r);
     let e_r =
         ComplexVec3::scaled(h, gh * e.dot(h)).plus(ComplexVec3::scaled(v_out, gv * e.dot(v_in)));
@@ -272,7 +278,7 @@ impl TubeGrid {
         for &point in points {
             // Via-sea tubes: the reflected rays continue the straight line to the image.
             let p = if self.via_sea {
-                DVec3::new(point.x, point.y, -point.z)
+                sea_mirror(point)
             } else {
                 point
             };
@@ -502,14 +508,12 @@ pub fn trace_tube(
                 e_field = sea_reflect(e, k_in, &sea, s.wavelength_m).0;
             }
             pending_sea = Some((e_field, k));
-            let k_r = DVec3::new(k.x, k.y, -k.z);
             sea_hits += 1;
-            let mirror = |v: DVec3| DVec3::new(v.x, v.y, -v.z);
-            unit_u = mirror(unit_u);
-            unit_v = mirror(unit_v);
-            edge_u = mirror(edge_u);
-            edge_v = mirror(edge_v);
-            k = k_r;
+            unit_u = sea_mirror(unit_u);
+            unit_v = sea_mirror(unit_v);
+            edge_u = sea_mirror(edge_u);
+            edge_v = sea_mirror(edge_v);
+            k = sea_mirror(k);
             origin = hit_p + DVec3::Z * SURFACE_OFFSET_M;
             continue;
         };
@@ -563,7 +567,7 @@ pub fn trace_tube(
         // Return via the sea, toward the radar's image below z = 0.
         if let (Some(sea), Illumination::FromPoint { radar_m }) = (sea, grid.illumination) {
             if hit_p.z > 0.0 && radar_m.z > 0.0 {
-                let image = DVec3::new(radar_m.x, radar_m.y, -radar_m.z);
+                let image = sea_mirror(radar_m);
                 let v = image - hit_p;
                 let dist = v.length();
                 let s2 = v / dist;
