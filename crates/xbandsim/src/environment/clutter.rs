@@ -483,12 +483,19 @@ impl GaussianField {
         bilinear / variance.sqrt()
     }
 
+    /// [`GaussianField::at`] of every point `(_, x_m, y_m)` of `points` (the first member is
+    /// the caller's tag), written to `values` (cleared first): the same values, in a loop of
+    /// its own, compiled apart from its callers so that its few registers are not spilled.
+    #[inline(never)]
+    pub fn at_each<T>(&self, points: &[(T, f64, f64)], values: &mut Vec<f64>) {
+        values.clear();
+        values.extend(points.iter().map(|&(_, x, y)| self.at(x, y)));
+    }
+
     /// The two halves of [`GaussianField::at`]: the bilinear value and the variance it is
-    /// normalised by (`at = bilinear / √variance`). Apart so that a caller evaluating many
-    /// points can take the square roots and divisions in a loop of their own, where they
-    /// overlap, rather than each at the end of a long dependency chain.
+    /// normalised by (`at = bilinear / √variance`).
     #[inline]
-    pub fn bilinear_and_variance(&self, x_m: f64, y_m: f64) -> (f64, f64) {
+    fn bilinear_and_variance(&self, x_m: f64, y_m: f64) -> (f64, f64) {
         let fx = x_m / self.spacing_m;
         let fy = y_m / self.spacing_m;
         let (x0, y0) = (floor_i64(fx), floor_i64(fy));

@@ -66,10 +66,8 @@ pub struct ClutterMap {
 struct TextureScratch {
     /// Sample index and field coordinates (m) of each sea cell.
     cells: Vec<(usize, f64, f64)>,
-    /// The field's bilinear value at each cell, then its normalised value.
+    /// The field's normalised value at each cell.
     values: Vec<f64>,
-    /// The variance each bilinear value is normalised by.
-    variances: Vec<f64>,
 }
 
 /// A Gaussian Doppler spectrum: mean and standard deviation, Hz.
@@ -461,20 +459,10 @@ impl ClutterMap {
                 }
             }
             if let (Some(f), Some(c)) = (&field, clutter) {
-                // The texture in three passes over the spoke's cells, each a short loop whose
-                // iterations overlap: the field's bilinear values and variances, their
-                // normalisation (a square root and a division per cell), the marginal.
-                let (values, variances) = (&mut scratch.values, &mut scratch.variances);
-                values.clear();
-                variances.clear();
-                for &(_, x, y) in textured_cells.iter() {
-                    let (value, variance) = f.bilinear_and_variance(x, y);
-                    values.push(value);
-                    variances.push(variance);
-                }
-                for (g, variance) in values.iter_mut().zip(variances.iter()) {
-                    *g /= variance.sqrt();
-                }
+                // The texture in two passes over the spoke's cells: the field's normalised
+                // values (a loop of its own, whose iterations overlap), then the marginal.
+                let values = &mut scratch.values;
+                f.at_each(textured_cells, values);
                 let cells = textured_cells.iter().zip(values.iter());
                 match c.distribution() {
                     ClutterDistribution::K { .. } => match &fixed_gamma {

@@ -351,8 +351,14 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         );
         set.rays_cast += traced.rays;
         set.tube_budgets[idx] = Some(traced.budget);
+        // A tube's returns share its launch direction (about half of all returns follow
+        // another of the same tube): its angles are computed once, the same values.
+        let mut tx_angles = (DVec3::NAN, (0.0, 0.0));
         set.contributions.extend(traced.returns.iter().map(|r| {
-            let (az_tx, el_tx) = azimuth_elevation_rad(r.tx_dir);
+            if !same_bits(r.tx_dir, tx_angles.0) {
+                tx_angles = (r.tx_dir, azimuth_elevation_rad(r.tx_dir));
+            }
+            let (az_tx, el_tx) = tx_angles.1;
             let (az_rx, el_rx) = azimuth_elevation_rad(r.rx_dir);
             Contribution {
                 amplitude_v: r.root_rcs_m * volts(r.range_tx_m, r.range_rx_m),
@@ -369,4 +375,10 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         }));
     }
     set
+}
+
+/// Whether two vectors are the same bit for bit (a NaN never matches a number).
+#[inline]
+fn same_bits(a: DVec3, b: DVec3) -> bool {
+    a.to_array().map(f64::to_bits) == b.to_array().map(f64::to_bits)
 }
