@@ -34,6 +34,9 @@ struct Node {
 pub struct Bvh {
     nodes: Vec<Node>,
     primitives: Vec<Primitive>,
+    /// Indices into `primitives`, sorted by object tag and, within one object, ascending:
+    /// an object's primitives without a scan of everyone's.
+    by_object: Vec<u32>,
 }
 
 impl Bvh {
@@ -43,6 +46,7 @@ impl Bvh {
             return Bvh {
                 nodes: Vec::new(),
                 primitives,
+                by_object: Vec::new(),
             };
         }
         let bounds: Vec<Aabb> = primitives.iter().map(|p| p.bounds()).collect();
@@ -108,9 +112,13 @@ impl Bvh {
         }
         let reordered: Vec<Primitive> = order.iter().map(|&i| primitives[i as usize]).collect();
         primitives.clear();
+        let mut by_object: Vec<u32> = (0..reordered.len() as u32).collect();
+        // Stable: within one object the indices stay ascending.
+        by_object.sort_by_key(|&i| reordered[i as usize].object);
         Bvh {
             nodes,
             primitives: reordered,
+            by_object,
         }
     }
 
@@ -146,11 +154,21 @@ impl Bvh {
         self.nodes.first().map_or(Aabb::EMPTY, |n| n.bounds)
     }
 
+    /// The primitives tagged `object`, in the hierarchy's order (none if it has none). Found
+    /// by a binary search: a scene's objects each ask for theirs, and a scan of all
+    /// primitives per object would grow as objects × primitives.
+    pub fn object_primitives(&self, object: u32) -> impl Iterator<Item = &Primitive> + '_ {
+        let tag = |i: &u32| self.primitives[*i as usize].object;
+        let start = self.by_object.partition_point(|i| tag(i) < object);
+        let end = self.by_object.partition_point(|i| tag(i) <= object);
+        self.by_object[start..end]
+            .iter()
+            .map(|&i| &self.primitives[i as usize])
+    }
+
     /// Bounds of the primitives of scene object `object` (EMPTY if it has none).
     pub fn object_bounds(&self, object: u32) -> Aabb {
-        self.primitives
-            .iter()
-            .filter(|p| p.object == object)
+        self.object_primitives(object)
             .fold(Aabb::EMPTY, |b, p| b.union(&p.bounds()))
     }
 

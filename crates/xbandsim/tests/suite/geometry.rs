@@ -55,6 +55,36 @@ fn random_scene(rng: &mut Lcg) -> Vec<Primitive> {
     prims
 }
 
+/// An object's primitives from the BVH's index are exactly those a scan of all primitives
+/// finds for its tag, in the same order (tags 0–59 hold a few each, 1000 holds 300 triangles,
+/// and absent tags hold none), and its bounds are theirs.
+#[test]
+fn object_primitives_are_the_scan_of_all() {
+    let mut rng = Lcg(7);
+    let bvh = Bvh::build(random_scene(&mut rng));
+    for tag in (0..62).chain([999, 1000, 1001, u32::MAX]) {
+        let scanned: Vec<&Primitive> = bvh
+            .primitives()
+            .iter()
+            .filter(|p| p.object == tag)
+            .collect();
+        let indexed: Vec<&Primitive> = bvh.object_primitives(tag).collect();
+        assert_eq!(indexed.len(), scanned.len(), "tag {tag}");
+        for (a, b) in indexed.iter().zip(&scanned) {
+            assert!(std::ptr::eq(*a, *b), "tag {tag}");
+        }
+        let bounds = scanned
+            .iter()
+            .fold(xbandsim::geometry::Aabb::EMPTY, |b, p| b.union(&p.bounds()));
+        let object_bounds = bvh.object_bounds(tag);
+        assert_eq!(
+            (object_bounds.min, object_bounds.max),
+            (bounds.min, bounds.max),
+            "tag {tag}"
+        );
+    }
+}
+
 /// The BVH returns exactly the brute-force closest hit (distance, primitive) for random rays
 /// into a random scene of every primitive kind, and the same any-hit answer.
 #[test]

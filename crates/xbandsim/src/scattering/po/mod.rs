@@ -155,10 +155,7 @@ pub fn trace_object(
 /// The hull points of the primitives of object `index` in `bvh`, for
 /// [`TubeGrid::coverage`] (made as they are read: a mesh's would be 200 bytes a triangle).
 pub fn object_parts(bvh: &Bvh, index: u32) -> impl Iterator<Item = ([DVec3; 8], usize)> + '_ {
-    bvh.primitives()
-        .iter()
-        .filter(move |p| p.object == index)
-        .map(|p| p.hull_points())
+    bvh.object_primitives(index).map(|p| p.hull_points())
 }
 
 /// Monostatic RCS of everything in `bvh` tagged `index`, lit by a plane wave from
