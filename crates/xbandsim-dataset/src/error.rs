@@ -8,6 +8,10 @@ pub enum DatasetError {
     /// The dataset spec is not valid: `field` names the offending entry.
     #[error("dataset spec: {field}: {message}")]
     Spec { field: String, message: String },
+    /// An argument of the run (not of the spec) is not valid: `name` is the CLI option
+    /// (`--shard`, `--jobs`).
+    #[error("{name}: {message}")]
+    Argument { name: String, message: String },
     /// A sample's scene was refused by the scene loader (the spec drew an invalid scene).
     #[error("sample {index}: {source}")]
     Scene {
@@ -32,6 +36,14 @@ impl DatasetError {
     pub fn spec(field: impl Into<String>, message: String) -> DatasetError {
         DatasetError::Spec {
             field: field.into(),
+            message,
+        }
+    }
+
+    /// An error in the run's argument `name`.
+    pub fn argument(name: impl Into<String>, message: String) -> DatasetError {
+        DatasetError::Argument {
+            name: name.into(),
             message,
         }
     }

@@ -44,7 +44,7 @@ impl Shard {
     /// Reads `I/K` (0 ≤ I < K).
     pub fn parse(text: &str) -> Result<Shard> {
         let bad = || {
-            DatasetError::spec(
+            DatasetError::argument(
                 "--shard",
                 format!("{text}: expected I/K with 0 <= I < K, e.g. 0/4"),
             )
@@ -81,7 +81,7 @@ impl Shard {
         let count: u64 = match k.trim().parse() {
             Ok(k) if k > 0 => k,
             _ => {
-                return Err(DatasetError::spec(
+                return Err(DatasetError::argument(
                     "--shard",
                     format!("{text}: the shard count {k:?} must be a whole number above 0"),
                 ))
@@ -89,16 +89,16 @@ impl Shard {
         };
         let (name, why) = variable;
         let value = env(name).ok_or_else(|| {
-            DatasetError::spec("--shard", format!("{text}: {name} is not set ({why})"))
+            DatasetError::argument("--shard", format!("{text}: {name} is not set ({why})"))
         })?;
         let index: u64 = value.trim().parse().map_err(|_| {
-            DatasetError::spec(
+            DatasetError::argument(
                 "--shard",
                 format!("{text}: {name} = {value:?} is not a whole number"),
             )
         })?;
         if index >= count {
-            return Err(DatasetError::spec(
+            return Err(DatasetError::argument(
                 "--shard",
                 format!(
                     "{text}: {name} = {index} is not below the shard count {count} (number the tasks 0 … {})",
@@ -261,7 +261,7 @@ pub fn generate(
     sample_done: &(dyn Fn() + Sync),
 ) -> Result<Summary> {
     if request.count == 0 {
-        return Err(DatasetError::spec(
+        return Err(DatasetError::argument(
             "--count",
             "0: a dataset needs at least one sample".into(),
         ));
@@ -271,7 +271,7 @@ pub fn generate(
             samples_per_shard: 0,
         })
     {
-        return Err(DatasetError::spec(
+        return Err(DatasetError::argument(
             "--shard-samples",
             "0: a shard needs at least one sample".into(),
         ));
@@ -293,7 +293,7 @@ pub fn generate(
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(request.jobs)
         .build()
-        .map_err(|e| DatasetError::spec("--jobs", e.to_string()))?;
+        .map_err(|e| DatasetError::argument("--jobs", e.to_string()))?;
     let mut summary = match request.format {
         Format::Dir => pool.install(|| make_dir_samples(spec, out, request, sample_done))?,
         Format::WebDataset { samples_per_shard } => pool.install(|| {

@@ -74,6 +74,11 @@ fn dataset_error(py: Python<'_>, e: DatasetError) -> PyErr {
             let field = Some(field.clone());
             raise(py, "DatasetSpecError", e.to_string(), field, None)
         }
+        // A generate() argument: the same class (errors.py), the argument named in `field`.
+        DatasetError::Argument { ref name, .. } => {
+            let field = Some(name.clone());
+            raise(py, "DatasetSpecError", e.to_string(), field, None)
+        }
         DatasetError::Io { .. } => raise(py, "XbandsimIOError", e.to_string(), None, None),
         DatasetError::Mismatch { .. } => {
             raise(py, "DatasetMismatchError", e.to_string(), None, None)
