@@ -395,8 +395,23 @@ fn put_tree_in_place(staged: &Path, dest: &Path, started: std::time::SystemTime)
             }
             Err(e) => {
                 last_error = Some(e);
-                // The old tree (or whatever is there) is moved aside by one rename, then
-                // deleted; another assembly may be doing the same: try again.
+                // Where the system swaps two paths in one step, the new tree replaces the
+                // old one without a moment with neither, and the old one, now at the staged
+                // path, is deleted.
+                if exchange(staged, dest).is_ok() {
+                    let old_is_dir = std::fs::symlink_metadata(staged).is_ok_and(|m| m.is_dir());
+                    return remove_if_there(
+                        staged,
+                        if old_is_dir {
+                            std::fs::remove_dir_all(staged)
+                        } else {
+                            std::fs::remove_file(staged)
+                        },
+                    );
+                }
+                // Elsewhere (or on a file system that cannot swap), the old tree (or
+                // whatever is there) is moved aside by one rename, then deleted; another
+                // assembly may be doing the same: try again.
                 let aside = dest.with_file_name(format!(
                     ".{}.old-{}",
                     dest.file_name().unwrap_or_default().to_string_lossy(),
@@ -412,6 +427,19 @@ fn put_tree_in_place(staged: &Path, dest: &Path, started: std::time::SystemTime)
         dest,
         last_error.unwrap_or_else(|| std::io::Error::other("could not be renamed into place")),
     ))
+}
+
+/// Swaps the paths `a` and `b` (both must exist) in one step.
+#[cfg(target_os = "linux")]
+fn exchange(a: &Path, b: &Path) -> std::io::Result<()> {
+    use rustix::fs::{renameat_with, RenameFlags, CWD};
+    renameat_with(CWD, a, CWD, b, RenameFlags::EXCHANGE).map_err(std::io::Error::from)
+}
+
+/// No one-step swap here: the caller moves the old tree aside first.
+#[cfg(not(target_os = "linux"))]
+fn exchange(_a: &Path, _b: &Path) -> std::io::Result<()> {
+    Err(std::io::ErrorKind::Unsupported.into())
 }
 
 /// A removal's result, where "already gone" is success.

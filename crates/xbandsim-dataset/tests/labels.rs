@@ -408,6 +408,13 @@ fn yolo_trees_follow_the_ultralytics_format() {
         .collect();
     assert_eq!(before, after);
     assert_eq!(check_yolo_tree(&tmp.path().join("yolo"), 4, 3), detect);
+    // The old trees were swapped out and deleted: nothing staged or set aside is left.
+    let left: Vec<String> = std::fs::read_dir(tmp.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".yolo"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
 }
 
 /// `verify` passes a whole dataset and names missing and damaged samples.
