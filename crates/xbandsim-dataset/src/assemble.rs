@@ -398,16 +398,15 @@ fn put_tree_in_place(staged: &Path, dest: &Path, started: std::time::SystemTime)
                 // Where the system swaps two paths in one step, the new tree replaces the
                 // old one without a moment with neither, and the old one, now at the staged
                 // path, is deleted.
+                // The new tree is in place whatever the deletion does: one that fails leaves
+                // a staged-looking folder, which a later assembly deletes as a leftover.
                 if exchange(staged, dest).is_ok() {
-                    let old_is_dir = std::fs::symlink_metadata(staged).is_ok_and(|m| m.is_dir());
-                    return remove_if_there(
-                        staged,
-                        if old_is_dir {
-                            std::fs::remove_dir_all(staged)
-                        } else {
-                            std::fs::remove_file(staged)
-                        },
-                    );
+                    let _ = if std::fs::symlink_metadata(staged).is_ok_and(|m| m.is_dir()) {
+                        std::fs::remove_dir_all(staged)
+                    } else {
+                        std::fs::remove_file(staged)
+                    };
+                    return Ok(());
                 }
                 // Elsewhere (or on a file system that cannot swap), the old tree (or
                 // whatever is there) is moved aside by one rename, then deleted; another
@@ -521,4 +520,35 @@ fn dataset_card(
     c.push_str(spec.text.trim_end());
     c.push_str("\n```\n");
     c
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// On Linux the one-step swap exchanges two folders' contents (or says the file system
+    /// cannot, and the caller moves the old tree aside instead).
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn exchange_swaps_two_folders() {
+        let tmp = tempfile::tempdir().unwrap();
+        let (a, b) = (tmp.path().join("a"), tmp.path().join("b"));
+        for (dir, text) in [(&a, "new"), (&b, "old")] {
+            std::fs::create_dir(dir).unwrap();
+            std::fs::write(dir.join("data.yaml"), text).unwrap();
+        }
+        match exchange(&a, &b) {
+            Ok(()) => {
+                assert_eq!(std::fs::read_to_string(b.join("data.yaml")).unwrap(), "new");
+                assert_eq!(std::fs::read_to_string(a.join("data.yaml")).unwrap(), "old");
+            }
+            Err(e) => assert!(
+                matches!(e.raw_os_error(), Some(22 | 95)), // EINVAL, EOPNOTSUPP
+                "{e}"
+            ),
+        }
+        // Nothing to swap with: an error, and nothing moved.
+        assert!(exchange(&a, &tmp.path().join("missing")).is_err());
+        assert!(a.join("data.yaml").exists());
+    }
 }

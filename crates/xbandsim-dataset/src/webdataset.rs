@@ -81,7 +81,7 @@ pub fn make_shards(
     sample_done: &(dyn Fn() + Sync),
 ) -> Result<Summary> {
     if per_shard == 0 {
-        return Err(DatasetError::spec(
+        return Err(DatasetError::argument(
             "--shard-samples",
             "0: a shard needs at least one sample".into(),
         ));

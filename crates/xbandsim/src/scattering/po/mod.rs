@@ -350,12 +350,16 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         set.tube_budgets[idx] = Some(traced.budget);
         // A tube's returns share its launch direction (about half of all returns follow
         // another of the same tube): its angles are computed once, the same values.
-        let mut tx_angles = (DVec3::NAN, (0.0, 0.0));
+        let mut tx_angles: Option<(DVec3, (f64, f64))> = None;
         set.contributions.extend(traced.returns.iter().map(|r| {
-            if !same_bits(r.tx_dir, tx_angles.0) {
-                tx_angles = (r.tx_dir, azimuth_elevation_rad(r.tx_dir));
-            }
-            let (az_tx, el_tx) = tx_angles.1;
+            let (az_tx, el_tx) = match tx_angles {
+                Some((dir, angles)) if same_bits(dir, r.tx_dir) => angles,
+                _ => {
+                    let angles = azimuth_elevation_rad(r.tx_dir);
+                    tx_angles = Some((r.tx_dir, angles));
+                    angles
+                }
+            };
             let (az_rx, el_rx) = azimuth_elevation_rad(r.rx_dir);
             Contribution {
                 amplitude_v: r.root_rcs_m * volts(r.range_tx_m, r.range_rx_m),
@@ -374,7 +378,7 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
     set
 }
 
-/// Whether two vectors are the same bit for bit (a NaN never matches a number).
+/// Whether two vectors are the same bit for bit.
 #[inline]
 fn same_bits(a: DVec3, b: DVec3) -> bool {
     a.to_array().map(f64::to_bits) == b.to_array().map(f64::to_bits)
