@@ -479,23 +479,6 @@ impl GaussianField {
     /// copula's marginals would be less spiky between grid points.
     #[inline]
     pub fn at(&self, x_m: f64, y_m: f64) -> f64 {
-        let (bilinear, variance) = self.bilinear_and_variance(x_m, y_m);
-        bilinear / variance.sqrt()
-    }
-
-    /// [`GaussianField::at`] of every point `(_, x_m, y_m)` of `points` (the first member is
-    /// the caller's tag), written to `values` (cleared first): the same values, in a loop of
-    /// its own, compiled apart from its callers so that its few registers are not spilled.
-    #[inline(never)]
-    pub fn at_each<T>(&self, points: &[(T, f64, f64)], values: &mut Vec<f64>) {
-        values.clear();
-        values.extend(points.iter().map(|&(_, x, y)| self.at(x, y)));
-    }
-
-    /// The two halves of [`GaussianField::at`]: the bilinear value and the variance it is
-    /// normalised by (`at = bilinear / √variance`).
-    #[inline]
-    fn bilinear_and_variance(&self, x_m: f64, y_m: f64) -> (f64, f64) {
         let fx = x_m / self.spacing_m;
         let fy = y_m / self.spacing_m;
         let (x0, y0) = (floor_i64(fx), floor_i64(fy));
@@ -509,10 +492,17 @@ impl GaussianField {
         let b = v(iy1, ix) * (1.0 - tx) + v(iy1, ix1) * tx;
         let rho = self.neighbour_correlation;
         let var = |t: f64| (1.0 - t) * (1.0 - t) + t * t + 2.0 * t * (1.0 - t) * rho;
-        (
-            (a * (1.0 - ty) + b * ty) as f64,
-            var(tx as f64) * var(ty as f64),
-        )
+        let bilinear = (a * (1.0 - ty) + b * ty) as f64;
+        bilinear / (var(tx as f64) * var(ty as f64)).sqrt()
+    }
+
+    /// [`GaussianField::at`] of every point `(_, x_m, y_m)` of `points` (the first member is
+    /// the caller's tag), written to `values` (cleared first): the same values, in a loop of
+    /// its own, compiled apart from its callers so that its few registers are not spilled.
+    #[inline(never)]
+    pub fn at_each<T>(&self, points: &[(T, f64, f64)], values: &mut Vec<f64>) {
+        values.clear();
+        values.extend(points.iter().map(|&(_, x, y)| self.at(x, y)));
     }
 }
 
