@@ -31,7 +31,7 @@ use crate::rng::{RngKey, Stream};
 use crate::scattering::{build_scene_bvh, trace_scene, ScatterSet};
 use num_complex::Complex32;
 use rayon::prelude::*;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 
 /// Groups weaker than this after the azimuth weight (noise-rms units, −80 dB) are skipped.
@@ -44,7 +44,9 @@ pub const POLAR_FLOOR_DB: f32 = -120.0;
 #[derive(Clone)]
 pub struct Simulation {
     scene: Arc<Scene>,
-    bvh: Arc<Bvh>,
+    /// The BVH of the scene as written, built on first use: a moving scene's revolutions
+    /// build their own, so a dataset sample never needs this one.
+    bvh: Arc<OnceLock<Arc<Bvh>>>,
     compressor: PulseCompressor,
     receiver: Receiver,
     kernel: FractionalDelayKernel,
@@ -92,9 +94,8 @@ pub struct RawSpoke {
 }
 
 impl Simulation {
-    /// Builds the BVH and the FFT plans.
+    /// Makes the FFT plans (the BVH of the scene as written is built on first use).
     pub fn new(scene: Scene) -> Simulation {
-        let bvh = build_scene_bvh(scene.objects());
         let compressor = PulseCompressor::new(
             scene.radar().chirp(),
             scene.radar().window(),
@@ -125,7 +126,7 @@ impl Simulation {
         });
         Simulation {
             scene: Arc::new(scene),
-            bvh: Arc::new(bvh),
+            bvh: Arc::new(OnceLock::new()),
             compressor,
             receiver,
             kernel: FractionalDelayKernel::new(),
@@ -253,7 +254,12 @@ impl Simulation {
 
     /// The BVH of the scene as written (every object at its t = 0 pose).
     pub fn bvh(&self) -> &Bvh {
-        &self.bvh
+        self.bvh_shared()
+    }
+
+    fn bvh_shared(&self) -> &Arc<Bvh> {
+        self.bvh
+            .get_or_init(|| Arc::new(build_scene_bvh(self.scene.objects())))
     }
 
     /// The receiver (noise, blanking).
@@ -268,7 +274,7 @@ impl Simulation {
 
     /// Traces the scene as written once (every object at its t = 0 pose).
     pub fn trace(&self) -> ScatterSet {
-        trace_scene(&self.scene, &self.bvh)
+        trace_scene(&self.scene, self.bvh())
     }
 
     /// Bins contributions into per-group impulse responses in noise-rms units.
@@ -601,7 +607,7 @@ impl Simulation {
     /// with its frame). PPI pixel boxes are the PPI product's:
     /// [`crate::products::ppi::PpiGeometry::label`].
     pub fn truth(&self, set: &ScatterSet) -> Vec<ObjectTruth> {
-        object_truth(&Revolution::of(&self.scene, 0.0), set, &self.bvh)
+        object_truth(&Revolution::of(&self.scene, 0.0), set, self.bvh())
     }
 
     /// Renders one revolution: trace, group, synthesise every spoke, label.
@@ -694,7 +700,7 @@ impl Simulation {
         self.cache.get_or_trace(start_time_s, still, || {
             let revolution = Revolution::with_lead(&self.scene, start_time_s, lead_s);
             let bvh = if still {
-                Arc::clone(&self.bvh)
+                Arc::clone(self.bvh_shared())
             } else {
                 Arc::new(build_scene_bvh(revolution.scene().objects()))
             };

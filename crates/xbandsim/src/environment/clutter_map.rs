@@ -132,6 +132,12 @@ pub fn two_way_beam_integral_rad(beamwidth_3db_rad: f64) -> f64 {
 /// last are kept and shared — every frame of a run drifts the same field, and making one takes
 /// longer than the rest of a small clutter map. At most [`FIELD_CACHE_LEN`] fields and
 /// [`FIELD_CACHE_BYTES`] of values are kept.
+/// Two-way power loss `10^(−2·A/10)` of a one-way rain attenuation `A` (dB).
+#[inline]
+fn two_way_rain_loss(one_way_db: f64) -> f64 {
+    (-2.0 * one_way_db / 10.0 * std::f64::consts::LN_10).exp()
+}
+
 fn texture_field(seed: u64, extent_m: f64, correlation_m: f64) -> Arc<GaussianField> {
     static CACHE: OnceLock<Mutex<Vec<KeptField>>> = OnceLock::new();
     let key = (seed, extent_m.to_bits(), correlation_m.to_bits());
@@ -359,6 +365,17 @@ impl ClutterMap {
             .as_ref()
             .map(|r| r.attenuator(freq_ghz, horizontal));
         let has_rain = env.rain().is_some();
+        // Two-way rain loss of each row along a spoke that crosses no rain cell (the uniform
+        // rain alone: the same for every such spoke), so once per map, not once per spoke.
+        let uniform_rain_loss: Vec<f64> = attenuator.as_ref().map_or_else(Vec::new, |a| {
+            rows.iter()
+                .map(|r| {
+                    r.as_ref().map_or(1.0, |r| {
+                        two_way_rain_loss(a.one_way_db_along(&[], r.ground_m))
+                    })
+                })
+                .collect()
+        });
         // The quantile tables of the per-cell K shapes (empty unless that is the
         // distribution), fetched from the process-wide cache once per map, not per spoke.
         let per_cell_levels = fixed_gamma.is_none() && textured;
@@ -422,7 +439,11 @@ impl ClutterMap {
                 };
                 let p = radar_xy + dir * row.ground_m;
                 let rain_loss = if has_rain {
-                    (-2.0 * rain_db(row.ground_m) / 10.0 * std::f64::consts::LN_10).exp()
+                    if chords.is_empty() {
+                        uniform_rain_loss[n]
+                    } else {
+                        two_way_rain_loss(rain_db(row.ground_m))
+                    }
                 } else {
                     1.0
                 };
