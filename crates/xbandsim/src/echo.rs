@@ -171,6 +171,9 @@ impl EchoGroups {
         let inv_noise = 1.0 / noise_rms_v;
         // One group's sum before rounding to f32, reused from group to group.
         let mut acc: Vec<Complex64> = Vec::new();
+        // One group's members' kernel taps, amplitude and elevations, gathered in the first
+        // pass: the members lie far apart in `contributions`, so they are read once.
+        let mut gathered: Vec<(i64, &[f32], Complex64, f64, f64)> = Vec::new();
         while start < order.len() {
             let k = order[start].0;
             let mut end = start;
@@ -182,13 +185,24 @@ impl EchoGroups {
             let mut hi = i64::MIN;
             let (mut az_tx_sum, mut az_rx_sum) =
                 (Complex64::new(0.0, 0.0), Complex64::new(0.0, 0.0));
+            gathered.clear();
+            // A tube's returns share their transmit azimuth: its sine and cosine are kept
+            // for the next member.
+            let mut last_tx: Option<(u64, (f64, f64))> = None;
             for &(_, i) in members {
                 let c = &contributions[i as usize];
-                let d = c.delay_s() * sample_rate_hz;
-                let (first, _) = kernel.taps(d);
+                let (first, taps) = kernel.taps(c.delay_s() * sample_rate_hz);
+                gathered.push((first, taps, c.amplitude_v, c.el_tx_rad, c.el_rx_rad));
                 lo = lo.min(first.max(0));
                 hi = hi.max(first + KERNEL_TAPS as i64);
-                let (sin_tx, cos_tx) = crate::special::sin_cos_fast(c.az_tx_rad);
+                let (sin_tx, cos_tx) = match last_tx {
+                    Some((bits, sc)) if bits == c.az_tx_rad.to_bits() => sc,
+                    _ => {
+                        let sc = crate::special::sin_cos_fast(c.az_tx_rad);
+                        last_tx = Some((c.az_tx_rad.to_bits(), sc));
+                        sc
+                    }
+                };
                 let (sin_rx, cos_rx) = crate::special::sin_cos_fast(c.az_rx_rad);
                 az_tx_sum += Complex64::new(cos_tx, sin_tx);
                 az_rx_sum += Complex64::new(cos_rx, sin_rx);
@@ -209,17 +223,35 @@ impl EchoGroups {
                     }
                     _ => antenna,
                 };
-            for &(_, i) in members {
-                let c = &contributions[i as usize];
-                let el_weight = (ant.elevation_pattern(c.el_tx_rad)
-                    * ant.elevation_pattern(c.el_rx_rad))
-                .sqrt();
-                let a = c.amplitude_v * (el_weight * inv_noise);
-                let (first, taps) = kernel.taps(c.delay_s() * sample_rate_hz);
-                for (t, &w) in taps.iter().enumerate() {
-                    let n = first + t as i64;
-                    if n >= lo as i64 {
-                        acc[(n - lo as i64) as usize] += a * w as f64;
+            // A tube's returns share their transmit elevation, and neighbours in a group
+            // often their receive one: each pattern value is kept for the next member.
+            let mut pattern_tx: Option<(u64, f64)> = None;
+            let mut pattern_rx: Option<(u64, f64)> = None;
+            let pattern = |cached: &mut Option<(u64, f64)>, el: f64| match *cached {
+                Some((bits, g)) if bits == el.to_bits() => g,
+                _ => {
+                    let g = ant.elevation_pattern(el);
+                    *cached = Some((el.to_bits(), g));
+                    g
+                }
+            };
+            for &(first, taps, amplitude_v, el_tx, el_rx) in &gathered {
+                let el_weight =
+                    (pattern(&mut pattern_tx, el_tx) * pattern(&mut pattern_rx, el_rx)).sqrt();
+                let a = amplitude_v * (el_weight * inv_noise);
+                let start = first - lo as i64;
+                if start >= 0 {
+                    // Every tap inside the group (all but taps before sample 0): one slice.
+                    let start = start as usize;
+                    for (dst, &w) in acc[start..start + taps.len()].iter_mut().zip(taps) {
+                        *dst += a * w as f64;
+                    }
+                } else {
+                    for (t, &w) in taps.iter().enumerate() {
+                        let n = start + t as i64;
+                        if n >= 0 {
+                            acc[n as usize] += a * w as f64;
+                        }
                     }
                 }
             }

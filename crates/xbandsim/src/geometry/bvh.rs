@@ -19,6 +19,9 @@ const SAH_MAX_DEPTH: usize = 64;
 /// bounds the stack of every tree `build` makes (`SAH_MAX_DEPTH + 32 + 1` entries at most).
 const TRAVERSAL_STACK: usize = 128;
 const _: () = assert!(SAH_MAX_DEPTH + 32 < TRAVERSAL_STACK);
+/// The stack of a traversal of a tree no deeper than `SHALLOW_STACK - 1` (every tree of a
+/// dataset scene): a stack of this size is cleared on each query, not `TRAVERSAL_STACK`'s.
+const SHALLOW_STACK: usize = 32;
 
 #[derive(Debug, Clone, Copy)]
 struct Node {
@@ -37,6 +40,9 @@ pub struct Bvh {
     /// Indices into `primitives`, sorted by object tag and, within one object, ascending:
     /// an object's primitives without a scan of everyone's.
     by_object: Vec<u32>,
+    /// Depth of the deepest node (the root's is 0): a traversal's stack holds at most
+    /// `max_depth + 1` entries.
+    max_depth: usize,
 }
 
 impl Bvh {
@@ -47,6 +53,7 @@ impl Bvh {
                 nodes: Vec::new(),
                 primitives,
                 by_object: Vec::new(),
+                max_depth: 0,
             };
         }
         let bounds: Vec<Aabb> = primitives.iter().map(|p| p.bounds()).collect();
@@ -59,7 +66,9 @@ impl Bvh {
             count: primitives.len() as u32,
         });
         let mut stack = vec![(0usize, 0usize)];
+        let mut max_depth = 0;
         while let Some((ni, depth)) = stack.pop() {
+            max_depth = max_depth.max(depth);
             let first = nodes[ni].first as usize;
             let count = nodes[ni].count as usize;
             let slice = &mut order[first..first + count];
@@ -119,6 +128,7 @@ impl Bvh {
             nodes,
             primitives: reordered,
             by_object,
+            max_depth,
         }
     }
 
@@ -134,19 +144,7 @@ impl Bvh {
 
     /// Levels below the root of the deepest leaf (0 for a single leaf or an empty tree).
     pub fn depth(&self) -> usize {
-        let mut deepest = 0;
-        let mut stack = vec![(0usize, 0usize)];
-        while let Some((ni, depth)) = stack.pop() {
-            let Some(node) = self.nodes.get(ni) else {
-                break;
-            };
-            deepest = deepest.max(depth);
-            if node.count == 0 {
-                stack.push((node.first as usize, depth + 1));
-                stack.push((node.first as usize + 1, depth + 1));
-            }
-        }
-        deepest
+        self.max_depth
     }
 
     /// Bounds of the whole scene (EMPTY when there are no primitives).
@@ -174,13 +172,23 @@ impl Bvh {
 
     /// Closest intersection before `t_max_m`.
     pub fn closest_hit(&self, ray: &Ray, t_max_m: f64) -> Option<Hit> {
+        if self.max_depth < SHALLOW_STACK {
+            self.closest_hit_with::<SHALLOW_STACK>(ray, t_max_m)
+        } else {
+            self.closest_hit_with::<TRAVERSAL_STACK>(ray, t_max_m)
+        }
+    }
+
+    /// [`Bvh::closest_hit`] with a stack of `N` entries (more than `max_depth`).
+    #[inline]
+    fn closest_hit_with<const N: usize>(&self, ray: &Ray, t_max_m: f64) -> Option<Hit> {
         if self.nodes.is_empty() {
             return None;
         }
         let inv = ray.dir.recip();
         let mut t_best = t_max_m;
         let mut best: Option<Hit> = None;
-        let mut stack = [0u32; TRAVERSAL_STACK];
+        let mut stack = [0u32; N];
         let mut sp = 0usize;
         self.nodes[0]
             .bounds
@@ -215,7 +223,7 @@ impl Bvh {
                 .hit_distance(ray.origin_m, inv, t_best);
             match (dl, dr) {
                 (Some(a), Some(b)) => {
-                    // Never more than TRAVERSAL_STACK: see its bound.
+                    // Never more than max_depth + 1 entries: one pending sibling per level.
                     let (near, far) = if a <= b { (l, l + 1) } else { (l + 1, l) };
                     stack[sp] = far as u32;
                     stack[sp + 1] = near as u32;
@@ -237,11 +245,21 @@ impl Bvh {
 
     /// Whether anything blocks the ray before `t_max_m` (shadow test).
     pub fn any_hit(&self, ray: &Ray, t_max_m: f64) -> bool {
+        if self.max_depth < SHALLOW_STACK {
+            self.any_hit_with::<SHALLOW_STACK>(ray, t_max_m)
+        } else {
+            self.any_hit_with::<TRAVERSAL_STACK>(ray, t_max_m)
+        }
+    }
+
+    /// [`Bvh::any_hit`] with a stack of `N` entries (more than `max_depth`).
+    #[inline]
+    fn any_hit_with<const N: usize>(&self, ray: &Ray, t_max_m: f64) -> bool {
         if self.nodes.is_empty() {
             return false;
         }
         let inv = ray.dir.recip();
-        let mut stack = [0u32; TRAVERSAL_STACK];
+        let mut stack = [0u32; N];
         let mut sp = 1usize;
         while sp > 0 {
             sp -= 1;

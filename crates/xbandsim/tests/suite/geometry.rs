@@ -183,6 +183,52 @@ fn bvh_deep_chain_matches_brute_force() {
     assert!(!bvh.any_hit(&rays[0], 10.9));
 }
 
+/// Trees on either side of the depth where traversal switches from the short stack to the
+/// full one (31 and 32 levels): every one finds what brute force finds, at every depth.
+#[test]
+fn bvh_chains_around_the_short_stack_match_brute_force() {
+    let mut depths = Vec::new();
+    for n in 24..=44 {
+        let centre_m = |i: i32| 17f64.powi(i);
+        let prims: Vec<Primitive> = (0..n)
+            .map(|i| Primitive {
+                kind: PrimitiveKind::Sphere {
+                    centre: DVec3::new(centre_m(i), 0.0, 0.0),
+                    radius_m: 0.02 * centre_m(i),
+                },
+                object: i as u32,
+            })
+            .collect();
+        let bvh = Bvh::build(prims);
+        depths.push(bvh.depth());
+        let ordered = bvh.primitives().to_vec();
+        for k in 0..n {
+            // From halfway to sphere k, toward it and away from it: the nearest hit is
+            // sphere k or k - 1.
+            let origin = DVec3::new(0.5 * centre_m(k), 1e-3 * centre_m(k), 0.0);
+            for dir in [DVec3::X, -DVec3::X] {
+                let ray = Ray::new(origin, dir);
+                let a = bvh.closest_hit(&ray, f64::INFINITY);
+                let b = closest_hit_brute_force(&ordered, &ray, f64::INFINITY);
+                assert_eq!(
+                    a.map(|h| h.object),
+                    b.map(|h| h.object),
+                    "{n} spheres, depth {}: {ray:?}",
+                    bvh.depth()
+                );
+                if let Some(h) = b {
+                    assert!(bvh.any_hit(&ray, h.t_m * (1.0 + 1e-9)));
+                    assert!(!bvh.any_hit(&ray, h.t_m * (1.0 - 1e-9)));
+                }
+            }
+        }
+    }
+    assert!(
+        depths.iter().any(|&d| d == 31) && depths.iter().any(|&d| d == 32),
+        "depths {depths:?} should reach both sides of the switch"
+    );
+}
+
 /// Exact distances: sphere, plate, cylinder side and cap against closed forms.
 #[test]
 fn analytic_intersections() {
