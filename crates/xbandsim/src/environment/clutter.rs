@@ -436,12 +436,13 @@ impl GaussianField {
                         *e = line[j];
                         j = if j + 1 == side { 0 } else { j + 1 };
                     }
-                    for (c, out) in line.iter_mut().enumerate() {
-                        *out = kernel
-                            .iter()
-                            .zip(&ext[c..c + kernel.len()])
-                            .map(|(k, v)| k * v)
-                            .sum();
+                    // out[c] = Σ_t k_t·ext[c + t], summed in t order from −0.0 as `Sum` does,
+                    // one tap at a time over the whole line (a loop that vectorises).
+                    line.fill(-0.0);
+                    for (t, &k) in kernel.iter().enumerate() {
+                        for (out, &v) in line.iter_mut().zip(&ext[t..t + side]) {
+                            *out += k * v;
+                        }
                     }
                 },
             );
