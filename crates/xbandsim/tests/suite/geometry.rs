@@ -118,15 +118,14 @@ fn bvh_matches_brute_force() {
     assert!(hits > 2_000, "too few hits to mean anything: {hits}");
 }
 
-/// Primitives spaced geometrically by more than the SAH's 16 bins can split (each centre 17
-/// times the last) leave it one plane, between the farthest primitive and the rest: a chain
-/// one level per primitive. A ray along the chain meets both children's boxes at every level.
-/// The traversal must still find the nearest sphere (it used to drop the near subtree once its
-/// 64-entry stack filled, and missed it) and the shadow test must still see it.
-#[test]
-fn bvh_deep_chain_matches_brute_force() {
-    let n = 100;
-    let centre_m = |i: i32| 17f64.powi(i);
+/// Centre of sphere `i` of [`sphere_chain`] on the x axis, m.
+fn centre_m(i: i32) -> f64 {
+    17f64.powi(i)
+}
+
+/// The BVH of `n` spheres (object i the i-th) centred at 17^i m on the x axis, radius 2 % of
+/// that: spaced too far apart for the SAH's bins, so a chain one level per sphere.
+fn sphere_chain(n: i32) -> Bvh {
     let prims: Vec<Primitive> = (0..n)
         .map(|i| Primitive {
             kind: PrimitiveKind::Sphere {
@@ -136,7 +135,18 @@ fn bvh_deep_chain_matches_brute_force() {
             object: i as u32,
         })
         .collect();
-    let bvh = Bvh::build(prims);
+    Bvh::build(prims)
+}
+
+/// Primitives spaced geometrically by more than the SAH's 16 bins can split (each centre 17
+/// times the last) leave it one plane, between the farthest primitive and the rest: a chain
+/// one level per primitive. A ray along the chain meets both children's boxes at every level.
+/// The traversal must still find the nearest sphere (it used to drop the near subtree once its
+/// 64-entry stack filled, and missed it) and the shadow test must still see it.
+#[test]
+fn bvh_deep_chain_matches_brute_force() {
+    let n = 100;
+    let bvh = sphere_chain(n);
     assert!(
         (65..=72).contains(&bvh.depth()),
         "depth {}: the SAH's chain should be cut to medians below level 64",
@@ -189,17 +199,7 @@ fn bvh_deep_chain_matches_brute_force() {
 fn bvh_chains_around_the_short_stack_match_brute_force() {
     let mut depths = Vec::new();
     for n in 24..=44 {
-        let centre_m = |i: i32| 17f64.powi(i);
-        let prims: Vec<Primitive> = (0..n)
-            .map(|i| Primitive {
-                kind: PrimitiveKind::Sphere {
-                    centre: DVec3::new(centre_m(i), 0.0, 0.0),
-                    radius_m: 0.02 * centre_m(i),
-                },
-                object: i as u32,
-            })
-            .collect();
-        let bvh = Bvh::build(prims);
+        let bvh = sphere_chain(n);
         depths.push(bvh.depth());
         let ordered = bvh.primitives().to_vec();
         for k in 0..n {
@@ -224,7 +224,7 @@ fn bvh_chains_around_the_short_stack_match_brute_force() {
         }
     }
     assert!(
-        depths.iter().any(|&d| d == 31) && depths.iter().any(|&d| d == 32),
+        depths.contains(&31) && depths.contains(&32),
         "depths {depths:?} should reach both sides of the switch"
     );
 }
