@@ -45,7 +45,7 @@ pub const POLAR_FLOOR_DB: f32 = -120.0;
 pub struct Simulation {
     scene: Arc<Scene>,
     /// The BVH of the scene as written, built on first use: a moving scene's revolutions
-    /// build their own, so a dataset sample never needs this one.
+    /// build their own (so a dataset sample with moving targets builds one BVH, not two).
     bvh: Arc<OnceLock<Arc<Bvh>>>,
     compressor: PulseCompressor,
     receiver: Receiver,

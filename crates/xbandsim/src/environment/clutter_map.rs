@@ -127,17 +127,17 @@ pub fn two_way_beam_integral_rad(beamwidth_3db_rad: f64) -> f64 {
     (2.0 * std::f64::consts::PI / 3.0) * beamwidth_3db_rad / SINC_BEAMWIDTH_FACTOR
 }
 
-/// The texture field of scene seed `seed` over `extent_m` with correlation length
-/// `correlation_m`: a pure function of the three (its own random stream), so the few made
-/// last are kept and shared — every frame of a run drifts the same field, and making one takes
-/// longer than the rest of a small clutter map. At most [`FIELD_CACHE_LEN`] fields and
-/// [`FIELD_CACHE_BYTES`] of values are kept.
 /// Two-way power loss `10^(−2·A/10)` of a one-way rain attenuation `A` (dB).
 #[inline]
 fn two_way_rain_loss(one_way_db: f64) -> f64 {
     (-2.0 * one_way_db / 10.0 * std::f64::consts::LN_10).exp()
 }
 
+/// The texture field of scene seed `seed` over `extent_m` with correlation length
+/// `correlation_m`: a pure function of the three (its own random stream), so the few made
+/// last are kept and shared — every frame of a run drifts the same field, and making one takes
+/// longer than the rest of a small clutter map. At most [`FIELD_CACHE_LEN`] fields and
+/// [`FIELD_CACHE_BYTES`] of values are kept.
 fn texture_field(seed: u64, extent_m: f64, correlation_m: f64) -> Arc<GaussianField> {
     static CACHE: OnceLock<Mutex<Vec<KeptField>>> = OnceLock::new();
     let key = (seed, extent_m.to_bits(), correlation_m.to_bits());

@@ -123,13 +123,14 @@ fn centre_m(i: i32) -> f64 {
     17f64.powi(i)
 }
 
-/// The BVH of `n` spheres (object i the i-th) centred at 17^i m on the x axis, radius 2 % of
-/// that: spaced too far apart for the SAH's bins, so a chain one level per sphere.
-fn sphere_chain(n: i32) -> Bvh {
+/// The BVH of `n` spheres (object i the i-th) centred at `side`·17^i m on the x axis
+/// (`side` ±1), radius 2 % of 17^i: spaced too far apart for the SAH's bins, so a chain one
+/// level per sphere, the farthest sphere split off at each level.
+fn sphere_chain(n: i32, side: f64) -> Bvh {
     let prims: Vec<Primitive> = (0..n)
         .map(|i| Primitive {
             kind: PrimitiveKind::Sphere {
-                centre: DVec3::new(centre_m(i), 0.0, 0.0),
+                centre: DVec3::new(side * centre_m(i), 0.0, 0.0),
                 radius_m: 0.02 * centre_m(i),
             },
             object: i as u32,
@@ -146,7 +147,7 @@ fn sphere_chain(n: i32) -> Bvh {
 #[test]
 fn bvh_deep_chain_matches_brute_force() {
     let n = 100;
-    let bvh = sphere_chain(n);
+    let bvh = sphere_chain(n, 1.0);
     assert!(
         (65..=72).contains(&bvh.depth()),
         "depth {}: the SAH's chain should be cut to medians below level 64",
@@ -194,12 +195,13 @@ fn bvh_deep_chain_matches_brute_force() {
 }
 
 /// Trees on either side of the depth where traversal switches from the short stack to the
-/// full one (31 and 32 levels): every one finds what brute force finds, at every depth.
+/// full one (31 and 32 levels), with the stack filled to depth + 1 by the closest-hit search
+/// and by the shadow test: every one finds what brute force finds, at every depth.
 #[test]
 fn bvh_chains_around_the_short_stack_match_brute_force() {
     let mut depths = Vec::new();
     for n in 24..=44 {
-        let bvh = sphere_chain(n);
+        let bvh = sphere_chain(n, 1.0);
         depths.push(bvh.depth());
         let ordered = bvh.primitives().to_vec();
         for k in 0..n {
@@ -226,6 +228,31 @@ fn bvh_chains_around_the_short_stack_match_brute_force() {
     assert!(
         depths.contains(&31) && depths.contains(&32),
         "depths {depths:?} should reach both sides of the switch"
+    );
+    // The shadow test pushes both children and visits the right one first. On the chain along
+    // −x the right child is the deep subtree and the left one the farthest sphere, so a ray
+    // that meets every subtree's box leaves one sphere pending per level: the stack fills to
+    // depth + 1. Along −x at y = 3 cm it passes sphere 0 (radius 2 cm) and meets sphere 1
+    // (radius 34 cm, at x = −17 m) at 16.66 m.
+    let mut mirrored_depths = Vec::new();
+    for n in 24..=44 {
+        let bvh = sphere_chain(n, -1.0);
+        mirrored_depths.push(bvh.depth());
+        let ordered = bvh.primitives().to_vec();
+        let ray = Ray::new(DVec3::new(0.0, 0.03, 0.0), -DVec3::X);
+        for t_max_m in [16.0, 17.0] {
+            assert_eq!(
+                bvh.any_hit(&ray, t_max_m),
+                closest_hit_brute_force(&ordered, &ray, t_max_m).is_some(),
+                "{n} spheres along -x, depth {}, t_max {t_max_m}",
+                bvh.depth()
+            );
+        }
+        assert!(!bvh.any_hit(&ray, 16.0) && bvh.any_hit(&ray, 17.0));
+    }
+    assert!(
+        mirrored_depths.contains(&31) && mirrored_depths.contains(&32),
+        "depths {mirrored_depths:?} should reach both sides of the switch"
     );
 }
 
