@@ -188,21 +188,16 @@ impl EchoGroups {
             gathered.clear();
             // A tube's returns share their transmit azimuth: its sine and cosine are kept
             // for the next member.
-            let mut last_tx: Option<(u64, (f64, f64))> = None;
+            let mut tx_sin_cos = crate::special::LastCall::new();
             for &(_, i) in members {
                 let c = &contributions[i as usize];
                 let (first, taps) = kernel.taps(c.delay_s() * sample_rate_hz);
                 gathered.push((first, taps, c.amplitude_v, c.el_tx_rad, c.el_rx_rad));
                 lo = lo.min(first.max(0));
                 hi = hi.max(first + KERNEL_TAPS as i64);
-                let (sin_tx, cos_tx) = match last_tx {
-                    Some((bits, sc)) if bits == c.az_tx_rad.to_bits() => sc,
-                    _ => {
-                        let sc = crate::special::sin_cos_fast(c.az_tx_rad);
-                        last_tx = Some((c.az_tx_rad.to_bits(), sc));
-                        sc
-                    }
-                };
+                let (sin_tx, cos_tx) = tx_sin_cos.get_or(c.az_tx_rad.to_bits(), || {
+                    crate::special::sin_cos_fast(c.az_tx_rad)
+                });
                 let (sin_rx, cos_rx) = crate::special::sin_cos_fast(c.az_rx_rad);
                 az_tx_sum += Complex64::new(cos_tx, sin_tx);
                 az_rx_sum += Complex64::new(cos_rx, sin_rx);
@@ -225,19 +220,12 @@ impl EchoGroups {
                 };
             // A tube's returns share their transmit elevation, and neighbours in a group
             // often their receive one: each pattern value is kept for the next member.
-            let mut pattern_tx: Option<(u64, f64)> = None;
-            let mut pattern_rx: Option<(u64, f64)> = None;
-            let pattern = |cached: &mut Option<(u64, f64)>, el: f64| match *cached {
-                Some((bits, g)) if bits == el.to_bits() => g,
-                _ => {
-                    let g = ant.elevation_pattern(el);
-                    *cached = Some((el.to_bits(), g));
-                    g
-                }
-            };
+            let mut pattern_tx = crate::special::LastCall::new();
+            let mut pattern_rx = crate::special::LastCall::new();
             for &(first, taps, amplitude_v, el_tx, el_rx) in &gathered {
-                let el_weight =
-                    (pattern(&mut pattern_tx, el_tx) * pattern(&mut pattern_rx, el_rx)).sqrt();
+                let g_tx = pattern_tx.get_or(el_tx.to_bits(), || ant.elevation_pattern(el_tx));
+                let g_rx = pattern_rx.get_or(el_rx.to_bits(), || ant.elevation_pattern(el_rx));
+                let el_weight = (g_tx * g_rx).sqrt();
                 let a = amplitude_v * (el_weight * inv_noise);
                 let start = first - lo as i64;
                 if start >= 0 {
@@ -452,6 +440,8 @@ fn sort_by_key_stable(pairs: &mut Vec<(u64, u32)>) {
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+
     /// The radix sort gives `sort_unstable`'s order for pairs made in index order: keys
     /// that differ in a few bytes or in all, with many equal keys, and the trivial lengths.
     #[test]
@@ -481,12 +471,10 @@ mod tests {
             }
             let mut expected = pairs.clone();
             expected.sort_unstable();
-            super::sort_by_key_stable(&mut pairs);
+            sort_by_key_stable(&mut pairs);
             assert_eq!(pairs, expected, "{len} pairs, mask {mask:x}");
         }
     }
-
-    use super::*;
 
     /// The one-azimuth shortcut of `azimuth_weight` gives the bits of the two-pattern form
     /// `√(Gn·Gn)` at every beam offset, main lobe and far sidelobes alike.

@@ -267,9 +267,66 @@ pub fn sin_cos_fast(x: f64) -> (f64, f64) {
     }
 }
 
+/// The last key and value of a pure computation, to skip it when the next key is the same
+/// (hot loops see runs of one argument: a tube's returns share its launch direction). Give
+/// f64 arguments as their bits (`to_bits`), so that a value is reused only for the very bits
+/// it was computed from, and the results are those of computing every time.
+#[derive(Debug, Clone, Copy)]
+pub struct LastCall<K, V> {
+    last: Option<(K, V)>,
+}
+
+impl<K: PartialEq + Copy, V: Copy> LastCall<K, V> {
+    /// Nothing computed yet.
+    pub fn new() -> Self {
+        LastCall { last: None }
+    }
+
+    /// The value for `key`: the last one if `key` is the last key, else `compute()`.
+    #[inline]
+    pub fn get_or(&mut self, key: K, compute: impl FnOnce() -> V) -> V {
+        match self.last {
+            Some((k, v)) if k == key => v,
+            _ => {
+                let v = compute();
+                self.last = Some((key, v));
+                v
+            }
+        }
+    }
+}
+
+impl<K: PartialEq + Copy, V: Copy> Default for LastCall<K, V> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `LastCall` computes on a new key, reuses on a repeated one, and tells −0.0 from 0.0
+    /// when given bits.
+    #[test]
+    fn last_call_reuses_only_the_same_key() {
+        let mut calls = 0;
+        let mut memo = LastCall::new();
+        let keys = [1.5f64, 1.5, 2.0, 0.0, -0.0, -0.0, 1.5];
+        let values: Vec<f64> = keys
+            .iter()
+            .map(|&x| {
+                memo.get_or(x.to_bits(), || {
+                    calls += 1;
+                    2.0 * x
+                })
+            })
+            .collect();
+        assert_eq!(calls, 5);
+        for (v, x) in values.iter().zip(keys) {
+            assert_eq!(v.to_bits(), (2.0 * x).to_bits());
+        }
+    }
 
     /// The libm-free trunc, floor (also as an integer), round and rem_euclid(2π) give `f64`'s values bit for
     /// bit, halves, signed zeros, huge values and non-finite ones included.

@@ -39,6 +39,7 @@ use super::{azimuth_elevation_rad, carrier_phase, Contribution, ScatterSet};
 use crate::geometry::{Bvh, Ray, ShapeGeometry};
 use crate::model::{Polarisation, Scene};
 use crate::propagation::SeaSurface;
+use crate::special::LastCall;
 use glam::DVec3;
 use num_complex::Complex64;
 use rayon::prelude::*;
@@ -350,16 +351,11 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         set.tube_budgets[idx] = Some(traced.budget);
         // A tube's returns share its launch direction (about half of all returns follow
         // another of the same tube): its angles are computed once, the same values.
-        let mut tx_angles: Option<(DVec3, (f64, f64))> = None;
+        let mut tx_angles = LastCall::new();
         set.contributions.extend(traced.returns.iter().map(|r| {
-            let (az_tx, el_tx) = match tx_angles {
-                Some((dir, angles)) if same_bits(dir, r.tx_dir) => angles,
-                _ => {
-                    let angles = azimuth_elevation_rad(r.tx_dir);
-                    tx_angles = Some((r.tx_dir, angles));
-                    angles
-                }
-            };
+            let (az_tx, el_tx) = tx_angles.get_or(r.tx_dir.to_array().map(f64::to_bits), || {
+                azimuth_elevation_rad(r.tx_dir)
+            });
             let (az_rx, el_rx) = azimuth_elevation_rad(r.rx_dir);
             Contribution {
                 amplitude_v: r.root_rcs_m * volts(r.range_tx_m, r.range_rx_m),
@@ -376,10 +372,4 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         }));
     }
     set
-}
-
-/// Whether two vectors are the same bit for bit.
-#[inline]
-fn same_bits(a: DVec3, b: DVec3) -> bool {
-    a.to_array().map(f64::to_bits) == b.to_array().map(f64::to_bits)
 }
