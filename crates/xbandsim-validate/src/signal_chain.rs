@@ -21,18 +21,22 @@ pub fn fine_profile(window: &str) -> (Vec<f32>, f64) {
     (spoke(&frame, 0).to_vec(), frame.range_bin_m)
 }
 
-/// Measured peak over noise minus the radar equation (with window loss), dB, for a 10⁴ m²
-/// point target at 8.1 km on a bin centre.
-pub fn snr_error_db(window: &str, pulse_us: f64, seed: u64) -> (f64, f64) {
+/// A 10⁴ m² point target at 8.1 km on a bin centre: (radar-equation SNR with the window
+/// loss, measured peak), dB. The peak is that of a noise-free render, in the record's unit
+/// (the noise power: [`noise_mean_db`] checks that the noise has it), so the signal's
+/// calibration is checked on its own: with noise on, one pulse's peak `|s + n|²` at this
+/// SNR spreads by 0.34 dB rms from realisation to realisation (40 seeds), more than the
+/// check's tolerance.
+pub fn snr_error_db(window: &str, pulse_us: f64) -> (f64, f64) {
     let range_m = bin_range_m(5400.0, 100e6);
     let text = format!(
         "{}{}",
-        radar_block(&format!(
+        radar_block_no_noise(&format!(
             "window = \"{window}\"\npulse_width_us = {pulse_us}\nmax_range_m = 9000.0"
         )),
         point_north("p", range_m, 1e4)
     );
-    let (sim, frame) = render_text(&text, seed);
+    let (sim, frame) = render_text(&text, 1);
     let radar = sim.scene().radar();
     let expected = linear_to_db(
         radar.point_target_snr(1e4, range_m)
@@ -84,11 +88,12 @@ pub fn eclipse_peak_db(
 }
 
 /// A free-space trihedral (edge 0.5 m) facing the radar on spoke 0 at a bin-centred range:
-/// (radar-equation SNR with the RCS from `xbandsim rcs`'s code, measured peak), dB.
+/// (radar-equation SNR with the RCS from `xbandsim rcs`'s code, measured peak), dB. Noise
+/// off, as in [`snr_error_db`] (with it, the peak spreads by about 0.17 dB rms at 31 dB).
 pub fn object_snr_db(two_way_attenuation_db_per_km: f64) -> (f64, f64) {
     let range_m = bin_range_m(1400.0, 100e6);
     let text = format!(
-        "[environment]\nmultipath = false\nclutter = false\ntwo_way_attenuation_db_per_km = {two_way_attenuation_db_per_km}\n[radar]\nposition_m = [0.0, 0.0, 4.0]\nmax_range_m = 2500.0\n[[object]]\nname = \"t\"\nshape = \"trihedral\"\nedge_m = 0.5\nposition_m = [0.0, {range_m}, 4.0]\nyaw_deg = 180.0\n"
+        "[environment]\nnoise = false\nmultipath = false\nclutter = false\ntwo_way_attenuation_db_per_km = {two_way_attenuation_db_per_km}\n[radar]\nposition_m = [0.0, 0.0, 4.0]\nmax_range_m = 2500.0\n[[object]]\nname = \"t\"\nshape = \"trihedral\"\nedge_m = 0.5\nposition_m = [0.0, {range_m}, 4.0]\nyaw_deg = 180.0\n"
     );
     let (sim, frame) = render_text(&text, 11);
     let scene = sim.scene();
@@ -200,13 +205,13 @@ pub(crate) fn checks(out: &mut Checks) {
         "Skolnik, Radar Handbook, 3rd ed., §2.3",
     ));
     for (w, t) in [("none", 1.0), ("hamming", 1.0), ("taylor", 5.0)] {
-        let (e, m) = snr_error_db(w, t, 3);
+        let (e, m) = snr_error_db(w, t);
         out.push(check(
             &format!("single-pulse SNR = radar equation ({w}, {t} us, 10⁴ m², 8.1 km)"),
             e,
             m,
             "dB",
-            Tolerance::Absolute(0.25),
+            Tolerance::Absolute(0.05),
             SKOLNIK,
         ));
     }
@@ -218,7 +223,7 @@ pub(crate) fn checks(out: &mut Checks) {
         e,
         m,
         "dB",
-        Tolerance::Absolute(0.1),
+        Tolerance::Absolute(0.05),
         SKOLNIK,
     ));
     let (e2, m2) = object_snr_db(1.5);

@@ -233,6 +233,10 @@ impl ClutterMap {
         // Per-sample geometry and mean power factors (independent of azimuth).
         struct Row {
             ground_m: f64,
+            /// Slant range over ground range, r/g: a straight path from the antenna to the
+            /// patch is this much longer than its track on the ground, inside a rain column
+            /// as outside (docs/physics.md §2.7).
+            slant_per_ground: f64,
             grazing_rad: f64,
             sea_factor: f64,
             sigma0_nrl: f64,
@@ -310,6 +314,7 @@ impl ClutterMap {
                 );
                 Some(Row {
                     ground_m,
+                    slant_per_ground: r / ground_m,
                     grazing_rad,
                     sea_factor,
                     sigma0_nrl,
@@ -371,7 +376,7 @@ impl ClutterMap {
             rows.iter()
                 .map(|r| {
                     r.as_ref().map_or(1.0, |r| {
-                        two_way_rain_loss(a.one_way_db_along(&[], r.ground_m))
+                        two_way_rain_loss(a.one_way_db_along(&[], r.ground_m) * r.slant_per_ground)
                     })
                 })
                 .collect()
@@ -442,7 +447,7 @@ impl ClutterMap {
                     if chords.is_empty() {
                         uniform_rain_loss[n]
                     } else {
-                        two_way_rain_loss(rain_db(row.ground_m))
+                        two_way_rain_loss(rain_db(row.ground_m) * row.slant_per_ground)
                     }
                 } else {
                     1.0

@@ -91,8 +91,12 @@ fn noise_floor_is_kt0f_fs() {
     );
 }
 
-/// Single-pulse SNR of a point target equals the radar equation minus the window loss
-/// (±0.5 dB), for each window and two pulse widths (Skolnik 2001, eq. 2.51; docs/physics.md §7).
+/// Single-pulse SNR of a point target equals the radar equation minus the window loss, for
+/// each window and two pulse widths (Skolnik 2001, eq. 2.51; docs/physics.md §7): the peak
+/// of a noise-free render, in the record's unit (the noise power, checked by
+/// `noise_floor_is_kt0f_fs`), within 0.05 dB. With noise on, one
+/// pulse's peak at 24 dB spreads by 0.34 dB rms from seed to seed: a tolerance on it would
+/// test the seed.
 #[test]
 fn point_target_snr_matches_radar_equation() {
     for (window, pulse_us) in [
@@ -105,7 +109,7 @@ fn point_target_snr_matches_radar_equation() {
         let range_m = bin_range_m(5400.0, fs); // on a bin centre, beyond c·T/2
         let text = format!(
             "{}{}",
-            radar_block(&format!(
+            radar_block_no_noise(&format!(
                 "window = \"{window}\"\npulse_width_us = {pulse_us}\nmax_range_m = 9000.0"
             )),
             point_north("p", range_m, 1e4)
@@ -118,8 +122,8 @@ fn point_target_snr_matches_radar_equation() {
         );
         let (_, measured) = argmax(&spoke(&frame, 0)[5300..5500]);
         assert!(
-            (measured as f64 - expected).abs() < 0.5,
-            "{window} {pulse_us} us: measured {measured:.2} dB, radar equation {expected:.2} dB"
+            (measured as f64 - expected).abs() < 0.05,
+            "{window} {pulse_us} us: measured {measured:.3} dB, radar equation {expected:.3} dB"
         );
         assert!(
             expected > 20.0,
