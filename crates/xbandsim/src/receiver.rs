@@ -15,7 +15,6 @@
 
 use crate::rng::{RngKey, Stream};
 use num_complex::Complex32;
-use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg64Mcg;
 
 /// The receiver of a radar: whether it adds thermal noise and whether it is blanked while
@@ -94,8 +93,7 @@ impl Receiver {
 pub fn fill_unit_noise(rng: &mut Pcg64Mcg, out: &mut [Complex32]) {
     let sigma = std::f32::consts::FRAC_1_SQRT_2;
     for v in out.iter_mut() {
-        let re: f32 = StandardNormal.sample(rng);
-        let im: f32 = StandardNormal.sample(rng);
+        let (re, im) = crate::rng::normal_pair(rng);
         *v = Complex32::new(re * sigma, im * sigma);
     }
 }

@@ -267,6 +267,42 @@ pub fn sin_cos_fast(x: f64) -> (f64, f64) {
     }
 }
 
+/// `max(10·log10(x·scale), floor_db)` for every power x of `row`, in place, without libm:
+/// the polar records' dB conversion (360 × up to 2001 cells a frame, where glibc's `log10f`
+/// took 3 % of a dataset sample). With `x = 2^e·m`, m in [√½, √2), `ln m = 2·atanh(s)`,
+/// `s = (m − 1)/(m + 1)`, by its series to s⁹ (|s| ≤ 0.172: truncation below 3·10⁻⁹), and
+/// `ln 2` in two parts so that `e·ln 2` keeps f32's precision (Cody & Waite, "Software Manual
+/// for the Elementary Functions", 1980, ch. 5). In f32, branch-free, so the loop vectorises;
+/// within 3·10⁻⁶ dB + 4·10⁻⁷ relative of the exact value (tested against f64's `log10`).
+/// Zero, subnormal and NaN powers give `floor_db` (as `max` does for zero and NaN; a
+/// subnormal power is below any floor above −380 dB), +∞ gives +∞.
+pub fn power_db_in_place(row: &mut [f32], scale: f32, floor_db: f32) {
+    const LN2_HI: f32 = 0.693_359_4; // 0x3F318000: exact times any exponent
+    const LN2_LO: f32 = -2.121_944_4e-4;
+    const DB_PER_NEPER: f32 = 4.342_944_8; // 10/ln 10
+    for o in row.iter_mut() {
+        let x = *o * scale;
+        let bits = x.to_bits();
+        let mut e = ((bits >> 23) as i32 - 127) as f32;
+        let mut m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000);
+        let high = m > std::f32::consts::SQRT_2;
+        m = if high { 0.5 * m } else { m };
+        e = if high { e + 1.0 } else { e };
+        let s = (m - 1.0) / (m + 1.0);
+        let z = s * s;
+        let series = 1.0 + z * (1.0 / 3.0 + z * (1.0 / 5.0 + z * (1.0 / 7.0 + z * (1.0 / 9.0))));
+        let ln_x = e * LN2_HI + (e * LN2_LO + 2.0 * s * series);
+        let db = (DB_PER_NEPER * ln_x).max(floor_db);
+        *o = if (f32::MIN_POSITIVE..f32::INFINITY).contains(&x) {
+            db
+        } else if x == f32::INFINITY {
+            f32::INFINITY
+        } else {
+            floor_db
+        };
+    }
+}
+
 /// The last key and value of a pure computation, to skip it when the next key is the same
 /// (hot loops see runs of one argument: a tube's returns share its launch direction). Give
 /// f64 arguments as their bits (`to_bits`), so that a value is reused only for the very bits
@@ -305,6 +341,49 @@ impl<K: PartialEq + Copy, V: Copy> Default for LastCall<K, V> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The libm-free dB conversion against f64's `10·log10` over powers from the smallest
+    /// normal f32 to 10^30 (every exponent, 4000 mantissas each), the special values, and the
+    /// floor.
+    #[test]
+    fn power_db_in_place_matches_log10() {
+        let mut values: Vec<f32> = Vec::new();
+        for e in -126..100 {
+            for k in 0..4000u32 {
+                let m = 1.0 + k as f64 / 4000.0;
+                let v = (m * 2f64.powi(e)) as f32;
+                if v.is_finite() && v <= 1e30 {
+                    values.push(v);
+                }
+            }
+        }
+        let mut row = values.clone();
+        power_db_in_place(&mut row, 1.0, -1000.0);
+        let mut worst = 0f64;
+        for (&v, &db) in values.iter().zip(&row) {
+            let exact = 10.0 * f64::from(v).log10();
+            let err = (f64::from(db) - exact).abs();
+            worst = worst.max(err / (3e-6 + 4e-7 * exact.abs()));
+            assert!(
+                err <= 3e-6 + 4e-7 * exact.abs(),
+                "{v:e}: {db} against {exact}"
+            );
+        }
+        assert!(worst > 0.05, "the bound is loose: worst {worst}");
+        let mut special = [0.0, -0.0, 1e-40, f32::NAN, f32::INFINITY, 1e-13, 1.0, 1e12];
+        power_db_in_place(&mut special, 1.0, -120.0);
+        assert_eq!(
+            special[..5],
+            [-120.0, -120.0, -120.0, -120.0, f32::INFINITY]
+        );
+        assert_eq!(special[5], -120.0);
+        assert_eq!(special[6], 0.0);
+        assert!((special[7] - 120.0).abs() < 1e-4);
+        // The scale multiplies first.
+        let mut scaled = [8.0f32];
+        power_db_in_place(&mut scaled, 0.25, -120.0);
+        assert!((f64::from(scaled[0]) - 10.0 * 2f64.log10()).abs() < 1e-6);
+    }
 
     /// `LastCall` computes on a new key, reuses on a repeated one, and tells −0.0 from 0.0
     /// when given bits.

@@ -572,9 +572,7 @@ impl Simulation {
                     // Non-coherent integration: the mean power of the dwell's pulses (exactly
                     // the pulse's power for a one-pulse dwell).
                     let inv_pulses = 1.0 / dwell.pulses.len() as f32;
-                    for o in row.iter_mut() {
-                        *o = (10.0 * (*o * inv_pulses).log10()).max(POLAR_FLOOR_DB);
-                    }
+                    crate::special::power_db_in_place(row, inv_pulses, POLAR_FLOOR_DB);
                     dwell_done();
                 },
             );

@@ -511,9 +511,7 @@ impl Simulation {
                         }
                         Integration::None => {}
                     }
-                    for o in row.iter_mut() {
-                        *o = (10.0 * o.log10()).max(POLAR_FLOOR_DB);
-                    }
+                    crate::special::power_db_in_place(row, 1.0, POLAR_FLOOR_DB);
                     if let Some((v_row, e_row, p_row)) = velocity_row.as_mut() {
                         // Mean Doppler arg(R1)/(2π·PRI) over the dwell's pulse spacing (at
                         // least two pulses a spoke in pulse mode), v = −λ·f/2.

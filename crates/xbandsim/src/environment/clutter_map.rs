@@ -36,11 +36,10 @@ use super::rain::volume_reflectivity_m2_per_m3;
 use crate::antenna::SINC_BEAMWIDTH_FACTOR;
 use crate::model::{Environment, Polarisation, Radar};
 use crate::propagation::sin_grazing;
-use crate::rng::{RngKey, Stream};
+use crate::rng::{normal_pair, RngKey, Stream};
 use crate::special::bessel_i0;
 use glam::DVec2;
 use num_complex::Complex32;
-use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -639,8 +638,7 @@ impl ClutterMap {
                 continue;
             }
             let s = (p * 0.5).sqrt();
-            let re: f32 = StandardNormal.sample(&mut rng);
-            let im: f32 = StandardNormal.sample(&mut rng);
+            let (re, im) = normal_pair(&mut rng);
             impulse_response[n] += Complex32::new(re * s, im * s);
         }
     }
@@ -720,8 +718,7 @@ impl ClutterMap {
                     (p_rain, s.lines[b].1)
                 };
                 let scale = (p.max(0.0) * 0.5).sqrt() * a;
-                let re: f32 = StandardNormal.sample(&mut rng);
-                let im: f32 = StandardNormal.sample(&mut rng);
+                let (re, im) = normal_pair(&mut rng);
                 *c = Complex32::new(re * scale, im * scale);
             }
             for m in 0..pulses {

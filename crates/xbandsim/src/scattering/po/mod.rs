@@ -356,7 +356,12 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
             let (az_tx, el_tx) = tx_angles.get_or(r.tx_dir.to_array().map(f64::to_bits), || {
                 azimuth_elevation_rad(r.tx_dir)
             });
-            let (az_rx, el_rx) = azimuth_elevation_rad(r.rx_dir);
+            let (az_rx, el_rx) =
+                if r.rx_dir.to_array().map(f64::to_bits) == r.tx_dir.to_array().map(f64::to_bits) {
+                    (az_tx, el_tx)
+                } else {
+                    azimuth_elevation_rad(r.rx_dir)
+                };
             Contribution {
                 amplitude_v: r.root_rcs_m * volts(r.range_tx_m, r.range_rx_m),
                 root_rcs_m: r.root_rcs_m,

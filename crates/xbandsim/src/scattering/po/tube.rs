@@ -558,7 +558,10 @@ pub fn trace_tube(
                 exits[0] = Some(Exit {
                     s_hat,
                     field: e_r,
-                    rx_dir: -s_hat,
+                    // A first hit's echo comes back along its launch ray: its direction is
+                    // the launch direction (−ŝ to within rounding), taken as is so that the
+                    // return's angles and patterns are the launch's (docs/physics.md §2.2).
+                    rx_dir: if retraces { k0 } else { -s_hat },
                     range_rx_m,
                     via_sea: false,
                 });
