@@ -200,7 +200,7 @@ pub fn rain_attenuation_db(rate_mm_per_h: f64) -> (f64, f64) {
 /// the expected one times the mean of measured/expected over the 41 bins `bin ± 20` and all
 /// spokes: one bin's mean over 1024 spokes of exponentially distributed speckle spreads by
 /// 0.14 dB rms, the 41 bins' (correlated over a few bins by the compressed pulse) by about
-/// a third of that.
+/// a quarter of that.
 pub fn rain_clutter_power_db(rate_mm_per_h: f64, bin: usize) -> (f64, f64) {
     let text = format!("[environment]\nnoise = false\nclutter = false\nmultipath = false\nearth_curvature = false\nrain_rate_mm_per_h = {rate_mm_per_h}\nrain_top_m = 20000.0\n[radar]\nposition_m = [0.0, 0.0, 1000.0]\nspokes = 1024\nmax_range_m = 1500.0\n");
     let (sim, frame) = render_text(&text, 3);
@@ -226,6 +226,10 @@ pub fn rain_clutter_power_db(rate_mm_per_h: f64, bin: usize) -> (f64, f64) {
             / (2.0 * radar.chirp().bandwidth_hz);
         linear_to_db(radar.point_target_snr(eta * volume, r)) - 2.0 * gamma * r / 1000.0
     };
+    assert!(
+        bin >= 20,
+        "rain_clutter_power_db averages bins bin ± 20: bin {bin} is too near"
+    );
     let bins = bin - 20..=bin + 20;
     let ratio = bins
         .clone()

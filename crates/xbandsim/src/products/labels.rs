@@ -338,23 +338,21 @@ fn loss_db(power_factor: f64) -> f64 {
     }
 }
 
-/// Two-way rain attenuation along the straight path from the radar to `target_m`, dB.
+/// Two-way rain attenuation along the straight path from the radar to `target_m`, dB: its
+/// slant length through the rain columns, as the echo loses it (docs/physics.md §2.7).
 pub fn rain_two_way_loss_db(radar: &Radar, environment: &Environment, target_m: DVec3) -> f64 {
     let Some(rain) = environment.rain() else {
         return 0.0;
     };
+    let slant = (target_m - radar.position_m()).length();
     let rel = (target_m - radar.position_m()).truncate();
     let ground = rel.length();
-    if ground <= 0.0 {
-        return 0.0;
-    }
-    2.0 * rain.one_way_attenuation_db(
-        radar.position_m().truncate(),
-        rel / ground,
-        ground,
+    let dir = if ground > 0.0 { rel / ground } else { rel };
+    let attenuator = rain.attenuator(
         radar.carrier_freq_hz() / 1e9,
         radar.polarisation() == Polarisation::Hh,
-    )
+    );
+    2.0 * attenuator.one_way_db_slant(radar.position_m().truncate(), dir, ground, slant)
 }
 
 /// Whether the straight line from the radar to `p` meets another object than `object`

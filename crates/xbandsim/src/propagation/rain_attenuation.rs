@@ -149,6 +149,27 @@ impl RainAttenuator<'_> {
     pub fn one_way_db(&self, from: DVec2, dir: DVec2, range_m: f64) -> f64 {
         self.one_way_db_along(&self.chords(from, dir), range_m)
     }
+
+    /// One-way attenuation (dB) of a straight path `slant_m` long whose ground track runs
+    /// from `from` along unit `dir` for `ground_m`: rain cells are vertical columns, so each
+    /// chord on the track is `slant_m / ground_m` longer along the path (docs/physics.md
+    /// §2.7). A vertical path (`ground_m` 0) loses the specific attenuation where it stands
+    /// times its length. Targets' echoes and their labels both use it.
+    pub fn one_way_db_slant(&self, from: DVec2, dir: DVec2, ground_m: f64, slant_m: f64) -> f64 {
+        if ground_m > 0.0 {
+            self.one_way_db(from, dir, ground_m) * (slant_m / ground_m)
+        } else {
+            let here: f64 = self
+                .rain
+                .cells
+                .iter()
+                .zip(&self.cell_db_per_m)
+                .filter(|(c, _)| (from - c.centre_m).length() <= c.radius_m)
+                .map(|(_, &g)| g)
+                .sum();
+            (self.uniform_db_per_m + here) * slant_m
+        }
+    }
 }
 
 #[cfg(test)]
