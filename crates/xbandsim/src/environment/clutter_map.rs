@@ -232,10 +232,9 @@ impl ClutterMap {
         // Per-sample geometry and mean power factors (independent of azimuth).
         struct Row {
             ground_m: f64,
-            /// Slant range over ground range, r/g: a straight path from the antenna to the
-            /// patch is this much longer than its track on the ground, inside a rain column
-            /// as outside (docs/physics.md §2.7).
-            slant_per_ground: f64,
+            /// Slant range r, m: the rain loss is charged along it, not along the ground
+            /// track (docs/physics.md §2.7).
+            slant_m: f64,
             grazing_rad: f64,
             sea_factor: f64,
             sigma0_nrl: f64,
@@ -313,7 +312,7 @@ impl ClutterMap {
                 );
                 Some(Row {
                     ground_m,
-                    slant_per_ground: r / ground_m,
+                    slant_m: r,
                     grazing_rad,
                     sea_factor,
                     sigma0_nrl,
@@ -375,7 +374,7 @@ impl ClutterMap {
             rows.iter()
                 .map(|r| {
                     r.as_ref().map_or(1.0, |r| {
-                        two_way_rain_loss(a.one_way_db_along(&[], r.ground_m) * r.slant_per_ground)
+                        two_way_rain_loss(a.one_way_db_slant_along(&[], r.ground_m, r.slant_m))
                     })
                 })
                 .collect()
@@ -407,10 +406,10 @@ impl ClutterMap {
                 .as_ref()
                 .map(|a| a.chords(radar_xy, dir))
                 .unwrap_or_default();
-            let rain_db = |g: f64| {
+            let rain_db = |g: f64, r: f64| {
                 attenuator
                     .as_ref()
-                    .map_or(0.0, |a| a.one_way_db_along(&chords, g))
+                    .map_or(0.0, |a| a.one_way_db_slant_along(&chords, g, r))
             };
             let wind_rel = clutter.map_or(0.0, |c| az - c.wind_from_rad());
             let swell_rel = clutter.map_or(0.0, |c| az - c.swell_from_rad());
@@ -446,7 +445,7 @@ impl ClutterMap {
                     if chords.is_empty() {
                         uniform_rain_loss[n]
                     } else {
-                        two_way_rain_loss(rain_db(row.ground_m) * row.slant_per_ground)
+                        two_way_rain_loss(rain_db(row.ground_m, row.slant_m))
                     }
                 } else {
                     1.0

@@ -150,6 +150,18 @@ impl RainAttenuator<'_> {
         self.one_way_db_along(&self.chords(from, dir), range_m)
     }
 
+    /// [`RainAttenuator::one_way_db_slant`] along a track with these `chords`, for
+    /// `ground_m` > 0 (the clutter map evaluates many ranges along one spoke's track).
+    #[inline]
+    pub fn one_way_db_slant_along(
+        &self,
+        chords: &[(f64, f64, f64)],
+        ground_m: f64,
+        slant_m: f64,
+    ) -> f64 {
+        self.one_way_db_along(chords, ground_m) * (slant_m / ground_m)
+    }
+
     /// One-way attenuation (dB) of a straight path `slant_m` long whose ground track runs
     /// from `from` along unit `dir` for `ground_m`: rain cells are vertical columns, so each
     /// chord on the track is `slant_m / ground_m` longer along the path (docs/physics.md
@@ -157,7 +169,7 @@ impl RainAttenuator<'_> {
     /// times its length. Targets' echoes and their labels both use it.
     pub fn one_way_db_slant(&self, from: DVec2, dir: DVec2, ground_m: f64, slant_m: f64) -> f64 {
         if ground_m > 0.0 {
-            self.one_way_db(from, dir, ground_m) * (slant_m / ground_m)
+            self.one_way_db_slant_along(&self.chords(from, dir), ground_m, slant_m)
         } else {
             let here: f64 = self
                 .rain

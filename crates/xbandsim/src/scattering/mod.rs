@@ -184,11 +184,15 @@ pub fn trace_scene(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         let attenuator = rain.attenuator(freq_ghz, horizontal);
         // A leg's attenuation: γ integrated along its track on the ground through the rain
         // columns, times the slant length over the track length (1/cos el), so that a
-        // slant leg through uniform rain loses γ·R (docs/physics.md §2.7).
+        // slant leg through uniform rain loses γ·R (docs/physics.md §2.7; the labels'
+        // `losses.rain` uses the same function).
         let leg_db = |az: f64, el: f64, range_m: f64| {
-            let cos_el = el.cos();
-            attenuator.one_way_db(from, glam::DVec2::new(az.sin(), az.cos()), range_m * cos_el)
-                / cos_el
+            attenuator.one_way_db_slant(
+                from,
+                glam::DVec2::new(az.sin(), az.cos()),
+                range_m * el.cos(),
+                range_m,
+            )
         };
         for c in &mut set.contributions {
             // Each leg's length: half the path for a monostatic single bounce is exact; for
