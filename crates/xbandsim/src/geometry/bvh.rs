@@ -1,9 +1,22 @@
-//! Bounding-volume hierarchy with binned SAH construction and stack traversal.
+//! Bounding-volume hierarchy: binned SAH construction, collapsed to a 4-wide tree whose
+//! children's boxes are tested four at a time in f32.
 //!
 //! Why our own BVH rather than a crate: our primitives are exact analytic shapes (spheres,
 //! cylinders, disks, parallelograms) mixed with triangles, and SBR needs f64 hit distances
 //! for the carrier phase. A small, allocation-free traversal over an enum of primitives does
 //! that directly; `benches/raycast.rs` measures it against brute force (docs/performance.md).
+//!
+//! The tree is built binary (binned SAH, Wald 2007), then each node takes up to four of its
+//! descendants as children, the largest first (Dammertz et al., "Shallow bounding volume
+//! hierarchies for fast SIMD ray tracing of incoherent rays", EGSR 2008). A node keeps its
+//! children's boxes in f32, rounded outward, as four lanes per plane, so one pass of plain
+//! lane loops (which the compiler turns into SSE2) tests all four. The f32 test only culls:
+//! a box is skipped only when no point of it can lie on the ray before the best hit so far,
+//! with the ray's origin rounded toward the box per slab and the products' rounding covered
+//! by a relative margin (Ize, "Robust BVH ray traversal", JCGT 2(2), 2013), so every
+//! primitive the exact f64 test would meet is still intersected in f64 (docs/architecture.md
+//! "The ray caster"). Trees or rays beyond f32's reach (coordinates past 10^36 m) take the
+//! same traversal with f64 boxes.
 
 use super::{Aabb, Hit, Primitive, Ray};
 use glam::DVec3;
@@ -12,19 +25,38 @@ const NUM_BINS: usize = 16;
 const MAX_LEAF_SIZE: usize = 4;
 /// Below this depth nodes are split at the SAH's best plane; from it on, at the median of the
 /// widest axis of their centres, which halves the count each level. So no leaf is deeper
-/// than `SAH_MAX_DEPTH + 32` for up to 2^31 primitives (node indices are `u32`), however unbalanced the SAH's splits
-/// are (primitives spaced geometrically make it peel one off per level).
+/// than `SAH_MAX_DEPTH + 32` for up to 2^31 primitives (node indices are `u32`), however
+/// unbalanced the SAH's splits are (primitives spaced geometrically make it peel one off per
+/// level).
 const SAH_MAX_DEPTH: usize = 64;
-/// A traversal holds at most one pending node per level plus the one being visited, so this
-/// bounds the stack of every tree `build` makes (`SAH_MAX_DEPTH + 32 + 1` entries at most).
-const TRAVERSAL_STACK: usize = 128;
-const _: () = assert!(SAH_MAX_DEPTH + 32 < TRAVERSAL_STACK);
-/// The stack of a traversal of a tree no deeper than `SHALLOW_STACK - 1` (every tree of a
+/// The deepest a binary tree gets, and so the 4-wide one (each of its levels is one or two
+/// binary levels).
+const MAX_DEPTH: usize = SAH_MAX_DEPTH + 32;
+/// A traversal pushes up to four children of the node it visits and pops one: at most three
+/// pending per level of the 4-wide tree, plus the root's four. This bounds the stack of every
+/// tree `build` makes.
+const TRAVERSAL_STACK: usize = 3 * MAX_DEPTH + 4;
+/// The stack of a traversal of a 4-wide tree no deeper than `SHALLOW_DEPTH` (every tree of a
 /// dataset scene): a stack of this size is cleared on each query, not `TRAVERSAL_STACK`'s.
 const SHALLOW_STACK: usize = 32;
+const SHALLOW_DEPTH: usize = (SHALLOW_STACK - 4) / 3;
+/// Coordinates (and ray origins) beyond this take the f64 boxes: f32 reaches 3.4·10^38, so
+/// the difference of two coordinates within it stays finite.
+const F32_REACH_M: f64 = 1e36;
+/// Direction components smaller than this but not zero take the f64 boxes too: their f32
+/// reciprocal would lose its relative accuracy (subnormals).
+const F32_MIN_DIRECTION: f64 = 1e-20;
+/// The relative margins on a box's f32 entry and exit distances: each is a difference, a
+/// reciprocal of a rounded direction and a product, at most 4 units of 2^-24 off in all;
+/// 2^-20 is 16 of them.
+/// 2^-23: `|f|` times this is at least one unit in the last place of the f32 `f`.
+const F32_EPSILON_HALF_UP: f32 = 1.0 / 8_388_608.0;
+const ENTRY_SHRINK: f32 = 1.0 - 1.0 / 1_048_576.0;
+const EXIT_GROW: f32 = 1.0 + 1.0 / 1_048_576.0;
 
+/// A node of the binary tree, during the build only.
 #[derive(Debug, Clone, Copy)]
-struct Node {
+struct BuildNode {
     bounds: Aabb,
     /// Interior: index of the left child (right = left + 1). Leaf: first primitive.
     first: u32,
@@ -32,17 +64,241 @@ struct Node {
     count: u32,
 }
 
+/// A node of the 4-wide tree: its children's boxes and where each child leads.
+#[derive(Debug, Clone, Copy)]
+#[repr(C, align(64))]
+struct WideNode {
+    /// The children's boxes in f32, rounded outward, one lane per child: `planes[2a]` holds
+    /// the minima along axis a, `planes[2a + 1]` the maxima. An unused lane holds an empty
+    /// box (minima +∞, maxima −∞), which no ray meets.
+    planes: [[f32; 4]; 6],
+    /// Interior child: its node's index (never 0, the root's). Leaf child: its first
+    /// primitive. Unused lane: 0, with `count` 0.
+    first: [u32; 4],
+    /// Primitives of a leaf child; 0 for an interior child or an unused lane.
+    count: [u32; 4],
+}
+
+impl WideNode {
+    const EMPTY: WideNode = WideNode {
+        planes: [
+            [f32::INFINITY; 4],
+            [f32::NEG_INFINITY; 4],
+            [f32::INFINITY; 4],
+            [f32::NEG_INFINITY; 4],
+            [f32::INFINITY; 4],
+            [f32::NEG_INFINITY; 4],
+        ],
+        first: [0; 4],
+        count: [0; 4],
+    };
+
+    /// Whether lane `c` holds a child.
+    #[inline]
+    fn used(&self, c: usize) -> bool {
+        self.count[c] > 0 || self.first[c] > 0
+    }
+}
+
+/// The largest f32 not above `x` (−∞ below f32's range).
+fn f32_down(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) <= x {
+        f
+    } else if f == 0.0 {
+        -f32::from_bits(1)
+    } else if f > 0.0 {
+        f32::from_bits(f.to_bits() - 1)
+    } else {
+        f32::from_bits(f.to_bits() + 1)
+    }
+}
+
+/// The smallest f32 not below `x` (+∞ above f32's range).
+fn f32_up(x: f64) -> f32 {
+    -f32_down(-x)
+}
+
+/// A pending node of a closest-hit search, and a lower bound on the distance at which the
+/// ray enters its box, m.
+#[derive(Debug, Clone, Copy, Default)]
+struct Pending {
+    entry_m: f32,
+    node: u32,
+}
+
+/// The box test of a traversal: which children of a node the ray may meet before `t_max_m`,
+/// as a lane mask, with a lower bound on each one's entry distance.
+trait ChildBoxes {
+    fn children(&self, node: usize, t_max: TMax) -> ([f32; 4], u32);
+}
+
+/// A traversal's search distance, m: in f64, and in f32 rounded up.
+#[derive(Debug, Clone, Copy)]
+struct TMax {
+    m: f64,
+    f32_up: f32,
+}
+
+impl TMax {
+    #[inline]
+    fn new(m: f64) -> TMax {
+        TMax {
+            m,
+            f32_up: f32_up(m),
+        }
+    }
+}
+
+/// A ray prepared for the f32 box test. Along each axis the slab's near plane (the minimum
+/// for a positive direction, the maximum for a negative one) is measured from the origin
+/// rounded toward it, the far plane from the origin rounded away from it, so both distances
+/// bound the exact ones before the products round.
+struct WideRay<'a> {
+    nodes: &'a [WideNode],
+    near_plane: [usize; 3],
+    far_plane: [usize; 3],
+    near_origin: [f32; 3],
+    far_origin: [f32; 3],
+    inv_dir: [f32; 3],
+}
+
+impl<'a> WideRay<'a> {
+    /// None when the ray is beyond the f32 test's reach (far origin, subnormal direction).
+    #[inline]
+    fn new(nodes: &'a [WideNode], ray: &Ray) -> Option<Self> {
+        let mut wide = WideRay {
+            nodes,
+            near_plane: [0; 3],
+            far_plane: [0; 3],
+            near_origin: [0.0; 3],
+            far_origin: [0.0; 3],
+            inv_dir: [0.0; 3],
+        };
+        let mut reach = true;
+        for axis in 0..3 {
+            let (o, d) = (ray.origin_m[axis], ray.dir[axis]);
+            let d_abs = d.abs();
+            // (NaN fails both.)
+            reach &= o.abs() < F32_REACH_M && (d_abs == 0.0 || d_abs >= F32_MIN_DIRECTION);
+            // ±∞ for a zero component: its slab is then (−∞, ∞) or empty, except a ray in a
+            // plane of the box, whose 0·∞ = NaN the lane selects ignore (the box is kept).
+            let inv = 1.0 / (d as f32);
+            let negative = usize::from(inv < 0.0);
+            // The origin rounded to nearest is within half a unit of its last place: one
+            // unit (|f|·2^-23 or more, and never zero) on either side brackets it. The near
+            // plane is measured from the bracket's end toward it (the larger end for a
+            // positive direction), the far plane from the other end.
+            let f = o as f32;
+            let margin = (f.abs() * F32_EPSILON_HALF_UP + f32::MIN_POSITIVE).copysign(inv);
+            wide.inv_dir[axis] = inv;
+            wide.near_plane[axis] = 2 * axis + negative;
+            wide.far_plane[axis] = 2 * axis + 1 - negative;
+            wide.near_origin[axis] = f + margin;
+            wide.far_origin[axis] = f - margin;
+        }
+        if !reach {
+            return None;
+        }
+        Some(wide)
+    }
+}
+
+impl ChildBoxes for WideRay<'_> {
+    #[inline(always)]
+    fn children(&self, node: usize, t_max: TMax) -> ([f32; 4], u32) {
+        let node = &self.nodes[node];
+        let mut entry = [0f32; 4];
+        let mut exit = [f32::INFINITY; 4];
+        for axis in 0..3 {
+            let near = &node.planes[self.near_plane[axis]];
+            let far = &node.planes[self.far_plane[axis]];
+            let (o_near, o_far, inv) = (
+                self.near_origin[axis],
+                self.far_origin[axis],
+                self.inv_dir[axis],
+            );
+            for c in 0..4 {
+                let t_near = (near[c] - o_near) * inv;
+                let t_far = (far[c] - o_far) * inv;
+                // Compare-and-select: a NaN distance leaves the bound as it was.
+                entry[c] = if t_near > entry[c] { t_near } else { entry[c] };
+                exit[c] = if t_far < exit[c] { t_far } else { exit[c] };
+            }
+        }
+        let mut mask = 0;
+        for c in 0..4 {
+            let lo = entry[c] * ENTRY_SHRINK;
+            let hi = exit[c] * EXIT_GROW;
+            let hi = if hi < t_max.f32_up { hi } else { t_max.f32_up };
+            mask |= u32::from(lo <= hi) << c;
+            entry[c] = lo;
+        }
+        (entry, mask)
+    }
+}
+
+/// The f64 box test, for trees and rays beyond the f32 one's reach.
+struct ExactBoxes<'a> {
+    nodes: &'a [WideNode],
+    boxes: &'a [[Aabb; 4]],
+    origin_m: DVec3,
+    inv_dir: DVec3,
+}
+
+impl ChildBoxes for ExactBoxes<'_> {
+    #[inline]
+    fn children(&self, node: usize, t_max: TMax) -> ([f32; 4], u32) {
+        let mut entry = [0f32; 4];
+        let mut mask = 0;
+        for (c, b) in self.boxes[node].iter().enumerate() {
+            if !self.nodes[node].used(c) {
+                continue;
+            }
+            if let Some(t) = b.hit_distance(self.origin_m, self.inv_dir, t_max.m) {
+                entry[c] = f32_down(t);
+                mask |= 1 << c;
+            }
+        }
+        (entry, mask)
+    }
+}
+
+/// Calls the traversal `$with` of `$bvh` with the stack its depth needs and the box test the
+/// tree and the ray allow (f32 where both are within its reach).
+macro_rules! traverse {
+    ($bvh:ident, $with:ident, $ray:expr, $t_max_m:expr) => {{
+        let shallow = $bvh.wide_depth <= SHALLOW_DEPTH;
+        match ($bvh.wide_ray($ray), shallow) {
+            (Some(b), true) => $bvh.$with::<SHALLOW_STACK, _>($ray, $t_max_m, &b),
+            (Some(b), false) => $bvh.$with::<TRAVERSAL_STACK, _>($ray, $t_max_m, &b),
+            (None, true) => $bvh.$with::<SHALLOW_STACK, _>($ray, $t_max_m, &$bvh.exact_boxes($ray)),
+            (None, false) => {
+                $bvh.$with::<TRAVERSAL_STACK, _>($ray, $t_max_m, &$bvh.exact_boxes($ray))
+            }
+        }
+    }};
+}
+
 /// A BVH owning its (reordered) primitives.
 #[derive(Debug, Clone)]
 pub struct Bvh {
-    nodes: Vec<Node>,
+    /// The 4-wide tree; the root is node 0 (none for an empty tree).
+    nodes: Vec<WideNode>,
+    /// The same children's boxes in f64, for the f64 test only.
+    exact_boxes: Vec<[Aabb; 4]>,
     primitives: Vec<Primitive>,
     /// Indices into `primitives`, sorted by object tag and, within one object, ascending:
     /// an object's primitives without a scan of everyone's.
     by_object: Vec<u32>,
-    /// Depth of the deepest node (the root's is 0): a traversal's stack holds at most
-    /// `max_depth + 1` entries.
-    max_depth: usize,
+    /// Depth of the deepest node of the binary build (the root's is 0).
+    binary_depth: usize,
+    /// Depth of the deepest node of the 4-wide tree: a traversal's stack holds at most
+    /// `3 * wide_depth + 4` entries.
+    wide_depth: usize,
+    bounds: Aabb,
+    /// Whether every box is within the f32 test's reach.
+    f32_boxes: bool,
 }
 
 impl Bvh {
@@ -51,24 +307,28 @@ impl Bvh {
         if primitives.is_empty() {
             return Bvh {
                 nodes: Vec::new(),
+                exact_boxes: Vec::new(),
                 primitives,
                 by_object: Vec::new(),
-                max_depth: 0,
+                binary_depth: 0,
+                wide_depth: 0,
+                bounds: Aabb::EMPTY,
+                f32_boxes: true,
             };
         }
         let bounds: Vec<Aabb> = primitives.iter().map(|p| p.bounds()).collect();
         let centres: Vec<DVec3> = bounds.iter().map(|b| b.centre()).collect();
         let mut order: Vec<u32> = (0..primitives.len() as u32).collect();
         let mut nodes = Vec::with_capacity(2 * primitives.len());
-        nodes.push(Node {
+        nodes.push(BuildNode {
             bounds: Aabb::EMPTY,
             first: 0,
             count: primitives.len() as u32,
         });
         let mut stack = vec![(0usize, 0usize)];
-        let mut max_depth = 0;
+        let mut binary_depth = 0;
         while let Some((ni, depth)) = stack.pop() {
-            max_depth = max_depth.max(depth);
+            binary_depth = binary_depth.max(depth);
             let first = nodes[ni].first as usize;
             let count = nodes[ni].count as usize;
             let slice = &mut order[first..first + count];
@@ -104,12 +364,12 @@ impl Bvh {
                 });
             }
             let li = nodes.len();
-            nodes.push(Node {
+            nodes.push(BuildNode {
                 bounds: Aabb::EMPTY,
                 first: first as u32,
                 count: left as u32,
             });
-            nodes.push(Node {
+            nodes.push(BuildNode {
                 bounds: Aabb::EMPTY,
                 first: (first + left) as u32,
                 count: (count - left) as u32,
@@ -124,11 +384,21 @@ impl Bvh {
         let mut by_object: Vec<u32> = (0..reordered.len() as u32).collect();
         // Stable: within one object the indices stay ascending.
         by_object.sort_by_key(|&i| reordered[i as usize].object);
+        let (wide, exact_boxes, wide_depth) = collapse(&nodes);
+        let f32_boxes = exact_boxes.iter().flatten().all(|b| {
+            b.min.cmpge(DVec3::splat(-F32_REACH_M)).all()
+                && b.max.cmple(DVec3::splat(F32_REACH_M)).all()
+                || b == &Aabb::EMPTY
+        });
         Bvh {
-            nodes,
+            nodes: wide,
+            exact_boxes,
             primitives: reordered,
             by_object,
-            max_depth,
+            binary_depth,
+            wide_depth,
+            bounds: nodes[0].bounds,
+            f32_boxes,
         }
     }
 
@@ -137,19 +407,32 @@ impl Bvh {
         &self.primitives
     }
 
-    /// Number of nodes.
+    /// Number of nodes of the 4-wide tree.
     pub fn num_nodes(&self) -> usize {
         self.nodes.len()
     }
 
-    /// Levels below the root of the deepest leaf (0 for a single leaf or an empty tree).
+    /// Levels below the root of the deepest leaf of the binary build (0 for a single leaf or
+    /// an empty tree).
     pub fn depth(&self) -> usize {
-        self.max_depth
+        self.binary_depth
+    }
+
+    /// Levels below the root of the deepest node of the 4-wide tree that traversals walk.
+    pub fn wide_depth(&self) -> usize {
+        self.wide_depth
+    }
+
+    /// Whether rays are tested against the f32 boxes: false when some box lies beyond f32's
+    /// reach (10^36 m), and all rays then take the f64 ones. (A ray whose origin lies beyond
+    /// it, or with a direction component below 10^-20 but not zero, takes them either way.)
+    pub fn boxes_in_f32(&self) -> bool {
+        self.f32_boxes
     }
 
     /// Bounds of the whole scene (EMPTY when there are no primitives).
     pub fn bounds(&self) -> Aabb {
-        self.nodes.first().map_or(Aabb::EMPTY, |n| n.bounds)
+        self.bounds
     }
 
     /// The primitives tagged `object`, in the hierarchy's order (none if it has none). Found
@@ -170,74 +453,95 @@ impl Bvh {
             .fold(Aabb::EMPTY, |b, p| b.union(&p.bounds()))
     }
 
-    /// Closest intersection before `t_max_m`.
-    pub fn closest_hit(&self, ray: &Ray, t_max_m: f64) -> Option<Hit> {
-        if self.max_depth < SHALLOW_STACK {
-            self.closest_hit_with::<SHALLOW_STACK>(ray, t_max_m)
-        } else {
-            self.closest_hit_with::<TRAVERSAL_STACK>(ray, t_max_m)
+    /// The f64 box test of `ray`.
+    fn exact_boxes(&self, ray: &Ray) -> ExactBoxes<'_> {
+        ExactBoxes {
+            nodes: &self.nodes,
+            boxes: &self.exact_boxes,
+            origin_m: ray.origin_m,
+            inv_dir: ray.dir.recip(),
         }
     }
 
-    /// [`Bvh::closest_hit`] with a stack of `N` entries (more than `max_depth`).
+    /// The f32 box test of `ray`, if both it and the tree are within its reach.
     #[inline]
-    fn closest_hit_with<const N: usize>(&self, ray: &Ray, t_max_m: f64) -> Option<Hit> {
+    fn wide_ray(&self, ray: &Ray) -> Option<WideRay<'_>> {
+        if self.f32_boxes {
+            WideRay::new(&self.nodes, ray)
+        } else {
+            None
+        }
+    }
+
+    /// Closest intersection before `t_max_m`.
+    pub fn closest_hit(&self, ray: &Ray, t_max_m: f64) -> Option<Hit> {
         if self.nodes.is_empty() {
             return None;
         }
-        let inv = ray.dir.recip();
-        let mut t_best = t_max_m;
+        traverse!(self, closest_hit_with, ray, t_max_m)
+    }
+
+    /// [`Bvh::closest_hit`] with a stack of `N` entries (at least `3 * wide_depth + 4`) and
+    /// the box test `boxes`. Children are visited nearest entry first, and a pending one is
+    /// dropped once a hit is found before its entry.
+    #[inline]
+    fn closest_hit_with<const N: usize, B: ChildBoxes>(
+        &self,
+        ray: &Ray,
+        t_max_m: f64,
+        boxes: &B,
+    ) -> Option<Hit> {
+        let mut t_best = TMax::new(t_max_m);
         let mut best: Option<Hit> = None;
-        let mut stack = [0u32; N];
-        let mut sp = 0usize;
-        self.nodes[0]
-            .bounds
-            .hit_distance(ray.origin_m, inv, t_best)?;
-        stack[sp] = 0;
-        sp += 1;
+        let mut stack = [Pending::default(); N];
+        let mut sp = 1usize;
         while sp > 0 {
             sp -= 1;
-            let node = &self.nodes[stack[sp] as usize];
-            if node.count > 0 {
-                let first = node.first as usize;
-                for (k, p) in self.primitives[first..first + node.count as usize]
-                    .iter()
-                    .enumerate()
-                {
-                    if let Some((t, n)) = p.intersect(ray, t_best) {
-                        t_best = t;
+            let pending = stack[sp];
+            if pending.entry_m > t_best.f32_up {
+                continue;
+            }
+            let ni = pending.node as usize;
+            let (entry_m, mut mask) = boxes.children(ni, t_best);
+            let node = &self.nodes[ni];
+            // Leaves met are searched at once; the nodes met are pushed farthest first, so
+            // that the nearest is popped next.
+            let mut met = [Pending::default(); 4];
+            let mut n = 0;
+            while mask != 0 {
+                let c = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let first = node.first[c] as usize;
+                let count = node.count[c] as usize;
+                if count == 0 {
+                    let mut j = n;
+                    while j > 0 && met[j - 1].entry_m < entry_m[c] {
+                        met[j] = met[j - 1];
+                        j -= 1;
+                    }
+                    met[j] = Pending {
+                        entry_m: entry_m[c],
+                        node: node.first[c],
+                    };
+                    n += 1;
+                    continue;
+                }
+                for (k, p) in self.primitives[first..first + count].iter().enumerate() {
+                    if let Some((t, normal)) = p.intersect(ray, t_best.m) {
+                        t_best = TMax::new(t);
                         best = Some(Hit {
                             t_m: t,
-                            normal: n,
+                            normal,
                             primitive: (first + k) as u32,
                             object: p.object,
                         });
                     }
                 }
-                continue;
             }
-            let l = node.first as usize;
-            let dl = self.nodes[l].bounds.hit_distance(ray.origin_m, inv, t_best);
-            let dr = self.nodes[l + 1]
-                .bounds
-                .hit_distance(ray.origin_m, inv, t_best);
-            match (dl, dr) {
-                (Some(a), Some(b)) => {
-                    // Never more than max_depth + 1 entries: one pending sibling per level.
-                    let (near, far) = if a <= b { (l, l + 1) } else { (l + 1, l) };
-                    stack[sp] = far as u32;
-                    stack[sp + 1] = near as u32;
-                    sp += 2;
-                }
-                (Some(_), None) => {
-                    stack[sp] = l as u32;
-                    sp += 1;
-                }
-                (None, Some(_)) => {
-                    stack[sp] = (l + 1) as u32;
-                    sp += 1;
-                }
-                (None, None) => {}
+            // One at a time: a slice copy of a variable length is a call to memcpy.
+            for &pending in &met[..n] {
+                stack[sp] = pending;
+                sp += 1;
             }
         }
         best
@@ -245,48 +549,105 @@ impl Bvh {
 
     /// Whether anything blocks the ray before `t_max_m` (shadow test).
     pub fn any_hit(&self, ray: &Ray, t_max_m: f64) -> bool {
-        if self.max_depth < SHALLOW_STACK {
-            self.any_hit_with::<SHALLOW_STACK>(ray, t_max_m)
-        } else {
-            self.any_hit_with::<TRAVERSAL_STACK>(ray, t_max_m)
-        }
-    }
-
-    /// [`Bvh::any_hit`] with a stack of `N` entries (more than `max_depth`).
-    #[inline]
-    fn any_hit_with<const N: usize>(&self, ray: &Ray, t_max_m: f64) -> bool {
         if self.nodes.is_empty() {
             return false;
         }
-        let inv = ray.dir.recip();
+        traverse!(self, any_hit_with, ray, t_max_m)
+    }
+
+    /// [`Bvh::any_hit`] with a stack of `N` node indices (at least `3 * wide_depth + 4`)
+    /// and the box test `boxes`. A leaf is tested as soon as its box is met.
+    #[inline]
+    fn any_hit_with<const N: usize, B: ChildBoxes>(
+        &self,
+        ray: &Ray,
+        t_max_m: f64,
+        boxes: &B,
+    ) -> bool {
+        let t_max = TMax::new(t_max_m);
         let mut stack = [0u32; N];
         let mut sp = 1usize;
         while sp > 0 {
             sp -= 1;
-            let node = &self.nodes[stack[sp] as usize];
-            if node
-                .bounds
-                .hit_distance(ray.origin_m, inv, t_max_m)
-                .is_none()
-            {
-                continue;
-            }
-            if node.count > 0 {
-                let first = node.first as usize;
-                if self.primitives[first..first + node.count as usize]
+            let ni = stack[sp] as usize;
+            let (_, mut mask) = boxes.children(ni, t_max);
+            let node = &self.nodes[ni];
+            while mask != 0 {
+                let c = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let first = node.first[c] as usize;
+                let count = node.count[c] as usize;
+                if count == 0 {
+                    stack[sp] = node.first[c];
+                    sp += 1;
+                } else if self.primitives[first..first + count]
                     .iter()
                     .any(|p| p.intersect(ray, t_max_m).is_some())
                 {
                     return true;
                 }
-                continue;
             }
-            stack[sp] = node.first;
-            stack[sp + 1] = node.first + 1;
-            sp += 2;
         }
         false
     }
+}
+
+/// The 4-wide tree of a binary one (`nodes[0]` its root): each node takes the binary node's
+/// children and replaces the one with the largest surface that is not a leaf by its two
+/// children until it has four. Returns the nodes, their children's f64 boxes and the depth.
+fn collapse(binary: &[BuildNode]) -> (Vec<WideNode>, Vec<[Aabb; 4]>, usize) {
+    let mut wide = vec![WideNode::EMPTY];
+    let mut exact = vec![[Aabb::EMPTY; 4]];
+    let mut depth = 0;
+    let mut stack = vec![(0usize, 0usize, 0usize)];
+    while let Some((b, w, d)) = stack.pop() {
+        depth = depth.max(d);
+        // A root that is a leaf is the single child of the wide root.
+        let mut children = [0usize; 4];
+        let mut len = if binary[b].count > 0 {
+            children[0] = b;
+            1
+        } else {
+            children[0] = binary[b].first as usize;
+            children[1] = children[0] + 1;
+            2
+        };
+        while len < 4 {
+            // The interior child with the largest surface (the first of equals).
+            let mut widest: Option<(usize, f64)> = None;
+            for (i, &c) in children[..len].iter().enumerate() {
+                let area = binary[c].bounds.surface_area();
+                if binary[c].count == 0 && widest.is_none_or(|(_, a)| area > a) {
+                    widest = Some((i, area));
+                }
+            }
+            let Some((i, _)) = widest else { break };
+            let l = binary[children[i]].first as usize;
+            children.copy_within(i + 1..len, i + 2);
+            children[i] = l;
+            children[i + 1] = l + 1;
+            len += 1;
+        }
+        for (lane, &c) in children[..len].iter().enumerate() {
+            let bounds = binary[c].bounds;
+            exact[w][lane] = bounds;
+            for axis in 0..3 {
+                wide[w].planes[2 * axis][lane] = f32_down(bounds.min[axis]);
+                wide[w].planes[2 * axis + 1][lane] = f32_up(bounds.max[axis]);
+            }
+            if binary[c].count > 0 {
+                wide[w].first[lane] = binary[c].first;
+                wide[w].count[lane] = binary[c].count;
+            } else {
+                let child = wide.len();
+                wide.push(WideNode::EMPTY);
+                exact.push([Aabb::EMPTY; 4]);
+                wide[w].first[lane] = child as u32;
+                stack.push((c, child, d + 1));
+            }
+        }
+    }
+    (wide, exact, depth)
 }
 
 /// Binned SAH: the axis and split position with the lowest cost, if any beats a leaf.

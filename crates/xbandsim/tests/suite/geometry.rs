@@ -153,6 +153,8 @@ fn bvh_deep_chain_matches_brute_force() {
         "depth {}: the SAH's chain should be cut to medians below level 64",
         bvh.depth()
     );
+    // Spheres out to 17^99 m: beyond f32, so the f64 boxes and the full stack.
+    assert!(!bvh.boxes_in_f32() && bvh.wide_depth() > 20);
     let ordered = bvh.primitives().to_vec();
     let mut rng = Lcg(7);
     let mut rays = vec![
@@ -194,65 +196,265 @@ fn bvh_deep_chain_matches_brute_force() {
     assert!(!bvh.any_hit(&rays[0], 10.9));
 }
 
-/// Trees on either side of the depth where traversal switches from the short stack to the
-/// full one (31 and 32 levels), with the stack filled to depth + 1 by the closest-hit search
-/// and by the shadow test: every one finds what brute force finds, at every depth.
+/// Chains of 20 to 44 spheres: 4-wide trees of 5 to 13 levels, on either side of the depth
+/// where traversal switches from the short stack to the full one (9 and 10 levels), and on
+/// either side of the f32 boxes' reach (10^36 m: the chains of up to 30 spheres, whose
+/// farthest lies at 17^29 m, are tested in f32; the longer ones in f64). Every query finds
+/// what brute force finds, toward the chain's root and away from it, and the shadow test
+/// answers at the hit's distance to within 10^-9 of it.
 #[test]
 fn bvh_chains_around_the_short_stack_match_brute_force() {
     let mut depths = Vec::new();
-    for n in 24..=44 {
-        let bvh = sphere_chain(n, 1.0);
-        depths.push(bvh.depth());
-        let ordered = bvh.primitives().to_vec();
-        for k in 0..n {
-            // From halfway to sphere k, toward it and away from it: the nearest hit is
-            // sphere k or k - 1.
-            let origin = DVec3::new(0.5 * centre_m(k), 1e-3 * centre_m(k), 0.0);
-            for dir in [DVec3::X, -DVec3::X] {
-                let ray = Ray::new(origin, dir);
-                let a = bvh.closest_hit(&ray, f64::INFINITY);
-                let b = closest_hit_brute_force(&ordered, &ray, f64::INFINITY);
-                assert_eq!(
-                    a.map(|h| h.object),
-                    b.map(|h| h.object),
-                    "{n} spheres, depth {}: {ray:?}",
-                    bvh.depth()
-                );
-                if let Some(h) = b {
-                    assert!(bvh.any_hit(&ray, h.t_m * (1.0 + 1e-9)));
-                    assert!(!bvh.any_hit(&ray, h.t_m * (1.0 - 1e-9)));
+    for n in 20..=44 {
+        for side in [1.0, -1.0] {
+            let bvh = sphere_chain(n, side);
+            depths.push((bvh.wide_depth(), bvh.boxes_in_f32()));
+            assert_eq!(bvh.boxes_in_f32(), n <= 30, "{n} spheres");
+            let ordered = bvh.primitives().to_vec();
+            for k in 0..n {
+                // From halfway to sphere k, toward it and away from it: the nearest hit is
+                // sphere k or k - 1.
+                let origin = DVec3::new(side * 0.5 * centre_m(k), 1e-3 * centre_m(k), 0.0);
+                for dir in [DVec3::X, -DVec3::X] {
+                    let ray = Ray::new(origin, dir);
+                    let a = bvh.closest_hit(&ray, f64::INFINITY);
+                    let b = closest_hit_brute_force(&ordered, &ray, f64::INFINITY);
+                    assert_eq!(
+                        a.map(|h| h.object),
+                        b.map(|h| h.object),
+                        "{n} spheres, 4-wide depth {}: {ray:?}",
+                        bvh.wide_depth()
+                    );
+                    if let Some(h) = b {
+                        assert!(bvh.any_hit(&ray, h.t_m * (1.0 + 1e-9)));
+                        assert!(!bvh.any_hit(&ray, h.t_m * (1.0 - 1e-9)));
+                    }
                 }
             }
         }
     }
+    for (depth, in_f32) in [(9, false), (10, false), (8, true)] {
+        assert!(
+            depths.contains(&(depth, in_f32)),
+            "4-wide depths {depths:?} should include {depth} (boxes in f32: {in_f32})"
+        );
+    }
+}
+
+/// A row of 4096 spheres along x, 1 m apart, and rays along the row: the ray meets every box
+/// of the tree, so each node visited leaves up to three siblings pending and the closest-hit
+/// search and the shadow test run their stacks as deep as the tree allows. Both find what
+/// brute force finds, from every 37th gap and beyond either end.
+#[test]
+fn bvh_row_met_by_every_box_matches_brute_force() {
+    let prims: Vec<Primitive> = (0..4096)
+        .map(|i| Primitive {
+            kind: PrimitiveKind::Sphere {
+                centre: DVec3::new(i as f64, 0.0, 0.0),
+                radius_m: 0.3,
+            },
+            object: i,
+        })
+        .collect();
+    let bvh = Bvh::build(prims);
     assert!(
-        depths.contains(&31) && depths.contains(&32),
-        "depths {depths:?} should reach both sides of the switch"
+        bvh.boxes_in_f32() && bvh.wide_depth() >= 4,
+        "{}",
+        bvh.wide_depth()
     );
-    // The shadow test pushes both children and visits the right one first. On the chain along
-    // −x the right child is the deep subtree and the left one the farthest sphere, so a ray
-    // that meets every subtree's box leaves one sphere pending per level: the stack fills to
-    // depth + 1. Along −x at y = 3 cm it passes sphere 0 (radius 2 cm) and meets sphere 1
-    // (radius 34 cm, at x = −17 m) at 16.66 m.
-    let mut mirrored_depths = Vec::new();
-    for n in 24..=44 {
-        let bvh = sphere_chain(n, -1.0);
-        mirrored_depths.push(bvh.depth());
-        let ordered = bvh.primitives().to_vec();
-        let ray = Ray::new(DVec3::new(0.0, 0.03, 0.0), -DVec3::X);
-        for t_max_m in [16.0, 17.0] {
+    let ordered = bvh.primitives().to_vec();
+    let mut checked = 0;
+    for start in (-1..4097).step_by(37).chain([4097]) {
+        let origin = DVec3::new(start as f64 + 0.5, 0.01, -0.02);
+        for dir in [DVec3::X, -DVec3::X] {
+            let ray = Ray::new(origin, dir);
+            let a = bvh.closest_hit(&ray, f64::INFINITY);
+            let b = closest_hit_brute_force(&ordered, &ray, f64::INFINITY);
+            assert_eq!(a, b, "{ray:?}");
+            for t_max_m in [0.1, 0.25, 1.0, 1e4] {
+                assert_eq!(
+                    bvh.any_hit(&ray, t_max_m),
+                    closest_hit_brute_force(&ordered, &ray, t_max_m).is_some(),
+                    "{ray:?} to {t_max_m} m"
+                );
+            }
+            checked += usize::from(b.is_some());
+        }
+    }
+    assert!(checked > 200, "too few hits: {checked}");
+}
+
+/// The f32 box test at a radar scene's scale: ship-sized boxes, plates and triangle fans
+/// 1–20 km from a radar 15 m up, at coordinates that f32 cannot hold exactly. Rays from the
+/// radar toward points on them, rays leaving their surfaces (the shadow rays of a return),
+/// rays along the axes (direction components exactly zero) and rays lying in the planes of
+/// the boxes' faces, which meet the boxes' slabs at their edges: the BVH (f32 boxes) and
+/// brute force (no boxes) agree on every closest hit, and the shadow test on every segment.
+#[test]
+fn bvh_f32_boxes_match_brute_force_at_scene_scale() {
+    let mut rng = Lcg(2026);
+    let mut prims = Vec::new();
+    let mut faces = Vec::new();
+    let mut rays = Vec::new();
+    for object in 0..24u32 {
+        let range_m = 1_000.0 + 19_000.0 * rng.next();
+        let az = rng.next() * std::f64::consts::TAU;
+        let centre = DVec3::new(
+            range_m * az.sin() + 0.123_456_789,
+            range_m * az.cos() - 0.987_654_321,
+            rng.next() * 8.0,
+        );
+        let size = DVec3::new(
+            5.0 + 120.0 * rng.next(),
+            3.0 + 20.0 * rng.next(),
+            2.0 + 15.0 * rng.next(),
+        );
+        let shape = if object % 3 == 0 {
+            // Axis-aligned: its faces are planes of its own boxes.
+            faces.push((centre, size));
+            ShapeGeometry::Box { size_m: size }.primitives(
+                centre,
+                object_frame(0.0, 0.0, 0.0),
+                object,
+            )
+        } else {
+            let rot = object_frame(
+                rng.next() * 6.3,
+                rng.next() * 0.2 - 0.1,
+                rng.next() * 0.2 - 0.1,
+            );
+            ShapeGeometry::Box { size_m: size }.primitives(centre, rot, object)
+        };
+        prims.extend(shape);
+        for _ in 0..40 {
+            prims.push(Primitive {
+                kind: PrimitiveKind::Triangle {
+                    v0: centre + rng.vec(0.5) * size,
+                    e1: rng.vec(3.0),
+                    e2: rng.vec(3.0),
+                },
+                object,
+            });
+        }
+    }
+    // Plates whose corners f32 holds exactly (so their boxes gain nothing from rounding
+    // outward), facing the radar along x or y, 5–15 km out.
+    let mut plates = Vec::new();
+    for i in 0..16u32 {
+        let corner = DVec3::new(
+            (5_000.0 + 10_000.0 * rng.next()).round(),
+            (5_000.0 + 10_000.0 * rng.next()).round() * if i % 4 == 0 { -1.0 } else { 1.0 },
+            1.0,
+        );
+        let along = if i % 2 == 0 { DVec3::X } else { DVec3::Y } * 8.0;
+        let (edge_u, edge_v) = (along, DVec3::Z * 4.0);
+        plates.push((corner, edge_u, edge_v));
+        prims.push(Primitive {
+            kind: PrimitiveKind::Parallelogram {
+                corner,
+                edge_u,
+                edge_v,
+            },
+            object: 100 + i,
+        });
+    }
+    let bvh = Bvh::build(prims);
+    assert!(bvh.boxes_in_f32());
+    let ordered = bvh.primitives().to_vec();
+    let radar = DVec3::new(0.0, 0.0, 15.0);
+    // Rays aimed at the plates' edges, where a ray meets the box's slabs at the same distance
+    // to within rounding: from the radar (10 km: the products' rounding matters), and from
+    // 1–3 m in front of the plate (the origin's rounding to f32, half a millimetre there,
+    // matters), at origins f32 cannot hold.
+    for &(corner, edge_u, edge_v) in &plates {
+        let normal = edge_u.cross(edge_v).normalize();
+        for _ in 0..40 {
+            let (s, r) = (rng.next(), rng.next());
+            let on_edge = match (rng.next() * 4.0) as u32 {
+                0 => corner + edge_u * s,
+                1 => corner + edge_v * s,
+                2 => corner + edge_u + edge_v * s,
+                _ => corner + edge_v + edge_u * s,
+            };
+            rays.push((Ray::new(radar, on_edge - radar), f64::INFINITY));
+            let side = if normal.dot(radar - on_edge) > 0.0 {
+                1.0
+            } else {
+                -1.0
+            };
+            let near = on_edge + (normal * side * (1.0 + 2.0 * r) + rng.vec(0.7)) * 1.000_000_1;
+            rays.push((Ray::new(near, on_edge - near), f64::INFINITY));
+        }
+    }
+    for p in ordered.iter().step_by(3) {
+        let b = p.bounds();
+        let target = b.min + (b.max - b.min) * DVec3::new(rng.next(), rng.next(), rng.next());
+        rays.push((Ray::new(radar, target - radar), f64::INFINITY));
+    }
+    // Shadow rays: from just off a first hit, back toward the radar and toward its image
+    // below the sea, as a return's are.
+    for i in 0..rays.len() {
+        let (ray, _) = rays[i];
+        if let Some(h) = closest_hit_brute_force(&ordered, &ray, f64::INFINITY) {
+            let p = ray.at(h.t_m) - ray.dir * 1e-4;
+            rays.push((Ray::new(p, radar - p), (radar - p).length()));
+            let image = DVec3::new(radar.x, radar.y, -radar.z);
+            rays.push((
+                Ray::new(p, image - p),
+                p.z / (p.z + radar.z) * (image - p).length(),
+            ));
+        }
+    }
+    // Along the axes, through the axis-aligned boxes, and in the planes of their faces.
+    for &(centre, size) in &faces {
+        for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+            for offset in [DVec3::ZERO, size * 0.5, -size * 0.5, size * 0.25] {
+                let through = centre + offset - axis * offset.dot(axis);
+                for sign in [1.0, -1.0] {
+                    let origin = through - axis * sign * 300.0;
+                    rays.push((
+                        Ray {
+                            origin_m: origin,
+                            dir: axis * sign,
+                        },
+                        f64::INFINITY,
+                    ));
+                }
+            }
+        }
+    }
+    let mut hits = 0;
+    for &(ray, t_max_m) in &rays {
+        let a = bvh.closest_hit(&ray, t_max_m);
+        let b = closest_hit_brute_force(&ordered, &ray, t_max_m);
+        match (a, b) {
+            (Some(x), Some(y)) => {
+                hits += 1;
+                assert!(
+                    x.t_m == y.t_m && (x.primitive == y.primitive || x.normal == y.normal),
+                    "{ray:?}: bvh {x:?} vs brute force {y:?}"
+                );
+            }
+            (None, None) => {}
+            (x, y) => panic!("{ray:?}: bvh {x:?} vs brute force {y:?}"),
+        }
+        let reach = b.map_or(t_max_m.min(3e4), |h| h.t_m);
+        for t in [
+            reach * (1.0 - 1e-12),
+            reach * (1.0 + 1e-12),
+            t_max_m.min(3e4),
+        ] {
             assert_eq!(
-                bvh.any_hit(&ray, t_max_m),
-                closest_hit_brute_force(&ordered, &ray, t_max_m).is_some(),
-                "{n} spheres along -x, depth {}, t_max {t_max_m}",
-                bvh.depth()
+                bvh.any_hit(&ray, t),
+                closest_hit_brute_force(&ordered, &ray, t).is_some(),
+                "{ray:?} to {t} m"
             );
         }
-        assert!(!bvh.any_hit(&ray, 16.0) && bvh.any_hit(&ray, 17.0));
     }
     assert!(
-        mirrored_depths.contains(&31) && mirrored_depths.contains(&32),
-        "depths {mirrored_depths:?} should reach both sides of the switch"
+        hits > 400,
+        "too few hits to mean anything: {hits} of {}",
+        rays.len()
     );
 }
 
