@@ -46,12 +46,13 @@ const F32_REACH_M: f64 = 1e36;
 /// Direction components smaller than this but not zero take the f64 boxes too: their f32
 /// reciprocal would lose its relative accuracy (subnormals).
 const F32_MIN_DIRECTION: f64 = 1e-20;
-/// The relative margins on a box's f32 entry and exit distances: each is a difference, a
-/// reciprocal of a rounded direction and a product, at most 4 units of 2^-24 off in all;
-/// 2^-20 is 16 of them.
 /// 2^-23: `|f|` times this is at least one unit in the last place of the f32 `f`.
 const F32_EPSILON_HALF_UP: f32 = 1.0 / 8_388_608.0;
+/// The relative margins on a box's f32 entry and exit distances: each is a difference, a
+/// reciprocal of a rounded direction and a product, at most 4 units of 2^-24 off in all;
+/// 2^-20 is 16 of them. The entry distance is shrunk by this factor...
 const ENTRY_SHRINK: f32 = 1.0 - 1.0 / 1_048_576.0;
+/// ...and the exit distance grown by this one.
 const EXIT_GROW: f32 = 1.0 + 1.0 / 1_048_576.0;
 
 /// A node of the binary tree, during the build only.

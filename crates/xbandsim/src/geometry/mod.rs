@@ -119,8 +119,11 @@ impl Aabb {
     #[inline]
     pub fn hit_distance(&self, origin: DVec3, inv_dir: DVec3, t_max: f64) -> Option<f64> {
         // Compare-and-select (minsd/maxsd) rather than IEEE minNum/maxNum, which cost a NaN
-        // check each. A NaN slab (0·∞: a ray parallel to a face, starting in its plane; a
-        // set of measure zero) is then taken or ignored by operand order.
+        // check each. The near plane is picked by the direction's sign (a zero component's
+        // reciprocal is ±∞), so that a NaN distance (0·∞: a ray parallel to a face, starting
+        // in its plane) leaves the bound as it was and the box is kept, as the BVH's f32 test
+        // keeps it (taking min and max of the two distances instead dropped it at a minimum
+        // face).
         #[inline(always)]
         fn lo(a: f64, b: f64) -> f64 {
             if a < b {
@@ -139,10 +142,14 @@ impl Aabb {
         }
         let (mut tmin, mut tmax) = (0.0f64, t_max);
         for axis in 0..3 {
-            let t0 = (self.min[axis] - origin[axis]) * inv_dir[axis];
-            let t1 = (self.max[axis] - origin[axis]) * inv_dir[axis];
-            tmin = hi(lo(t0, t1), tmin);
-            tmax = lo(hi(t0, t1), tmax);
+            let inv = inv_dir[axis];
+            let (near, far) = if inv < 0.0 {
+                (self.max[axis], self.min[axis])
+            } else {
+                (self.min[axis], self.max[axis])
+            };
+            tmin = hi((near - origin[axis]) * inv, tmin);
+            tmax = lo((far - origin[axis]) * inv, tmax);
         }
         (tmin <= tmax).then_some(tmin)
     }

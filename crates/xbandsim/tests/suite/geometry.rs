@@ -197,11 +197,12 @@ fn bvh_deep_chain_matches_brute_force() {
 }
 
 /// Chains of 20 to 44 spheres: 4-wide trees of 5 to 13 levels, on either side of the depth
-/// where traversal switches from the short stack to the full one (9 and 10 levels), and on
-/// either side of the f32 boxes' reach (10^36 m: the chains of up to 30 spheres, whose
+/// where traversal switches from the short stack to the full one (9 and 10 levels, in f64),
+/// and on either side of the f32 boxes' reach (10^36 m: the chains of up to 30 spheres, whose
 /// farthest lies at 17^29 m, are tested in f32; the longer ones in f64). Every query finds
 /// what brute force finds, toward the chain's root and away from it, and the shadow test
-/// answers at the hit's distance to within 10^-9 of it.
+/// answers at the hit's distance to within 10^-9 of it. (A chain's nodes hold three leaves
+/// and one node, so these queries keep few nodes pending; the row below fills the stack.)
 #[test]
 fn bvh_chains_around_the_short_stack_match_brute_force() {
     let mut depths = Vec::new();
@@ -242,9 +243,9 @@ fn bvh_chains_around_the_short_stack_match_brute_force() {
 }
 
 /// A row of 4096 spheres along x, 1 m apart, and rays along the row: the ray meets every box
-/// of the tree, so each node visited leaves up to three siblings pending and the closest-hit
-/// search and the shadow test run their stacks as deep as the tree allows. Both find what
-/// brute force finds, from every 37th gap and beyond either end.
+/// of the tree, so each node visited leaves three siblings pending and the closest-hit search
+/// holds three entries a level (3·depth + 1) when it reaches the first leaf. Both it and the
+/// shadow test find what brute force finds, from every 37th gap and beyond either end.
 #[test]
 fn bvh_row_met_by_every_box_matches_brute_force() {
     let prims: Vec<Primitive> = (0..4096)
@@ -456,6 +457,36 @@ fn bvh_f32_boxes_match_brute_force_at_scene_scale() {
         "too few hits to mean anything: {hits} of {}",
         rays.len()
     );
+}
+
+/// A ray with zero direction components, starting in the plane of its target's minimum face:
+/// its slab distance there is 0·∞. Both box tests keep the box (the f64 one used to drop
+/// it), so the BVH finds the tangent hit brute force finds, in f32 and, with a second sphere
+/// beyond 10^36 m, in f64.
+#[test]
+fn bvh_keeps_a_box_whose_face_plane_holds_the_ray() {
+    let sphere = |x: f64, radius_m: f64, object: u32| Primitive {
+        kind: PrimitiveKind::Sphere {
+            centre: DVec3::new(x, 0.0, 5.0),
+            radius_m,
+        },
+        object,
+    };
+    let ray = Ray::new(DVec3::ZERO, DVec3::Z);
+    for prims in [
+        vec![sphere(1.0, 1.0, 0)],
+        vec![sphere(1.0, 1.0, 0), sphere(1e37, 1.0, 1)],
+    ] {
+        let bvh = Bvh::build(prims.clone());
+        assert_eq!(bvh.boxes_in_f32(), prims.len() == 1);
+        let want = closest_hit_brute_force(&prims, &ray, f64::INFINITY).expect("tangent at t = 5");
+        assert_eq!(want.t_m, 5.0);
+        let got = bvh
+            .closest_hit(&ray, f64::INFINITY)
+            .map(|h| (h.t_m, h.object));
+        assert_eq!(got, Some((5.0, 0)), "boxes in f32: {}", bvh.boxes_in_f32());
+        assert!(bvh.any_hit(&ray, 6.0) && !bvh.any_hit(&ray, 4.0));
+    }
 }
 
 /// Exact distances: sphere, plate, cylinder side and cap against closed forms.
