@@ -93,12 +93,6 @@ impl WideNode {
         first: [0; 4],
         count: [0; 4],
     };
-
-    /// Whether lane `c` holds a child.
-    #[inline]
-    fn used(&self, c: usize) -> bool {
-        self.count[c] > 0 || self.first[c] > 0
-    }
 }
 
 /// The largest f32 not above `x` (−∞ below f32's range).
@@ -241,7 +235,6 @@ impl ChildBoxes for WideRay<'_> {
 
 /// The f64 box test, for trees and rays beyond the f32 one's reach.
 struct ExactBoxes<'a> {
-    nodes: &'a [WideNode],
     boxes: &'a [[Aabb; 4]],
     origin_m: DVec3,
     inv_dir: DVec3,
@@ -252,10 +245,9 @@ impl ChildBoxes for ExactBoxes<'_> {
     fn children(&self, node: usize, t_max: TMax) -> ([f32; 4], u32) {
         let mut entry = [0f32; 4];
         let mut mask = 0;
+        // An unused lane's empty box is never met: its near plane is at +∞ along every
+        // direction (`Aabb::hit_distance` picks planes by the direction's sign).
         for (c, b) in self.boxes[node].iter().enumerate() {
-            if !self.nodes[node].used(c) {
-                continue;
-            }
             if let Some(t) = b.hit_distance(self.origin_m, self.inv_dir, t_max.m) {
                 entry[c] = f32_down(t);
                 mask |= 1 << c;
@@ -266,9 +258,12 @@ impl ChildBoxes for ExactBoxes<'_> {
 }
 
 /// Calls the traversal `$with` of `$bvh` with the stack its depth needs and the box test the
-/// tree and the ray allow (f32 where both are within its reach).
+/// tree and the ray allow (f32 where both are within its reach); `$empty` for an empty tree.
 macro_rules! traverse {
-    ($bvh:ident, $with:ident, $ray:expr, $t_max_m:expr) => {{
+    ($bvh:ident, $with:ident, $ray:expr, $t_max_m:expr, $empty:expr) => {{
+        if $bvh.nodes.is_empty() {
+            return $empty;
+        }
         let shallow = $bvh.wide_depth <= SHALLOW_DEPTH;
         match ($bvh.wide_ray($ray), shallow) {
             (Some(b), true) => $bvh.$with::<SHALLOW_STACK, _>($ray, $t_max_m, &b),
@@ -457,7 +452,6 @@ impl Bvh {
     /// The f64 box test of `ray`.
     fn exact_boxes(&self, ray: &Ray) -> ExactBoxes<'_> {
         ExactBoxes {
-            nodes: &self.nodes,
             boxes: &self.exact_boxes,
             origin_m: ray.origin_m,
             inv_dir: ray.dir.recip(),
@@ -476,10 +470,7 @@ impl Bvh {
 
     /// Closest intersection before `t_max_m`.
     pub fn closest_hit(&self, ray: &Ray, t_max_m: f64) -> Option<Hit> {
-        if self.nodes.is_empty() {
-            return None;
-        }
-        traverse!(self, closest_hit_with, ray, t_max_m)
+        traverse!(self, closest_hit_with, ray, t_max_m, None)
     }
 
     /// [`Bvh::closest_hit`] with a stack of `N` entries (at least `3 * wide_depth + 4`) and
@@ -550,10 +541,7 @@ impl Bvh {
 
     /// Whether anything blocks the ray before `t_max_m` (shadow test).
     pub fn any_hit(&self, ray: &Ray, t_max_m: f64) -> bool {
-        if self.nodes.is_empty() {
-            return false;
-        }
-        traverse!(self, any_hit_with, ray, t_max_m)
+        traverse!(self, any_hit_with, ray, t_max_m, false)
     }
 
     /// [`Bvh::any_hit`] with a stack of `N` node indices (at least `3 * wide_depth + 4`)
