@@ -307,7 +307,8 @@ impl Simulation {
 
     /// Adds one pulse's band-limited impulse response (targets weighted by the azimuth pattern
     /// for a beam at `beam_az_rad`, plus the clutter of spoke `spoke` with the pulse's speckle)
-    /// into `impulse_response` (noise-rms units); returns the earliest target sample written.
+    /// into `scratch.buffer[..record]` (noise-rms units); returns the earliest target sample
+    /// written.
     fn impulse_response(
         &self,
         clutter: Option<&ClutterMap>,
@@ -315,8 +316,9 @@ impl Simulation {
         spoke: usize,
         beam_az_rad: f64,
         speckle: RngKey,
-        impulse_response: &mut [Complex32],
+        scratch: &mut crate::processing::SpokeScratch,
     ) -> Option<usize> {
+        let impulse_response = &mut scratch.buffer[..self.compressor.record_len()];
         let earliest = groups.accumulate(
             self.scene.radar().antenna(),
             beam_az_rad,
@@ -324,7 +326,13 @@ impl Simulation {
             impulse_response,
         );
         if let Some(c) = clutter {
-            c.add_to_spoke(spoke, speckle, impulse_response);
+            c.add_to_spoke(
+                spoke,
+                speckle,
+                &mut scratch.clutter_sea,
+                &mut scratch.clutter_rain,
+                impulse_response,
+            );
         }
         earliest
     }
@@ -379,7 +387,7 @@ impl Simulation {
             spoke,
             pulse.azimuth_rad,
             RngKey::new(seed, frame, pulse.number, Stream::ClutterSpeckle),
-            &mut scratch.buffer[..record],
+            scratch,
         );
         if earliest.is_none() && clutter.is_none() && self.is_silent() && !scratch.capture_received
         {
@@ -429,7 +437,7 @@ impl Simulation {
             spoke as usize,
             beam_az_rad,
             RngKey::new(seed, frame, spoke, Stream::ClutterSpeckle),
-            &mut scratch.buffer[..record],
+            &mut scratch,
         );
         let mut echo = scratch.buffer.clone();
         self.compressor.synthesize_record(&mut echo, &mut scratch);

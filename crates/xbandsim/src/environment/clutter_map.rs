@@ -606,16 +606,26 @@ impl ClutterMap {
 
     /// Adds the clutter echo of one pulse with the beam at spoke `k` to `impulse_response`
     /// (noise-rms units): complex Gaussian speckle with the cell's power, drawn from the
-    /// pulse's `speckle` stream.
-    pub fn add_to_spoke(&self, k: usize, speckle: RngKey, impulse_response: &mut [Complex32]) {
+    /// pulse's `speckle` stream. `sea` and `rain` are the caller's buffers for the spoke's
+    /// beam-weighted powers (what they held before does not matter).
+    pub fn add_to_spoke(
+        &self,
+        k: usize,
+        speckle: RngKey,
+        sea: &mut Vec<f32>,
+        rain: &mut Vec<f32>,
+        impulse_response: &mut [Complex32],
+    ) {
         debug_assert_eq!(speckle.stream, Stream::ClutterSpeckle);
         let mut rng: Pcg64Mcg = speckle.rng();
         let n_max = self.samples.min(impulse_response.len());
         // Beam-weighted sea and rain power of this spoke, accumulated row by row (contiguous,
-        // vectorisable) into two per-spoke buffers.
+        // vectorisable) into the caller's two buffers.
         let has_rain = !self.rain[k].is_empty();
-        let mut sea = vec![0f32; n_max];
-        let mut rain = vec![0f32; if has_rain { n_max } else { 0 }];
+        sea.clear();
+        sea.resize(n_max, 0.0);
+        rain.clear();
+        rain.resize(if has_rain { n_max } else { 0 }, 0.0);
         for (t, &w) in self.weights.iter().enumerate() {
             let j = self.neighbour(k, t);
             for (acc, &v) in sea.iter_mut().zip(&self.sea[j][..n_max]) {

@@ -127,13 +127,18 @@ fn centre_m(i: i32) -> f64 {
 /// (`side` ±1), radius 2 % of 17^i: spaced too far apart for the SAH's bins, so a chain one
 /// level per sphere, the farthest sphere split off at each level.
 fn sphere_chain(n: i32, side: f64) -> Bvh {
-    let prims: Vec<Primitive> = (0..n)
+    sphere_chain_from(0, n, side)
+}
+
+/// [`sphere_chain`] of the spheres `first..first + n` (17^first m the nearest).
+fn sphere_chain_from(first: i32, n: i32, side: f64) -> Bvh {
+    let prims: Vec<Primitive> = (first..first + n)
         .map(|i| Primitive {
             kind: PrimitiveKind::Sphere {
                 centre: DVec3::new(side * centre_m(i), 0.0, 0.0),
                 radius_m: 0.02 * centre_m(i),
             },
-            object: i as u32,
+            object: (i - first) as u32,
         })
         .collect();
     Bvh::build(prims)
@@ -211,33 +216,64 @@ fn bvh_chains_around_the_short_stack_match_brute_force() {
             let bvh = sphere_chain(n, side);
             depths.push((bvh.wide_depth(), bvh.boxes_in_f32()));
             assert_eq!(bvh.boxes_in_f32(), n <= 30, "{n} spheres");
-            let ordered = bvh.primitives().to_vec();
-            for k in 0..n {
-                // From halfway to sphere k, toward it and away from it: the nearest hit is
-                // sphere k or k - 1.
-                let origin = DVec3::new(side * 0.5 * centre_m(k), 1e-3 * centre_m(k), 0.0);
-                for dir in [DVec3::X, -DVec3::X] {
-                    let ray = Ray::new(origin, dir);
-                    let a = bvh.closest_hit(&ray, f64::INFINITY);
-                    let b = closest_hit_brute_force(&ordered, &ray, f64::INFINITY);
-                    assert_eq!(
-                        a.map(|h| h.object),
-                        b.map(|h| h.object),
-                        "{n} spheres, 4-wide depth {}: {ray:?}",
-                        bvh.wide_depth()
-                    );
-                    if let Some(h) = b {
-                        assert!(bvh.any_hit(&ray, h.t_m * (1.0 + 1e-9)));
-                        assert!(!bvh.any_hit(&ray, h.t_m * (1.0 - 1e-9)));
-                    }
-                }
-            }
+            check_chain_queries(&bvh, 0, n, side);
         }
     }
     for (depth, in_f32) in [(9, false), (10, false), (8, true)] {
         assert!(
             depths.contains(&(depth, in_f32)),
             "4-wide depths {depths:?} should include {depth} (boxes in f32: {in_f32})"
+        );
+    }
+}
+
+/// Every query of the chain tests on the chain of spheres `first..first + n`: from halfway to
+/// each sphere, toward it and away from it (the nearest hit is that sphere or the one
+/// before), the closest hit is brute force's, and the shadow test answers at its distance to
+/// within 10^-9 of it.
+fn check_chain_queries(bvh: &Bvh, first: i32, n: i32, side: f64) {
+    let ordered = bvh.primitives().to_vec();
+    for k in first..first + n {
+        let origin = DVec3::new(side * 0.5 * centre_m(k), 1e-3 * centre_m(k), 0.0);
+        for dir in [DVec3::X, -DVec3::X] {
+            let ray = Ray::new(origin, dir);
+            let a = bvh.closest_hit(&ray, f64::INFINITY);
+            let b = closest_hit_brute_force(&ordered, &ray, f64::INFINITY);
+            assert_eq!(
+                a.map(|h| h.object),
+                b.map(|h| h.object),
+                "spheres {first}..{}, 4-wide depth {}: {ray:?}",
+                first + n,
+                bvh.wide_depth()
+            );
+            if let Some(h) = b {
+                assert!(bvh.any_hit(&ray, h.t_m * (1.0 + 1e-9)));
+                assert!(!bvh.any_hit(&ray, h.t_m * (1.0 - 1e-9)));
+            }
+        }
+    }
+}
+
+/// The short/full stack switch with f32 boxes: chains of 30 to 44 spheres starting at 17^-15 m
+/// (3.5·10^-19 m) make 4-wide trees of 7 to 12 levels while their farthest sphere (17^28 m at
+/// most) stays within the f32 boxes' reach, so both stacks run with f32 boxes (the chains from
+/// 1 m get only 8 levels before leaving it); every query matches brute force as above.
+#[test]
+fn bvh_f32_chains_around_the_short_stack_match_brute_force() {
+    let first = -15;
+    let mut depths = Vec::new();
+    for n in 30..=44 {
+        for side in [1.0, -1.0] {
+            let bvh = sphere_chain_from(first, n, side);
+            assert!(bvh.boxes_in_f32(), "{n} spheres from 17^{first} m");
+            depths.push(bvh.wide_depth());
+            check_chain_queries(&bvh, first, n, side);
+        }
+    }
+    for depth in [9, 10] {
+        assert!(
+            depths.contains(&depth),
+            "4-wide depths {depths:?} should include {depth} (f32 boxes)"
         );
     }
 }
