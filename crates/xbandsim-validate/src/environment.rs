@@ -176,11 +176,14 @@ pub fn clutter_cell_statistics(environment_lines: &str, frames: u64) -> ClutterC
 }
 
 /// Power loss (dB) of a point target at 3 km behind uniform rain of `rate` mm/h, against
-/// the same scene without rain: (expected −2·γ·R, measured).
+/// the same scene without rain: (expected −2·γ·R, measured). Radar and target are at 4 m
+/// inside a rain layer 5 m deep; the target's 10⁴ m² keep the rain's own echo in its cell
+/// (the layer's volume, about 50 dB below the target) from moving the peak by more than
+/// 0.03 dB.
 pub fn rain_attenuation_db(rate_mm_per_h: f64) -> (f64, f64) {
     let range_m = bin_range_m(2000.0, 100e6);
     let run = |rain: f64| {
-        let text = format!("[environment]\nnoise = false\nclutter = false\nmultipath = false\nrain_rate_mm_per_h = {rain}\nrain_top_m = 1.0\n[radar]\nposition_m = [0.0, 0.0, 4.0]\nmax_range_m = 3200.0\n{}", point_north("p", range_m, 10.0));
+        let text = format!("[environment]\nnoise = false\nclutter = false\nmultipath = false\nrain_rate_mm_per_h = {rain}\nrain_top_m = 5.0\n[radar]\nposition_m = [0.0, 0.0, 4.0]\nmax_range_m = 3200.0\n{}", point_north("p", range_m, 1e4));
         let (_, frame) = render_text(&text, 1);
         spoke(&frame, 0)[1998..2003]
             .iter()
@@ -336,7 +339,7 @@ pub(crate) fn checks(out: &mut Checks) {
         e,
         m,
         "dB",
-        Tolerance::Absolute(0.1),
+        Tolerance::Absolute(0.05),
         "ITU-R P.838-3",
     ));
     let (e, m) = rain_clutter_power_db(8.0, 700);

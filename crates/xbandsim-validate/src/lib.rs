@@ -60,7 +60,8 @@ impl Tolerance {
     pub fn describe(&self, unit: &str) -> String {
         match *self {
             Tolerance::Absolute(t) => format!("±{t} {unit}"),
-            Tolerance::Relative(t) => format!("±{}%", t * 100.0),
+            // Rounded to 10⁻⁶ %: 0.07 is not 7 % exactly in binary.
+            Tolerance::Relative(t) => format!("±{}%", (t * 1e8).round() / 1e6),
             Tolerance::AtMost(t) => format!("≤ {t} {unit}"),
             Tolerance::AtLeast(t) => format!("≥ {t} {unit}"),
         }

@@ -118,8 +118,9 @@ impl RiceCdf {
 /// below), in four columns on the spokes at 0°, 90°, 180° and 270°, each with the RCS that
 /// the radar equation gives an SNR of `snr` (linear). For each target and each of `frames`
 /// revolutions (seeds 1, 2, …): its peak power in the noise-free render `|s|²` and at the same
-/// cell with noise `|s + n|²`, in noise-power units (the record's unit). Different cells and
-/// seeds have independent noise (docs/validation.md).
+/// cell with noise `|s + n|²`, in noise-power units (the record's unit). The cells' noise is
+/// independent: each spoke and seed has its own noise stream, and along a spoke the
+/// compressed noise's power correlation 25 bins apart is about 4·10⁻⁴.
 pub fn steady_targets_in_noise(snr: f64, frames: u64) -> Vec<(f64, f64)> {
     let extra = "max_range_m = 1500.0\npulse_width_us = 0.5";
     let radar_scene = xbandsim::model::Scene::from_toml_str(&radar_block(extra), "validation")
@@ -376,8 +377,9 @@ pub(crate) fn checks(out: &mut Checks) {
         0.01,
         noise_false_alarm_rate(threshold),
         "",
-        // 342 000 cells, neighbours correlated (two samples per resolution cell): about
-        // 2.4 % rms, so ±7 % is 3σ.
+        // 323 640 cells (360 spokes × 899 bins), neighbours correlated (two samples per
+        // resolution cell, which inflates the variance about 1.3×): about 2 % rms, so ±7 %
+        // is 3.5σ.
         Tolerance::Relative(0.07),
         "Rice, Bell Syst. Tech. J. 24, 1945, §3.7; Skolnik, Radar Handbook, 3rd ed., §2.5",
     ));
@@ -402,7 +404,7 @@ pub(crate) fn checks(out: &mut Checks) {
         pd_expected,
         pd_measured,
         "",
-        Tolerance::Absolute(0.025),
+        Tolerance::Absolute(0.02),
         "Marcum, IRE Trans. IT-6, 1960; ±3σ of a binomial fraction over the cells",
     ));
     for (w, t) in [("none", 1.0), ("hamming", 1.0), ("taylor", 5.0)] {
@@ -492,8 +494,10 @@ mod tests {
     }
 
     /// The KS distance is below the 1 % critical value for samples drawn as the model says and
-    /// above it when the noise is 1 dB stronger than the unit the transform assumes (4000
-    /// samples at 10 dB, as the check has: D ≈ 0.04 against 0.026), so the check can fail.
+    /// more than twice that value when the noise is 2 dB stronger than the unit the transform
+    /// assumes (4000 samples at 10 dB, as the check has; a 1 dB error gives D ≈ 0.034 in the
+    /// limit, too close to the critical 0.026 for one fixed sample to show it reliably), so
+    /// the check can fail.
     #[test]
     fn rice_ks_distance_tells_a_wrong_noise_power() {
         // SplitMix64 uniforms and Box–Muller normals: a generator of the test's own.
@@ -517,7 +521,7 @@ mod tests {
         };
         let right: Vec<_> = (0..4000).map(|_| draw(1.0, &mut normal)).collect();
         let wrong: Vec<_> = (0..4000)
-            .map(|_| draw(10f64.powf(0.1), &mut normal))
+            .map(|_| draw(10f64.powf(0.2), &mut normal))
             .collect();
         let limit = 1.63 / 4000f64.sqrt();
         assert!(
@@ -526,7 +530,7 @@ mod tests {
             rice_ks_distance(&right)
         );
         assert!(
-            rice_ks_distance(&wrong) > limit,
+            rice_ks_distance(&wrong) > 2.0 * limit,
             "{}",
             rice_ks_distance(&wrong)
         );

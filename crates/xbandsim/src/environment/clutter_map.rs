@@ -374,7 +374,13 @@ impl ClutterMap {
             rows.iter()
                 .map(|r| {
                     r.as_ref().map_or(1.0, |r| {
-                        two_way_rain_loss(a.one_way_db_slant_along(&[], r.ground_m, r.slant_m))
+                        two_way_rain_loss(a.one_way_db_path_along(
+                            &[],
+                            r.ground_m,
+                            r.slant_m,
+                            h,
+                            0.0,
+                        ))
                     })
                 })
                 .collect()
@@ -409,7 +415,7 @@ impl ClutterMap {
             let rain_db = |g: f64, r: f64| {
                 attenuator
                     .as_ref()
-                    .map_or(0.0, |a| a.one_way_db_slant_along(&chords, g, r))
+                    .map_or(0.0, |a| a.one_way_db_path_along(&chords, g, r, h, 0.0))
             };
             let wind_rel = clutter.map_or(0.0, |c| az - c.wind_from_rad());
             let swell_rel = clutter.map_or(0.0, |c| az - c.swell_from_rad());

@@ -339,7 +339,8 @@ fn loss_db(power_factor: f64) -> f64 {
 }
 
 /// Two-way rain attenuation along the straight path from the radar to `target_m`, dB: its
-/// slant length through the rain columns, as the echo loses it (docs/physics.md §2.7).
+/// slant length through the rain columns below the rain top, as the echo loses it
+/// (docs/physics.md §2.7).
 pub fn rain_two_way_loss_db(radar: &Radar, environment: &Environment, target_m: DVec3) -> f64 {
     let Some(rain) = environment.rain() else {
         return 0.0;
@@ -352,7 +353,14 @@ pub fn rain_two_way_loss_db(radar: &Radar, environment: &Environment, target_m: 
         radar.carrier_freq_hz() / 1e9,
         radar.polarisation() == Polarisation::Hh,
     );
-    2.0 * attenuator.one_way_db_slant(radar.position_m().truncate(), dir, ground, slant)
+    2.0 * attenuator.one_way_db_path(
+        radar.position_m().truncate(),
+        dir,
+        ground,
+        slant,
+        radar.position_m().z,
+        target_m.z,
+    )
 }
 
 /// Whether the straight line from the radar to `p` meets another object than `object`

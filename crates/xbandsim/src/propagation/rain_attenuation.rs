@@ -150,27 +150,66 @@ impl RainAttenuator<'_> {
         self.one_way_db_along(&self.chords(from, dir), range_m)
     }
 
-    /// [`RainAttenuator::one_way_db_slant`] along a track with these `chords`, for
+    /// The part of a straight path from height `from_z_m` to `to_z_m` that lies below the
+    /// rain top, as an interval `[s0, s1]` of the path's fraction from its start (empty,
+    /// `s0 = s1`, when the whole path is above it).
+    #[inline]
+    fn below_top(&self, from_z_m: f64, to_z_m: f64) -> (f64, f64) {
+        let top = self.rain.top_m;
+        match (from_z_m <= top, to_z_m <= top) {
+            (true, true) => (0.0, 1.0),
+            (false, false) => (0.0, 0.0),
+            (true, false) => (0.0, (top - from_z_m) / (to_z_m - from_z_m)),
+            (false, true) => ((from_z_m - top) / (from_z_m - to_z_m), 1.0),
+        }
+    }
+
+    /// [`RainAttenuator::one_way_db_path`] along a track with these `chords`, for
     /// `ground_m` > 0 (the clutter map evaluates many ranges along one spoke's track).
     #[inline]
-    pub fn one_way_db_slant_along(
+    pub fn one_way_db_path_along(
         &self,
         chords: &[(f64, f64, f64)],
         ground_m: f64,
         slant_m: f64,
+        from_z_m: f64,
+        to_z_m: f64,
     ) -> f64 {
-        self.one_way_db_along(chords, ground_m) * (slant_m / ground_m)
+        let (s0, s1) = self.below_top(from_z_m, to_z_m);
+        if s1 <= s0 {
+            return 0.0;
+        }
+        // The ground track's stretch under the rain top: chords are clipped to it (a whole
+        // path below the top is the track from 0 to ground_m, the chords' own start ≥ 0).
+        let (g0, g1) = (s0 * ground_m, s1 * ground_m);
+        let on_track = self.uniform_db_per_m * (g1 - g0)
+            + chords
+                .iter()
+                .map(|&(t0, t1, g)| (g1.min(t1) - g0.max(t0)).max(0.0) * g)
+                .sum::<f64>();
+        on_track * (slant_m / ground_m)
     }
 
-    /// One-way attenuation (dB) of a straight path `slant_m` long whose ground track runs
-    /// from `from` along unit `dir` for `ground_m`: rain cells are vertical columns, so each
-    /// chord on the track is `slant_m / ground_m` longer along the path (docs/physics.md
-    /// §2.7). A vertical path (`ground_m` 0) loses the specific attenuation where it stands
-    /// times its length. Targets' echoes and their labels both use it.
-    pub fn one_way_db_slant(&self, from: DVec2, dir: DVec2, ground_m: f64, slant_m: f64) -> f64 {
+    /// One-way attenuation (dB) of a straight path `slant_m` long from height `from_z_m` to
+    /// `to_z_m` whose ground track runs from `from` along unit `dir` for `ground_m`: rain fills
+    /// vertical columns from the sea up to the rain top, so the path loses γ over its part
+    /// below the top, and each chord on the track is `slant_m / ground_m` longer along the
+    /// path (docs/physics.md §2.7). A vertical path (`ground_m` 0) loses the specific
+    /// attenuation where it stands times its length below the top. Targets' echoes, their
+    /// labels and the clutter map all use it.
+    pub fn one_way_db_path(
+        &self,
+        from: DVec2,
+        dir: DVec2,
+        ground_m: f64,
+        slant_m: f64,
+        from_z_m: f64,
+        to_z_m: f64,
+    ) -> f64 {
         if ground_m > 0.0 {
-            self.one_way_db_slant_along(&self.chords(from, dir), ground_m, slant_m)
+            self.one_way_db_path_along(&self.chords(from, dir), ground_m, slant_m, from_z_m, to_z_m)
         } else {
+            let (s0, s1) = self.below_top(from_z_m, to_z_m);
             let here: f64 = self
                 .rain
                 .cells
@@ -179,7 +218,7 @@ impl RainAttenuator<'_> {
                 .filter(|(c, _)| (from - c.centre_m).length() <= c.radius_m)
                 .map(|(_, &g)| g)
                 .sum();
-            (self.uniform_db_per_m + here) * slant_m
+            (self.uniform_db_per_m + here) * slant_m * (s1 - s0)
         }
     }
 }
@@ -200,5 +239,56 @@ mod tests {
             (kv - 0.01129).abs() < 5e-5 && (av - 1.2156).abs() < 5e-4,
             "{kv} {av}"
         );
+    }
+
+    /// The part of a path under the rain top: a whole path below it loses γ·R, one above it
+    /// nothing, and one that crosses it γ over the stretch below (from either end), with a
+    /// rain cell's chord clipped the same way.
+    #[test]
+    fn only_the_path_below_the_rain_top_is_attenuated() {
+        use crate::environment::rain::{Rain, RainCell};
+        let rain = Rain {
+            uniform_rate_mm_per_h: 10.0,
+            top_m: 100.0,
+            cells: vec![RainCell {
+                centre_m: DVec2::new(0.0, 300.0),
+                radius_m: 100.0,
+                rate_mm_per_h: 40.0,
+            }],
+        };
+        let a = rain.attenuator(9.41, true);
+        let gamma = specific_attenuation_db_per_km(9.41, 10.0, true) / 1000.0;
+        let cell = specific_attenuation_db_per_km(9.41, 40.0, true) / 1000.0;
+        let (o, north) = (DVec2::ZERO, DVec2::new(0.0, 1.0));
+        let close = |x: f64, y: f64| (x - y).abs() < 1e-12 * y.abs().max(1.0);
+        // Ground track 1000 m (the cell's chord 200..400 m), slant 1000·√2 from 0 up to 1000 m.
+        let slant = 1000.0 * 2f64.sqrt();
+        let below = a.one_way_db_path(o, north, 1000.0, slant, 4.0, 4.0);
+        assert!(close(below, (gamma * 1000.0 + cell * 200.0) * 2f64.sqrt()));
+        assert_eq!(
+            a.one_way_db_path(o, north, 1000.0, slant, 150.0, 900.0),
+            0.0
+        );
+        // Climbing from 0 to 1000 m: the first 100 m of height, the track's first 100 m.
+        let up = a.one_way_db_path(o, north, 1000.0, slant, 0.0, 1000.0);
+        assert!(close(up, gamma * 100.0 * 2f64.sqrt()), "{up}");
+        // Descending from 1000 m to 0: the track's last 100 m (no cell there).
+        let down = a.one_way_db_path(o, north, 1000.0, slant, 1000.0, 0.0);
+        assert!(close(down, gamma * 100.0 * 2f64.sqrt()), "{down}");
+        // Climbing from 0 to 250 m: the track's first 400 m, the whole chord.
+        let part = a.one_way_db_path(o, north, 1000.0, slant, 0.0, 250.0);
+        assert!(
+            close(part, (gamma * 400.0 + cell * 200.0) * 2f64.sqrt()),
+            "{part}"
+        );
+        // Climbing from 0 to 333.33 m: the first 300 m of track, half the chord.
+        let half = a.one_way_db_path(o, north, 1000.0, slant, 0.0, 1000.0 / 3.0);
+        assert!(
+            close(half, (gamma * 300.0 + cell * 100.0) * 2f64.sqrt()),
+            "{half}"
+        );
+        // Straight up from inside the cell: 100 m of its rain and the uniform rain.
+        let up_here = a.one_way_db_path(DVec2::new(0.0, 300.0), north, 0.0, 500.0, 0.0, 500.0);
+        assert!(close(up_here, (gamma + cell) * 100.0), "{up_here}");
     }
 }

@@ -183,15 +183,20 @@ pub fn trace_scene(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         // The specific attenuations (ITU-R P.838-3) once per scene, not per contribution.
         let attenuator = rain.attenuator(freq_ghz, horizontal);
         // A leg's attenuation: γ integrated along its track on the ground through the rain
-        // columns, times the slant length over the track length (1/cos el), so that a
-        // slant leg through uniform rain loses γ·R (docs/physics.md §2.7; the labels'
-        // `losses.rain` uses the same function).
+        // columns, times the slant length over the track length (1/cos el), over the part of
+        // the leg below the rain top, so that a slant leg through uniform rain loses γ·R
+        // (docs/physics.md §2.7; the labels' `losses.rain` uses the same function). A leg
+        // via the sea runs to the object's image below it: the straight line to the image
+        // has the real path's length below the top.
+        let radar_z_m = radar.position_m().z;
         let leg_db = |az: f64, el: f64, range_m: f64| {
-            attenuator.one_way_db_slant(
+            attenuator.one_way_db_path(
                 from,
                 glam::DVec2::new(az.sin(), az.cos()),
                 range_m * el.cos(),
                 range_m,
+                radar_z_m,
+                radar_z_m + range_m * el.sin(),
             )
         };
         for c in &mut set.contributions {

@@ -124,8 +124,9 @@ fn clutter_cells_have_the_documented_statistics() {
 
 #[test]
 fn rain_attenuation_and_reflectivity() {
+    // The rain layer's own echo in the target's cell moves the peak by under 0.03 dB.
     let (e, m) = rain_attenuation_db(16.0);
-    assert!((e - m).abs() < 0.1, "{e} {m}");
+    assert!((e - m).abs() < 0.05, "{e} {m}");
     // The mean of 41 bins × 1024 spokes of speckle: about 0.035 dB rms from seed to seed.
     let (e, m) = rain_clutter_power_db(8.0, 700);
     assert!((e - m).abs() < 0.15, "{e} {m}");

@@ -8,15 +8,17 @@ use xbandsim_validate::{bin_range_m, radar_block_no_noise};
 
 /// A point target behind a rain cell: the label's rain loss equals 2·γ·(chord through the
 /// cell) with ITU-R P.838-3's γ, and its expected SNR equals the measured matched-filter
-/// peak (target on an output bin, noise off) within 0.05 dB.
+/// peak (target on an output bin, noise off) within 0.05 dB. Radar and target are at 4 m in a
+/// rain layer 5 m deep (attenuation counts only the path below the top); the target's
+/// 10⁴ m² keep the rain's own echo in its cell from moving the peak.
 #[test]
 fn rain_on_the_path_is_in_the_label() {
     let range_m = bin_range_m(1800.0, 100e6);
     let text = format!(
-        "[environment]\nnoise = false\nclutter = false\nmultipath = false\nrain_top_m = 1.0\n\
+        "[environment]\nnoise = false\nclutter = false\nmultipath = false\nrain_top_m = 5.0\n\
          [[environment.rain_cell]]\ncentre_m = [0.0, 1400.0]\nradius_m = 400.0\nrate_mm_per_h = 40.0\n\
          [radar]\nposition_m = [0.0, 0.0, 4.0]\nmax_range_m = 3000.0\n{}",
-        point_north("p", range_m, 10.0)
+        point_north("p", range_m, 1e4)
     );
     let (_, frame) = render(&text, 1);
     let t = &frame.truth[0];
@@ -61,6 +63,38 @@ fn rain_on_a_slant_path_is_in_the_label() {
         t.losses_db.rain
     );
     assert!(slant_db - track_db > 0.2, "{slant_db} {track_db}");
+    label_snr_is_the_peak(&frame, 700);
+}
+
+/// A target 30° above the radar, above a rain layer 100 m deep: the path loses γ over its
+/// part below the rain top alone, (100 − 4 m)/sin 30° = 192 m of 1049 m, in the echo and in
+/// the label (attenuation once ignored the top and charged the whole path: 2.2 dB more
+/// here), and the expected SNR equals the measured peak within 0.05 dB.
+#[test]
+fn rain_above_the_rain_top_is_not_charged() {
+    let range_m = bin_range_m(700.0, 100e6);
+    let el = 30f64.to_radians();
+    let (ground_m, height_m) = (range_m * el.cos(), 4.0 + range_m * el.sin());
+    let text = format!(
+        "[environment]\nnoise = false\nclutter = false\nmultipath = false\nrain_top_m = 100.0\n\
+         rain_rate_mm_per_h = 40.0\n\
+         [radar]\nposition_m = [0.0, 0.0, 4.0]\nmax_range_m = 1500.0\ntilt_deg = 30.0\n\
+         [[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 1e4\n\
+         position_m = [0.0, {ground_m}, {height_m}]\n"
+    );
+    let (_, frame) = render(&text, 1);
+    let t = &frame.truth[0];
+    let gamma = xbandsim::propagation::specific_attenuation_db_per_km(9.41, 40.0, true);
+    let below_m = (100.0 - 4.0) / el.sin();
+    let expected_db = 2.0 * gamma * below_m / 1000.0;
+    let whole_db = 2.0 * gamma * range_m / 1000.0;
+    assert!(
+        (t.losses_db.rain - expected_db).abs() < 0.01,
+        "label rain loss {:.3} dB, 2γ·{below_m:.0} m = {expected_db:.3} dB (whole path: \
+         {whole_db:.3} dB)",
+        t.losses_db.rain
+    );
+    assert!(whole_db - expected_db > 1.0, "{whole_db} {expected_db}");
     label_snr_is_the_peak(&frame, 700);
 }
 

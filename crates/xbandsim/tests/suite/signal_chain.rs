@@ -338,13 +338,14 @@ fn raw_spoke_matches_fast_path() {
     }
 }
 
-/// The pulse compressor's scratch is only scratch: a fresh one, one filled with NaN and one
-/// that just served another spoke give bit-identical outputs (with noise, clutter and
-/// blanking, the paths that use every buffer).
+/// The pulse compressor's scratch is only scratch: a fresh one, one filled with NaN after
+/// serving another spoke (so that its grown buffers, the clutter rows included, hold NaN) and
+/// one that just served another spoke give bit-identical outputs (with noise, sea clutter,
+/// rain and blanking, the paths that use every buffer).
 #[test]
 fn dirty_scratch_does_not_change_the_output() {
     for extra in [
-        "clutter = true\nnoise = true",
+        "clutter = true\nnoise = true\nrain_rate_mm_per_h = 4.0",
         "clutter = false\nnoise = false",
     ] {
         let text = format!(
@@ -361,7 +362,15 @@ fn dirty_scratch_does_not_change_the_output() {
         };
         let fresh = run(&mut sim.compressor().scratch(), 3);
         let mut poisoned = sim.compressor().scratch();
+        run(&mut poisoned, 5);
         poisoned.fill(Complex32::new(f32::NAN, f32::INFINITY));
+        if extra.starts_with("clutter = true") {
+            assert!(
+                poisoned.clutter_sea.iter().all(|x| x.is_nan())
+                    && !poisoned.clutter_rain.is_empty(),
+                "the clutter rows should be grown and poisoned"
+            );
+        }
         let mut reused = sim.compressor().scratch();
         run(&mut reused, 7);
         for (name, out) in [
