@@ -36,23 +36,33 @@ fn rain_on_the_path_is_in_the_label() {
     );
 }
 
+/// A 10⁴ m² point target 30° above a radar at 4 m (beam tilted onto it) on the output bin 700
+/// (1049 m), noise off, in the rain of `rain` (environment lines): its frame, slant range and
+/// ground range.
+fn target_30_degrees_up_in(rain: &str) -> (xbandsim::Frame, f64, f64) {
+    let range_m = bin_range_m(700.0, 100e6);
+    let el = 30f64.to_radians();
+    let (ground_m, height_m) = (range_m * el.cos(), 4.0 + range_m * el.sin());
+    let text = format!(
+        "[environment]\nnoise = false\nclutter = false\nmultipath = false\n{rain}\n\
+         [radar]\nposition_m = [0.0, 0.0, 4.0]\nmax_range_m = 1500.0\ntilt_deg = 30.0\n\
+         [[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 1e4\n\
+         position_m = [0.0, {ground_m}, {height_m}]\n"
+    );
+    let (_, frame) = render(&text, 1);
+    (frame, range_m, ground_m)
+}
+
 /// A target 30° above the radar inside a rain column: the echo and the label both lose
 /// 2·γ·R over the slant path R, not over its ground track (docs/physics.md §2.7; the label
 /// once used the track alone, 0.3 dB less here), and the expected SNR equals the measured
 /// peak (noise off; the beam tilted onto the target) within 0.05 dB.
 #[test]
 fn rain_on_a_slant_path_is_in_the_label() {
-    let range_m = bin_range_m(700.0, 100e6);
-    let el = 30f64.to_radians();
-    let (ground_m, height_m) = (range_m * el.cos(), 4.0 + range_m * el.sin());
-    let text = format!(
-        "[environment]\nnoise = false\nclutter = false\nmultipath = false\nrain_top_m = 2000.0\n\
-         [[environment.rain_cell]]\ncentre_m = [0.0, 450.0]\nradius_m = 600.0\nrate_mm_per_h = 40.0\n\
-         [radar]\nposition_m = [0.0, 0.0, 4.0]\nmax_range_m = 1500.0\ntilt_deg = 30.0\n\
-         [[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 1e4\n\
-         position_m = [0.0, {ground_m}, {height_m}]\n"
+    let (frame, range_m, ground_m) = target_30_degrees_up_in(
+        "rain_top_m = 2000.0\n[[environment.rain_cell]]\ncentre_m = [0.0, 450.0]\n\
+         radius_m = 600.0\nrate_mm_per_h = 40.0",
     );
-    let (_, frame) = render(&text, 1);
     let t = &frame.truth[0];
     let gamma = xbandsim::propagation::specific_attenuation_db_per_km(9.41, 40.0, true);
     let slant_db = 2.0 * gamma * range_m / 1000.0;
@@ -72,20 +82,11 @@ fn rain_on_a_slant_path_is_in_the_label() {
 /// here), and the expected SNR equals the measured peak within 0.05 dB.
 #[test]
 fn rain_above_the_rain_top_is_not_charged() {
-    let range_m = bin_range_m(700.0, 100e6);
-    let el = 30f64.to_radians();
-    let (ground_m, height_m) = (range_m * el.cos(), 4.0 + range_m * el.sin());
-    let text = format!(
-        "[environment]\nnoise = false\nclutter = false\nmultipath = false\nrain_top_m = 100.0\n\
-         rain_rate_mm_per_h = 40.0\n\
-         [radar]\nposition_m = [0.0, 0.0, 4.0]\nmax_range_m = 1500.0\ntilt_deg = 30.0\n\
-         [[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 1e4\n\
-         position_m = [0.0, {ground_m}, {height_m}]\n"
-    );
-    let (_, frame) = render(&text, 1);
+    let (frame, range_m, _) =
+        target_30_degrees_up_in("rain_top_m = 100.0\nrain_rate_mm_per_h = 40.0");
     let t = &frame.truth[0];
     let gamma = xbandsim::propagation::specific_attenuation_db_per_km(9.41, 40.0, true);
-    let below_m = (100.0 - 4.0) / el.sin();
+    let below_m = (100.0 - 4.0) / 30f64.to_radians().sin();
     let expected_db = 2.0 * gamma * below_m / 1000.0;
     let whole_db = 2.0 * gamma * range_m / 1000.0;
     assert!(
