@@ -178,7 +178,7 @@ pub fn clutter_cell_statistics(environment_lines: &str, frames: u64) -> ClutterC
 /// Power loss (dB) of a point target at 3 km behind uniform rain of `rate` mm/h, against
 /// the same scene without rain: (expected −2·γ·R, measured). Radar and target are at 4 m
 /// inside a rain layer 5 m deep; the target's 10⁴ m² keep the rain's own echo in its cell
-/// (the layer's volume, about 50 dB below the target) from moving the peak by more than
+/// (the layer's volume, 50 dB or more below the target) from moving the peak by more than
 /// 0.03 dB.
 pub fn rain_attenuation_db(rate_mm_per_h: f64) -> (f64, f64) {
     let range_m = bin_range_m(2000.0, 100e6);

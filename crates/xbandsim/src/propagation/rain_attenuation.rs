@@ -150,17 +150,30 @@ impl RainAttenuator<'_> {
         self.one_way_db_along(&self.chords(from, dir), range_m)
     }
 
-    /// The part of a straight path from height `from_z_m` to `to_z_m` that lies below the
-    /// rain top, as an interval `[s0, s1]` of the path's fraction from its start (empty,
-    /// `s0 = s1`, when the whole path is above it).
+    /// The part of a straight path from height `from_z_m` to `to_z_m` that lies in the rain,
+    /// `|z| ≤ top`, as an interval `[s0, s1]` of the path's fraction from its start (empty,
+    /// `s0 = s1`, when none of it does). Real paths have `z ≥ 0`, where this is `z ≤ top`; a
+    /// leg via the sea is drawn to its object's mirror image below the sea, and folding that
+    /// straight line at z = 0 gives the real broken path, so `|z| ≤ top` picks out exactly the
+    /// real path's stretch under the top (with the same ground track).
     #[inline]
     fn below_top(&self, from_z_m: f64, to_z_m: f64) -> (f64, f64) {
         let top = self.rain.top_m;
-        match (from_z_m <= top, to_z_m <= top) {
-            (true, true) => (0.0, 1.0),
-            (false, false) => (0.0, 0.0),
-            (true, false) => (0.0, (top - from_z_m) / (to_z_m - from_z_m)),
-            (false, true) => ((from_z_m - top) / (from_z_m - to_z_m), 1.0),
+        let dz = to_z_m - from_z_m;
+        if dz == 0.0 {
+            return if from_z_m.abs() <= top {
+                (0.0, 1.0)
+            } else {
+                (0.0, 0.0)
+            };
+        }
+        // Where the line meets z = top and z = −top; between them it is in the rain.
+        let (a, b) = ((top - from_z_m) / dz, (-top - from_z_m) / dz);
+        let (s0, s1) = (a.min(b).max(0.0), a.max(b).min(1.0));
+        if s1 > s0 {
+            (s0, s1)
+        } else {
+            (0.0, 0.0)
         }
     }
 
@@ -243,7 +256,8 @@ mod tests {
 
     /// The part of a path under the rain top: a whole path below it loses γ·R, one above it
     /// nothing, and one that crosses it γ over the stretch below (from either end), with a
-    /// rain cell's chord clipped the same way.
+    /// rain cell's chord clipped the same way at either of its ends; a leg drawn to an object's
+    /// image below the sea is charged the real broken path's stretch under the top.
     #[test]
     fn only_the_path_below_the_rain_top_is_attenuated() {
         use crate::environment::rain::{Rain, RainCell};
@@ -290,5 +304,37 @@ mod tests {
         // Straight up from inside the cell: 100 m of its rain and the uniform rain.
         let up_here = a.one_way_db_path(DVec2::new(0.0, 300.0), north, 0.0, 500.0, 0.0, 500.0);
         assert!(close(up_here, (gamma + cell) * 100.0), "{up_here}");
+        // Descending from 1000 m into a deeper layer (top 700 m): the track from 300 m on,
+        // the cell's chord clipped at its start to 300..400 m.
+        let deep = Rain {
+            top_m: 700.0,
+            ..rain.clone()
+        };
+        let d = deep.attenuator(9.41, true);
+        let down_deep = d.one_way_db_path(o, north, 1000.0, slant, 1000.0, 0.0);
+        assert!(
+            close(down_deep, (gamma * 700.0 + cell * 100.0) * 2f64.sqrt()),
+            "{down_deep}"
+        );
+        // A leg via the sea to an object 300 m up, drawn to its image at −300 m from a radar
+        // at 15 m: the real path (down to the sea, up to 300 m) is under the 100 m top from
+        // its start until it climbs through 100 m, 115/315 of it, as is the image line
+        // between z = 15 and z = −100. The whole image line would be charged without the fold.
+        // Its track under the top ends at 365 m, inside the cell's chord (200..400 m).
+        let image = a.one_way_db_path(o, north, 1000.0, slant, 15.0, -300.0);
+        let under_m = 1000.0 * 115.0 / 315.0;
+        assert!(
+            close(
+                image,
+                (gamma * under_m + cell * (under_m - 200.0)) * 2f64.sqrt()
+            ),
+            "{image}"
+        );
+        // A level path at the top is in the rain; one above it is not.
+        assert!(a.one_way_db_path(o, north, 1000.0, 1000.0, 100.0, 100.0) > 0.0);
+        assert_eq!(
+            a.one_way_db_path(o, north, 1000.0, 1000.0, 101.0, 101.0),
+            0.0
+        );
     }
 }

@@ -186,8 +186,9 @@ pub fn trace_scene(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         // columns, times the slant length over the track length (1/cos el), over the part of
         // the leg below the rain top, so that a slant leg through uniform rain loses γ·R
         // (docs/physics.md §2.7; the labels' `losses.rain` uses the same function). A leg
-        // via the sea runs to the object's image below it: the straight line to the image
-        // has the real path's length below the top.
+        // via the sea runs to the object's image below it: that line folded at the sea is the
+        // real path, and `one_way_db_path` charges its stretch with |z| ≤ top, the real
+        // path's under the top.
         let radar_z_m = radar.position_m().z;
         let leg_db = |az: f64, el: f64, range_m: f64| {
             attenuator.one_way_db_path(
