@@ -4,7 +4,7 @@
 
 use crate::harness::*;
 use crate::{check, Checks, Tolerance};
-use xbandsim::constants::{linear_to_db, SPEED_OF_LIGHT_M_PER_S};
+use xbandsim::constants::{db_to_linear, linear_to_db, SPEED_OF_LIGHT_M_PER_S};
 use xbandsim::scattering::rcs::{RcsSettings, RcsTarget};
 
 /// A noise-free compressed profile of a 1 m² point target beyond c·T/2, finely sampled
@@ -48,16 +48,19 @@ pub fn snr_error_db(window: &str, pulse_us: f64) -> (f64, f64) {
 
 /// Mean noise power over all spokes past the blanked interval, dB.
 pub fn noise_mean_db(seed: u64) -> f64 {
+    let powers = noise_only_powers(seed);
+    linear_to_db(powers.iter().sum::<f64>() / powers.len() as f64)
+}
+
+/// The power of every cell of a noise-only revolution (seed `seed`, 1500 m) past the blanked
+/// interval, in noise-power units (the record's unit), spoke by spoke.
+fn noise_only_powers(seed: u64) -> Vec<f64> {
     let (sim, frame) = render_text(&radar_block("max_range_m = 1500.0"), seed);
     let start = sim.compressor().pulse_len() + 2;
-    let (mut sum, mut n) = (0.0, 0usize);
-    for k in 0..frame.spokes {
-        for &d in &spoke(&frame, k)[start..] {
-            sum += 10f64.powf(d as f64 / 10.0);
-            n += 1;
-        }
-    }
-    linear_to_db(sum / n as f64)
+    (0..frame.spokes)
+        .flat_map(|k| spoke(&frame, k)[start..].iter())
+        .map(|&d| db_to_linear(d as f64))
+        .collect()
 }
 
 /// The Rice distribution of the envelope of a steady signal in complex Gaussian noise (Rice,
@@ -143,7 +146,7 @@ pub fn steady_targets_in_noise(snr: f64, frames: u64) -> Vec<(f64, f64)> {
             );
         }
     }
-    let power = |db: f32| 10f64.powf(db as f64 / 10.0);
+    let power = |db: f32| db_to_linear(db as f64);
     let (_, clean) = render_text(&format!("{}{objects}", radar_block_no_noise(extra)), 1);
     // Each target's peak cell in the noise-free render.
     let cells: Vec<(usize, usize, f64)> = spokes
@@ -213,17 +216,8 @@ pub fn steady_target_pd(samples: &[(f64, f64)], threshold: f64) -> (f64, f64) {
 /// Fraction of noise-only cells (all spokes past the blanked interval, seed 7) whose power
 /// exceeds `threshold` (noise-power units): `exp(−T)` for complex Gaussian noise.
 pub fn noise_false_alarm_rate(threshold: f64) -> f64 {
-    let (sim, frame) = render_text(&radar_block("max_range_m = 1500.0"), 7);
-    let start = sim.compressor().pulse_len() + 2;
-    let level_db = 10.0 * threshold.log10();
-    let (mut over, mut n) = (0usize, 0usize);
-    for k in 0..frame.spokes {
-        for &d in &spoke(&frame, k)[start..] {
-            over += usize::from(d as f64 > level_db);
-            n += 1;
-        }
-    }
-    over as f64 / n as f64
+    let powers = noise_only_powers(7);
+    powers.iter().filter(|&&p| p > threshold).count() as f64 / powers.len() as f64
 }
 
 /// Peak (dB) of a noise-free 1 m² point target at range bin `bin` with a 2 µs pulse and
