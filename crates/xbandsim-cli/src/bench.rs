@@ -430,9 +430,9 @@ fn dataset_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<
     let stages = one.install(|| dataset_stages(&spec, n))?;
     let names = [
         "draw the sample, build the scene and its BVH",
-        "PO trace of the targets",
+        "PO trace of the targets, their echo groups",
         "frame: clutter map, echoes, noise, matched filter",
-        "target-only render (masks)",
+        "target-only render of the boxes' spokes (masks)",
         "scan conversion, PNG, truth.json",
         "masks",
     ];
@@ -461,12 +461,14 @@ fn dataset_stages(spec: &xbandsim_dataset::DatasetSpec, n: u64) -> Result<[f64; 
         let t2 = Instant::now();
         let frame = sim.render_frame_outputs(sample.render_seed, 0, Default::default(), &|| {})?;
         let t3 = Instant::now();
-        let quiet = sim.targets_only().render_frame_outputs(
-            sample.render_seed,
-            0,
-            Default::default(),
-            &|| {},
-        )?;
+        // As the dataset does: only the spokes of the objects' polar boxes.
+        let quiet = sim
+            .targets_only()
+            .only_spokes(&xbandsim_dataset::labels::mask_spokes(
+                &frame.truth,
+                frame.spokes,
+            ))
+            .render_frame_outputs(sample.render_seed, 0, Default::default(), &|| {})?;
         let t4 = Instant::now();
         let encoded = xbandsim::products::frame_files::encode_frame_files(
             sim.scene().radar(),

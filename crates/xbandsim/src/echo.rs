@@ -27,10 +27,11 @@ const KERNEL_KAISER_BETA: f64 = 7.0;
 /// Azimuth cells per beamwidth used to group contributions.
 pub const AZIMUTH_CELLS_PER_BEAMWIDTH: f64 = 64.0;
 
-/// Tabulated Kaiser-windowed-sinc fractional-delay kernel.
+/// Tabulated Kaiser-windowed-sinc fractional-delay kernel (one table per process, shared:
+/// it depends on nothing but the constants above).
 #[derive(Debug, Clone)]
 pub struct FractionalDelayKernel {
-    table: Vec<f32>,
+    table: std::sync::Arc<[f32]>,
 }
 
 impl Default for FractionalDelayKernel {
@@ -40,8 +41,16 @@ impl Default for FractionalDelayKernel {
 }
 
 impl FractionalDelayKernel {
-    /// Builds the table: for each fraction μ, taps at offsets `1 − TAPS/2 ..= TAPS/2`.
+    /// The table: for each fraction μ, taps at offsets `1 − TAPS/2 ..= TAPS/2` (tabulated
+    /// on first use, then shared).
     pub fn new() -> Self {
+        static TABLE: std::sync::OnceLock<std::sync::Arc<[f32]>> = std::sync::OnceLock::new();
+        FractionalDelayKernel {
+            table: TABLE.get_or_init(Self::tabulate).clone(),
+        }
+    }
+
+    fn tabulate() -> std::sync::Arc<[f32]> {
         let half = (KERNEL_TAPS / 2) as f64;
         let i0_beta = crate::special::bessel_i0(KERNEL_KAISER_BETA);
         let mut table = Vec::with_capacity(KERNEL_PHASES * KERNEL_TAPS);
@@ -63,7 +72,7 @@ impl FractionalDelayKernel {
             let dc: f64 = taps.iter().sum();
             table.extend(taps.iter().map(|v| (v / dc) as f32));
         }
-        FractionalDelayKernel { table }
+        table.into()
     }
 
     /// Offset of the first tap relative to `floor(delay)`.

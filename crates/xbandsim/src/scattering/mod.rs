@@ -190,22 +190,35 @@ pub fn trace_scene(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         // real path, and `one_way_db_path` charges its stretch with |z| ≤ top, the real
         // path's under the top.
         let radar_z_m = radar.position_m().z;
-        let leg_db = |az: f64, el: f64, range_m: f64| {
+        // A leg's direction as (sin az, cos az, cos el, sin el).
+        let trig = |az: f64, el: f64| (az.sin(), az.cos(), el.cos(), el.sin());
+        let leg_db = |(sin_az, cos_az, cos_el, sin_el): (f64, f64, f64, f64), range_m: f64| {
             attenuator.one_way_db_path(
                 from,
-                glam::DVec2::new(az.sin(), az.cos()),
-                range_m * el.cos(),
+                glam::DVec2::new(sin_az, cos_az),
+                range_m * cos_el,
                 range_m,
                 radar_z_m,
-                radar_z_m + range_m * el.sin(),
+                radar_z_m + range_m * sin_el,
             )
         };
+        // A tube's returns share their outgoing direction, and most return along it: each
+        // direction's sines and cosines are kept for the next contribution (the same values).
+        let mut tx_trig = crate::special::LastCall::new();
+        let mut rx_trig = crate::special::LastCall::new();
         for c in &mut set.contributions {
             // Each leg's length: half the path for a monostatic single bounce is exact; for
             // multi-bounce paths the legs are close to it at the ranges where rain matters.
             let half = 0.5 * c.path_m;
-            let db =
-                leg_db(c.az_tx_rad, c.el_tx_rad, half) + leg_db(c.az_rx_rad, c.el_rx_rad, half);
+            let tx_key = (c.az_tx_rad.to_bits(), c.el_tx_rad.to_bits());
+            let rx_key = (c.az_rx_rad.to_bits(), c.el_rx_rad.to_bits());
+            let tx = tx_trig.get_or(tx_key, || trig(c.az_tx_rad, c.el_tx_rad));
+            let rx = if rx_key == tx_key {
+                tx
+            } else {
+                rx_trig.get_or(rx_key, || trig(c.az_rx_rad, c.el_rx_rad))
+            };
+            let db = leg_db(tx, half) + leg_db(rx, half);
             c.amplitude_v *= 10f64.powf(-db / 20.0);
         }
     }
