@@ -81,6 +81,14 @@ impl FractionalDelayKernel {
     /// Taps for a delay of `delay_samples`: returns (index of the first tap, taps).
     #[inline]
     pub fn taps(&self, delay_samples: f64) -> (i64, &[f32]) {
+        let (first, at) = self.taps_index(delay_samples);
+        (first, self.taps_at(at))
+    }
+
+    /// As [`FractionalDelayKernel::taps`], with the taps as their place in the table
+    /// ([`FractionalDelayKernel::taps_at`]).
+    #[inline]
+    fn taps_index(&self, delay_samples: f64) -> (i64, u32) {
         let base = crate::special::floor_exact(delay_samples);
         let mut idx =
             crate::special::round_exact((delay_samples - base) * KERNEL_PHASES as f64) as usize;
@@ -89,10 +97,13 @@ impl FractionalDelayKernel {
             idx = 0;
             first += 1;
         }
-        (
-            first,
-            &self.table[idx * KERNEL_TAPS..(idx + 1) * KERNEL_TAPS],
-        )
+        (first, (idx * KERNEL_TAPS) as u32)
+    }
+
+    /// The taps starting at `at` in the table.
+    #[inline]
+    fn taps_at(&self, at: u32) -> &[f32] {
+        &self.table[at as usize..at as usize + KERNEL_TAPS]
     }
 }
 
@@ -113,6 +124,21 @@ pub struct EchoGroup {
     offset: usize,
     /// Largest |h| in the group (noise-rms units).
     pub peak: f32,
+}
+
+/// What one contribution adds to its group ([`EchoGroups::build_tilted`]).
+#[derive(Debug, Clone, Copy, Default)]
+struct Member {
+    /// Sample of its first kernel tap.
+    first: i64,
+    /// Where its taps start in the kernel's table.
+    taps_at: u32,
+    /// Amplitude with its elevation weight, noise-rms units.
+    a: Complex64,
+    /// Unit phasor of its transmit azimuth (for the group's mean).
+    az_tx: Complex64,
+    /// Unit phasor of its receive azimuth.
+    az_rx: Complex64,
 }
 
 /// All groups of one scene state, impulse responses in units of the noise rms voltage.
@@ -174,42 +200,86 @@ impl EchoGroups {
             .map(|(i, c)| (key(c), i as u32))
             .collect();
         sort_by_key_stable(&mut order);
+        // Each kept contribution's place in group order.
+        const DROPPED: u32 = u32::MAX;
+        let mut place = vec![DROPPED; contributions.len()];
+        for (pos, &(_, i)) in order.iter().enumerate() {
+            place[i as usize] = pos as u32;
+        }
+        // What each member adds, computed in the contributions' own order (a tube's returns
+        // are neighbours there and share their transmit direction and elevation) and stored
+        // at its place in group order, so that the groups then read their members in one
+        // sequential pass: the members of a group lie far apart in `contributions`, and
+        // reading them there was a cache miss each. The values, and the order in which each
+        // group sums them, are those of taking the members one by one.
+        let mut members_out = vec![Member::default(); order.len()];
+        let inv_noise = 1.0 / noise_rms_v;
+        let mut tx_sin_cos = crate::special::LastCall::new();
+        let mut pattern_tx = crate::special::LastCall::new();
+        let mut pattern_rx = crate::special::LastCall::new();
+        let mut tilted: Option<(u32, Antenna)> = None;
+        for (c, &pos) in contributions.iter().zip(&place) {
+            if pos == DROPPED {
+                continue;
+            }
+            let (first, taps_at) = kernel.taps_index(c.delay_s() * sample_rate_hz);
+            let tilt = object_tilt_rad
+                .get(c.object as usize)
+                .copied()
+                .unwrap_or(0.0);
+            let ant = if tilt != 0.0 {
+                if tilted.as_ref().is_none_or(|(o, _)| *o != c.object) {
+                    // A new antenna: the cached pattern values were another tilt's.
+                    tilted = Some((c.object, antenna.tilted_by(tilt)));
+                    pattern_tx = crate::special::LastCall::new();
+                    pattern_rx = crate::special::LastCall::new();
+                }
+                &tilted.as_ref().expect("set above").1
+            } else {
+                if tilted.take().is_some() {
+                    pattern_tx = crate::special::LastCall::new();
+                    pattern_rx = crate::special::LastCall::new();
+                }
+                antenna
+            };
+            let (el_tx, el_rx) = (c.el_tx_rad, c.el_rx_rad);
+            let g_tx = pattern_tx.get_or(el_tx.to_bits(), || ant.elevation_pattern(el_tx));
+            let g_rx = pattern_rx.get_or(el_rx.to_bits(), || ant.elevation_pattern(el_rx));
+            let el_weight = (g_tx * g_rx).sqrt();
+            let (sin_tx, cos_tx) = tx_sin_cos.get_or(c.az_tx_rad.to_bits(), || {
+                crate::special::sin_cos_fast(c.az_tx_rad)
+            });
+            let (sin_rx, cos_rx) = crate::special::sin_cos_fast(c.az_rx_rad);
+            members_out[pos as usize] = Member {
+                first,
+                taps_at,
+                a: c.amplitude_v * (el_weight * inv_noise),
+                az_tx: Complex64::new(cos_tx, sin_tx),
+                az_rx: Complex64::new(cos_rx, sin_rx),
+            };
+        }
+        drop(place);
         let mut groups = Vec::new();
         let mut arena: Vec<Complex32> = Vec::new();
-        let mut start = 0;
-        let inv_noise = 1.0 / noise_rms_v;
         // One group's sum before rounding to f32, reused from group to group.
         let mut acc: Vec<Complex64> = Vec::new();
-        // One group's members' kernel taps, amplitude and elevations, gathered in the first
-        // pass: the members lie far apart in `contributions`, so they are read once.
-        let mut gathered: Vec<(i64, &[f32], Complex64, f64, f64)> = Vec::new();
+        let mut start = 0;
         while start < order.len() {
             let k = order[start].0;
             let mut end = start;
             while end < order.len() && order[end].0 == k {
                 end += 1;
             }
-            let members = &order[start..end];
+            let members = &members_out[start..end];
             let mut lo = i64::MAX;
             let mut hi = i64::MIN;
             let (mut az_tx_sum, mut az_rx_sum) =
                 (Complex64::new(0.0, 0.0), Complex64::new(0.0, 0.0));
-            gathered.clear();
-            // A tube's returns share their transmit azimuth: its sine and cosine are kept
-            // for the next member.
-            let mut tx_sin_cos = crate::special::LastCall::new();
-            for &(_, i) in members {
-                let c = &contributions[i as usize];
-                let (first, taps) = kernel.taps(c.delay_s() * sample_rate_hz);
-                gathered.push((first, taps, c.amplitude_v, c.el_tx_rad, c.el_rx_rad));
-                lo = lo.min(first.max(0));
-                hi = hi.max(first + KERNEL_TAPS as i64);
-                let (sin_tx, cos_tx) = tx_sin_cos.get_or(c.az_tx_rad.to_bits(), || {
-                    crate::special::sin_cos_fast(c.az_tx_rad)
-                });
-                let (sin_rx, cos_rx) = crate::special::sin_cos_fast(c.az_rx_rad);
-                az_tx_sum += Complex64::new(cos_tx, sin_tx);
-                az_rx_sum += Complex64::new(cos_rx, sin_rx);
+            for m in members {
+                lo = lo.min(m.first.max(0));
+                hi = hi.max(m.first + KERNEL_TAPS as i64);
+                az_tx_sum += m.az_tx;
+                az_rx_sum += m.az_rx;
             }
             let lo = lo as usize;
             let len = (hi.max(lo as i64 + 1) as usize) - lo;
@@ -218,25 +288,10 @@ impl EchoGroups {
             let slot = &mut arena[offset..offset + len];
             acc.clear();
             acc.resize(len, Complex64::new(0.0, 0.0));
-            let tilted;
-            let ant =
-                match object_tilt_rad.get(contributions[members[0].1 as usize].object as usize) {
-                    Some(&t) if t != 0.0 => {
-                        tilted = antenna.tilted_by(t);
-                        &tilted
-                    }
-                    _ => antenna,
-                };
-            // A tube's returns share their transmit elevation, and neighbours in a group
-            // often their receive one: each pattern value is kept for the next member.
-            let mut pattern_tx = crate::special::LastCall::new();
-            let mut pattern_rx = crate::special::LastCall::new();
-            for &(first, taps, amplitude_v, el_tx, el_rx) in &gathered {
-                let g_tx = pattern_tx.get_or(el_tx.to_bits(), || ant.elevation_pattern(el_tx));
-                let g_rx = pattern_rx.get_or(el_rx.to_bits(), || ant.elevation_pattern(el_rx));
-                let el_weight = (g_tx * g_rx).sqrt();
-                let a = amplitude_v * (el_weight * inv_noise);
-                let start = first - lo as i64;
+            for m in members {
+                let taps = kernel.taps_at(m.taps_at);
+                let a = m.a;
+                let start = m.first - lo as i64;
                 if start >= 0 {
                     // Every tap inside the group (all but taps before sample 0): one slice.
                     let start = start as usize;
@@ -257,9 +312,8 @@ impl EchoGroups {
                 *dst = Complex32::new(src.re as f32, src.im as f32);
                 peak = peak.max(dst.norm());
             }
-            let c0 = &contributions[members[0].1 as usize];
             groups.push(EchoGroup {
-                object: c0.object,
+                object: (k >> 40) as u32,
                 az_tx_rad: crate::special::rem_euclid_tau(az_tx_sum.arg()),
                 az_rx_rad: crate::special::rem_euclid_tau(az_rx_sum.arg()),
                 first_sample: lo,
