@@ -70,6 +70,13 @@ impl Antenna {
         sinc2_pattern(wrap_angle_rad(delta_az_rad), self.az_beamwidth_rad)
     }
 
+    /// `|u|` of the azimuth pattern at `delta_az_rad` off the beam axis: the pattern
+    /// `[sin(u)/u]²` is at most `1/u²` there (its envelope), which needs no sine.
+    #[inline]
+    pub fn azimuth_pattern_abs_u(&self, delta_az_rad: f64) -> f64 {
+        (SINC_BEAMWIDTH_FACTOR * wrap_angle_rad(delta_az_rad) / self.az_beamwidth_rad).abs()
+    }
+
     /// The same antenna with its beam axis raised by `extra_tilt_rad` (the deck's roll and
     /// pitch).
     pub fn tilted_by(&self, extra_tilt_rad: f64) -> Antenna {

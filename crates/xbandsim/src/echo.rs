@@ -398,6 +398,9 @@ impl EchoGroups {
         let mut earliest: Option<usize> = None;
         let mut sum = 0f32;
         for g in groups {
+            if surely_below(g, antenna, beam_az_rad, min_amplitude) {
+                continue;
+            }
             let w = azimuth_weight(g, antenna, beam_az_rad);
             if w * g.peak < min_amplitude {
                 continue;
@@ -422,6 +425,9 @@ impl EchoGroups {
         let mut earliest: Option<usize> = None;
         let mut sum = 0f32;
         for g in groups {
+            if surely_below(g, antenna, beam_az_rad, min_amplitude) {
+                continue;
+            }
             let w = azimuth_weight(g, antenna, beam_az_rad);
             if w * g.peak < min_amplitude {
                 continue;
@@ -460,6 +466,27 @@ fn azimuth_weight(g: &EchoGroup, antenna: &Antenna, beam_az_rad: f64) -> f32 {
         return tx as f32;
     }
     (tx * antenna.azimuth_pattern(g.az_rx_rad - beam_az_rad)).sqrt() as f32
+}
+
+/// Relative margin of [`surely_below`] over the envelope: the computed weight exceeds its
+/// bound `1/|u_tx·u_rx|` by the sine's error (10⁻¹³), a few f64 roundings and the two f32
+/// roundings of the weight and its product with the peak (6·10⁻⁸ each).
+const ENVELOPE_MARGIN: f64 = 1.0 + 1e-6;
+
+/// Whether `azimuth_weight(g)·g.peak < min_amplitude` for a beam at `beam_az_rad` is sure
+/// from the pattern's envelope alone (`[sin(u)/u]² ≤ 1/u²`, so the two-way voltage weight
+/// `√(Gn_tx·Gn_rx) ≤ 1/|u_tx·u_rx|`): true only where that test skips the group too, so
+/// the groups added, and their sums, are the same; most groups of a frame are far in the
+/// sidelobes of most beams, and their sines are not computed.
+#[inline]
+fn surely_below(g: &EchoGroup, antenna: &Antenna, beam_az_rad: f64, min_amplitude: f32) -> bool {
+    let u_tx = antenna.azimuth_pattern_abs_u(g.az_tx_rad - beam_az_rad);
+    let u_rx = if g.az_rx_rad.to_bits() == g.az_tx_rad.to_bits() {
+        u_tx
+    } else {
+        antenna.azimuth_pattern_abs_u(g.az_rx_rad - beam_az_rad)
+    };
+    f64::from(g.peak) * ENVELOPE_MARGIN < f64::from(min_amplitude) * (u_tx * u_rx)
 }
 
 /// Sample index of a two-way path, `ℓ/c·fs`.
@@ -648,6 +675,53 @@ mod tests {
             assert_eq!(g.az_tx_rad, tx_sum.arg().rem_euclid(std::f64::consts::TAU));
             assert_eq!(g.az_rx_rad, rx_sum.arg().rem_euclid(std::f64::consts::TAU));
         }
+    }
+
+    /// `surely_below` skips a group only where the weight test skips it too: at the offsets
+    /// where the sidelobes touch their envelope (`|sin u| = 1`, the tightest case) and in
+    /// between, for transmit and receive azimuths equal and apart, with peaks a hair above
+    /// and below the envelope's threshold. Far in the sidelobes it does skip.
+    #[test]
+    fn surely_below_only_where_the_weight_test_skips() {
+        let antenna = Antenna {
+            az_beamwidth_rad: 1.2f64.to_radians(),
+            el_beamwidth_rad: 22f64.to_radians(),
+            peak_gain_linear: 1000.0,
+            tilt_rad: 0.0,
+        };
+        let min = crate::engine::MIN_GROUP_AMPLITUDE;
+        let u_to_rad = antenna.az_beamwidth_rad / crate::antenna::SINC_BEAMWIDTH_FACTOR;
+        let mut skipped = 0;
+        for m in 0..2000 {
+            // Sidelobe peaks of the envelope ((m + ½)π) and points between them.
+            let u = (m as f64 * 0.5 + 0.5) * std::f64::consts::FRAC_PI_2 * 1.0001;
+            for (beam, apart) in [(0.3, 0.0), (5.9, 0.0), (0.3, 2e-4), (2.0, -3e-4)] {
+                let az_tx = (beam + u * u_to_rad) % std::f64::consts::TAU;
+                let group = |peak: f32| EchoGroup {
+                    object: 0,
+                    az_tx_rad: az_tx,
+                    az_rx_rad: az_tx + apart,
+                    first_sample: 0,
+                    len: 1,
+                    offset: 0,
+                    peak,
+                };
+                let u_tx = antenna.azimuth_pattern_abs_u(az_tx - beam);
+                let u_rx = antenna.azimuth_pattern_abs_u(az_tx + apart - beam);
+                let threshold = f64::from(min) * u_tx * u_rx;
+                for scale in [0.5, 0.999_998, 0.999_999_5, 1.0, 1.000_001, 2.0] {
+                    let g = group((threshold * scale) as f32);
+                    if surely_below(&g, &antenna, beam, min) {
+                        skipped += 1;
+                        assert!(
+                            azimuth_weight(&g, &antenna, beam) * g.peak < min,
+                            "u {u}, beam {beam}, apart {apart}, scale {scale}"
+                        );
+                    }
+                }
+            }
+        }
+        assert!(skipped > 10_000, "{skipped}");
     }
 
     /// The one-azimuth shortcut of `azimuth_weight` gives the bits of the two-pattern form
