@@ -407,6 +407,10 @@ fn dataset_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<
     use xbandsim_dataset::{generate, DatasetSpec, Format, Request, Shard};
     let spec = DatasetSpec::parse(DETECTION_SPEC, Path::new("."))?;
     let n = DATASET_BENCH_SAMPLES;
+    // Each run writes a fresh folder, and all are removed at the end: on ext4, files made
+    // just after many were deleted cost the inode allocator a search past them
+    // (docs/performance.md, twelfth pass), which is not the generator's time.
+    let mut dirs = Vec::new();
     let t = median_s(repeats, || {
         let dir = tempfile_dir();
         let request = Request {
@@ -418,8 +422,11 @@ fn dataset_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<
             assemble: true,
         };
         let _ = generate(&spec, &dir, &request, &|| {});
-        let _ = std::fs::remove_dir_all(&dir);
+        dirs.push(dir);
     });
+    for dir in dirs {
+        let _ = std::fs::remove_dir_all(&dir);
+    }
     put(
         &format!("labelled 512^2 frames/s, datasets/detection.toml ({n} samples, all cores)"),
         n as f64 / t,
