@@ -216,9 +216,11 @@ impl EchoGroups {
         let mut members_out = vec![Member::default(); order.len()];
         let inv_noise = 1.0 / noise_rms_v;
         let mut tx_sin_cos = crate::special::LastCall::new();
+        // Elevation pattern values, kept for the next member with the same elevation and
+        // the same object tilt (the key holds both, so a value is reused only for its own
+        // antenna).
         let mut pattern_tx = crate::special::LastCall::new();
         let mut pattern_rx = crate::special::LastCall::new();
-        let mut tilted: Option<(u32, Antenna)> = None;
         for (c, &pos) in contributions.iter().zip(&place) {
             if pos == DROPPED {
                 continue;
@@ -229,23 +231,17 @@ impl EchoGroups {
                 .copied()
                 .unwrap_or(0.0);
             let ant = if tilt != 0.0 {
-                if tilted.as_ref().is_none_or(|(o, _)| *o != c.object) {
-                    // A new antenna: the cached pattern values were another tilt's.
-                    tilted = Some((c.object, antenna.tilted_by(tilt)));
-                    pattern_tx = crate::special::LastCall::new();
-                    pattern_rx = crate::special::LastCall::new();
-                }
-                &tilted.as_ref().expect("set above").1
+                antenna.tilted_by(tilt)
             } else {
-                if tilted.take().is_some() {
-                    pattern_tx = crate::special::LastCall::new();
-                    pattern_rx = crate::special::LastCall::new();
-                }
-                antenna
+                *antenna
             };
             let (el_tx, el_rx) = (c.el_tx_rad, c.el_rx_rad);
-            let g_tx = pattern_tx.get_or(el_tx.to_bits(), || ant.elevation_pattern(el_tx));
-            let g_rx = pattern_rx.get_or(el_rx.to_bits(), || ant.elevation_pattern(el_rx));
+            let g_tx = pattern_tx.get_or((el_tx.to_bits(), tilt.to_bits()), || {
+                ant.elevation_pattern(el_tx)
+            });
+            let g_rx = pattern_rx.get_or((el_rx.to_bits(), tilt.to_bits()), || {
+                ant.elevation_pattern(el_rx)
+            });
             let el_weight = (g_tx * g_rx).sqrt();
             let (sin_tx, cos_tx) = tx_sin_cos.get_or(c.az_tx_rad.to_bits(), || {
                 crate::special::sin_cos_fast(c.az_tx_rad)
@@ -399,13 +395,9 @@ impl EchoGroups {
         let mut earliest: Option<usize> = None;
         let mut sum = 0f32;
         for g in groups {
-            if surely_below(g, antenna, beam_az_rad, min_amplitude) {
+            let Some(w) = weight_at_or_above(g, antenna, beam_az_rad, min_amplitude) else {
                 continue;
-            }
-            let w = azimuth_weight(g, antenna, beam_az_rad);
-            if w * g.peak < min_amplitude {
-                continue;
-            }
+            };
             sum += w * g.peak;
             earliest = Some(earliest.map_or(g.first_sample, |e: usize| e.min(g.first_sample)));
         }
@@ -426,13 +418,9 @@ impl EchoGroups {
         let mut earliest: Option<usize> = None;
         let mut sum = 0f32;
         for g in groups {
-            if surely_below(g, antenna, beam_az_rad, min_amplitude) {
+            let Some(w) = weight_at_or_above(g, antenna, beam_az_rad, min_amplitude) else {
                 continue;
-            }
-            let w = azimuth_weight(g, antenna, beam_az_rad);
-            if w * g.peak < min_amplitude {
-                continue;
-            }
+            };
             sum += w * g.peak;
             let end = (g.first_sample + g.len).min(impulse_response.len());
             if g.first_sample >= end {
@@ -467,6 +455,25 @@ fn azimuth_weight(g: &EchoGroup, antenna: &Antenna, beam_az_rad: f64) -> f32 {
         return tx as f32;
     }
     (tx * antenna.azimuth_pattern(g.az_rx_rad - beam_az_rad)).sqrt() as f32
+}
+
+/// The azimuth weight of group `g` for a beam at `beam_az_rad`, if its weighted peak is at
+/// least `min_amplitude` (None: the group is skipped; where the pattern's envelope already
+/// says so, [`surely_below`], without its sine).
+#[inline]
+fn weight_at_or_above(
+    g: &EchoGroup,
+    antenna: &Antenna,
+    beam_az_rad: f64,
+    min_amplitude: f32,
+) -> Option<f32> {
+    if surely_below(g, antenna, beam_az_rad, min_amplitude) {
+        return None;
+    }
+    let w = azimuth_weight(g, antenna, beam_az_rad);
+    // (Written as the skip test, so that a NaN product keeps the group, as it always did.)
+    let below = w * g.peak < min_amplitude;
+    (!below).then_some(w)
 }
 
 /// Relative margin of [`surely_below`] over the envelope: the computed weight exceeds its
