@@ -171,6 +171,15 @@ pub fn round_exact(x: f64) -> f64 {
     }
 }
 
+/// `v.round() as u8` (half away from zero, saturating, NaN to 0) without a libm call: the
+/// same value for every `f32`. For `0 ≤ v < 256` the fraction `v − trunc v` is exact, so the
+/// half-way test is; below 0 both give 0, from 255.5 up both give 255.
+#[inline]
+pub fn round_to_u8(v: f32) -> u8 {
+    let whole = v as u8; // truncates and saturates; NaN gives 0
+    whole.saturating_add(u8::from(v - f32::from(whole) >= 0.5))
+}
+
 /// `x.rem_euclid(2π)` without libm's `fmod` for |x| < 2π (every azimuth difference of the
 /// hot paths): there `x % 2π` is x itself, so this is the same value bit for bit.
 #[inline]
@@ -460,6 +469,34 @@ mod tests {
         }
         assert!(trunc_exact(f64::NAN).is_nan() && floor_exact(f64::NAN).is_nan());
         assert!(round_exact(f64::NAN).is_nan());
+    }
+
+    /// `round_to_u8` against `round() as u8` over every f32 from −2 to 258 in steps of
+    /// 1/4096, the values next to each half-way point and the specials.
+    #[test]
+    fn round_to_u8_matches_round_as_u8() {
+        let mut vs = vec![
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::MAX,
+            f32::MIN,
+            -0.0,
+            0.0,
+            1e30,
+            -1e30,
+        ];
+        for i in -2 * 4096..258 * 4096 {
+            vs.push(i as f32 / 4096.0);
+        }
+        for k in -2..258 {
+            let half = k as f32 + 0.5;
+            let bits = half.to_bits();
+            vs.extend([half, f32::from_bits(bits - 1), f32::from_bits(bits + 1)]);
+        }
+        for v in vs {
+            assert_eq!(round_to_u8(v), v.round() as u8, "{v}");
+        }
     }
 
     /// The fast sine and cosine against libm's over the antenna patterns' range (|u| up to a few

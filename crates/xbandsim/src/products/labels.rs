@@ -388,14 +388,11 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
     let ant = &radar.antenna();
     let n_objects = scene.objects().len();
     let calibrated = scene.scattering().model() == ScatteringModel::PhysicalOptics;
-    let rcs_all = set.rcs_per_object_m2(n_objects);
-    let gain_all = set.multipath_gain_per_object(n_objects);
-    let mut has_returns = vec![false; n_objects];
-    for c in &set.contributions {
-        if let Some(h) = has_returns.get_mut(c.object as usize) {
-            *h = true;
-        }
-    }
+    // Each object's RCS, multipath gain and whether it returns anything: one pass.
+    let sums = set.object_sums(n_objects);
+    let rcs_all: Vec<f64> = sums.iter().map(|s| s.rcs_m2()).collect();
+    let gain_all: Vec<f64> = sums.iter().map(|s| s.multipath_gain()).collect();
+    let has_returns: Vec<bool> = sums.iter().map(|s| s.returns > 0).collect();
     // The long (or single) pulse and, in combined mode, the short one: samples, window
     // weights, window loss and width.
     let pulse_of = |chirp: &crate::waveform::LfmChirp, window: crate::waveform::Window| {

@@ -319,12 +319,12 @@ pub fn colour(colormap: Colormap, t: f32) -> [u8; 3] {
     let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
     match colormap {
         Colormap::Gray => {
-            let v = (t * 255.0).round() as u8;
+            let v = crate::special::round_to_u8(t * 255.0);
             [v, v, v]
         }
         Colormap::Green => [
             (t * t * 120.0) as u8,
-            (t * 255.0).round() as u8,
+            crate::special::round_to_u8(t * 255.0),
             (t * t * 60.0) as u8,
         ],
         Colormap::Viridis => {
@@ -334,9 +334,9 @@ pub fn colour(colormap: Colormap, t: f32) -> [u8; 3] {
             let a = VIRIDIS[i];
             let b = VIRIDIS[i + 1];
             [
-                (a[0] + (b[0] - a[0]) * f).round() as u8,
-                (a[1] + (b[1] - a[1]) * f).round() as u8,
-                (a[2] + (b[2] - a[2]) * f).round() as u8,
+                crate::special::round_to_u8(a[0] + (b[0] - a[0]) * f),
+                crate::special::round_to_u8(a[1] + (b[1] - a[1]) * f),
+                crate::special::round_to_u8(a[2] + (b[2] - a[2]) * f),
             ]
         }
     }
@@ -352,7 +352,9 @@ pub fn normalise_db(v: f32, min_db: f64, max_db: f64) -> f32 {
 pub fn gray_image(ppi_db: &[f32], min_db: f64, max_db: f64) -> Vec<u8> {
     ppi_db
         .iter()
-        .map(|&v| (normalise_db(v, min_db, max_db).clamp(0.0, 1.0) * 255.0).round() as u8)
+        .map(|&v| {
+            crate::special::round_to_u8(normalise_db(v, min_db, max_db).clamp(0.0, 1.0) * 255.0)
+        })
         .collect()
 }
 

@@ -71,41 +71,74 @@ impl ScatterSet {
     /// Coherent monostatic RCS of each object at its aspect, `|Σ S|²` over its free-space
     /// contributions (no sea reflection), m².
     pub fn rcs_per_object_m2(&self, num_objects: usize) -> Vec<f64> {
-        self.coherent_sums(num_objects, true)
+        self.object_sums(num_objects)
             .iter()
-            .map(|s| s.norm_sqr())
+            .map(ObjectSums::rcs_m2)
             .collect()
     }
 
     /// Power gain of the sea paths for each object, `|Σ_all S|²/|Σ_free-space S|²` (1 when
     /// the sea is off or the object has no free-space return).
     pub fn multipath_gain_per_object(&self, num_objects: usize) -> Vec<f64> {
-        let direct = self.coherent_sums(num_objects, true);
-        let all = self.coherent_sums(num_objects, false);
-        direct
+        self.object_sums(num_objects)
             .iter()
-            .zip(&all)
-            .map(|(d, a)| {
-                if d.norm_sqr() > 0.0 {
-                    a.norm_sqr() / d.norm_sqr()
-                } else {
-                    1.0
-                }
-            })
+            .map(ObjectSums::multipath_gain)
             .collect()
     }
 
-    fn coherent_sums(&self, num_objects: usize, free_space_only: bool) -> Vec<Complex64> {
-        let mut sums = vec![Complex64::new(0.0, 0.0); num_objects];
+    /// Each object's coherent sums of root-RCS, in one pass over the contributions (each sum
+    /// taken in the contributions' order).
+    pub fn object_sums(&self, num_objects: usize) -> Vec<ObjectSums> {
+        let mut sums = vec![ObjectSums::default(); num_objects];
         for c in &self.contributions {
-            if free_space_only && c.sea_reflections > 0 {
-                continue;
-            }
             if let Some(s) = sums.get_mut(c.object as usize) {
-                *s += c.root_rcs_m;
+                if c.sea_reflections == 0 {
+                    s.free_space_m += c.root_rcs_m;
+                }
+                s.all_m += c.root_rcs_m;
+                s.returns += 1;
             }
         }
         sums
+    }
+}
+
+/// One object's coherent sums of root-RCS over its contributions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ObjectSums {
+    /// `Σ S` over the free-space contributions (no sea reflection), m.
+    pub free_space_m: Complex64,
+    /// `Σ S` over all its contributions, m.
+    pub all_m: Complex64,
+    /// How many contributions it has.
+    pub returns: usize,
+}
+
+impl Default for ObjectSums {
+    fn default() -> Self {
+        ObjectSums {
+            free_space_m: Complex64::new(0.0, 0.0),
+            all_m: Complex64::new(0.0, 0.0),
+            returns: 0,
+        }
+    }
+}
+
+impl ObjectSums {
+    /// Coherent monostatic RCS at the object's aspect, `|Σ_free-space S|²`, m².
+    pub fn rcs_m2(&self) -> f64 {
+        self.free_space_m.norm_sqr()
+    }
+
+    /// Power gain of the sea paths, `|Σ_all S|²/|Σ_free-space S|²` (1 without a free-space
+    /// return).
+    pub fn multipath_gain(&self) -> f64 {
+        let direct = self.free_space_m.norm_sqr();
+        if direct > 0.0 {
+            self.all_m.norm_sqr() / direct
+        } else {
+            1.0
+        }
     }
 }
 
@@ -219,7 +252,10 @@ pub fn trace_scene(scene: &Scene, bvh: &Bvh) -> ScatterSet {
                 rx_trig.get_or(rx_key, || trig(c.az_rx_rad, c.el_rx_rad))
             };
             let db = leg_db(tx, half) + leg_db(rx, half);
-            c.amplitude_v *= 10f64.powf(-db / 20.0);
+            // Outside the rain both legs lose exactly 0 dB: 10^0 = 1 leaves the amplitude as is.
+            if db != 0.0 {
+                c.amplitude_v *= 10f64.powf(-db / 20.0);
+            }
         }
     }
     set

@@ -456,7 +456,8 @@ pub fn trace_tube(
     } else {
         None
     };
-    let mut e_field = ComplexVec3::real(polarisation_vector(k0, s.polarisation));
+    let pol_k0 = polarisation_vector(k0, s.polarisation);
+    let mut e_field = ComplexVec3::real(pol_k0);
     let mut origin = launch;
     let mut k = k0;
     let mut path_m = 0.0;
@@ -614,9 +615,14 @@ pub fn trace_tube(
             let q = (exit.s_hat - k_r) * wavenumber;
             let footprint =
                 n.dot(exit.s_hat) / n_dot_k.abs() * sinc(0.5 * q.dot(f1)) * sinc(0.5 * q.dot(f2));
-            let pol = exit
-                .field
-                .dot(polarisation_vector(exit.rx_dir, s.polarisation));
+            // A retraced exit's receive direction is k0 itself: its launch vector, the same.
+            let rx_pol =
+                if exit.rx_dir.to_array().map(f64::to_bits) == k0.to_array().map(f64::to_bits) {
+                    pol_k0
+                } else {
+                    polarisation_vector(exit.rx_dir, s.polarisation)
+                };
+            let pol = exit.field.dot(rx_pol);
             let total_path = path_m + exit.range_rx_m;
             let amplitude = pol * (root_4pi_over_lambda * area_perp * footprint);
             if amplitude.norm_sqr() > 0.0 {
