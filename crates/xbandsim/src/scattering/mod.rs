@@ -142,11 +142,14 @@ impl ObjectSums {
     }
 }
 
-/// Nautical azimuth (0 = north = +y, clockwise) and elevation of a direction, rad.
+/// Nautical azimuth (0 = north = +y, clockwise) and elevation of a direction, rad: within a
+/// few units in the last place of libm's `atan2` and `hypot` (`special::atan2_fast`; the
+/// horizontal length as `√(x² + y²)`, for components between 10⁻¹⁵⁰ and 10¹⁵⁰ m).
 #[inline]
 pub fn azimuth_elevation_rad(dir: DVec3) -> (f64, f64) {
-    let az = crate::special::rem_euclid_tau(dir.x.atan2(dir.y));
-    let el = dir.z.atan2(dir.x.hypot(dir.y));
+    let az = crate::special::rem_euclid_tau(crate::special::atan2_fast(dir.x, dir.y));
+    let horizontal = (dir.x * dir.x + dir.y * dir.y).sqrt();
+    let el = crate::special::atan2_fast(dir.z, horizontal);
     (az, el)
 }
 
@@ -224,7 +227,13 @@ pub fn trace_scene(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         // path's under the top.
         let radar_z_m = radar.position_m().z;
         // A leg's direction as (sin az, cos az, cos el, sin el).
-        let trig = |az: f64, el: f64| (az.sin(), az.cos(), el.cos(), el.sin());
+        let trig = |az: f64, el: f64| {
+            let ((sin_az, cos_az), (sin_el, cos_el)) = (
+                crate::special::sin_cos_fast(az),
+                crate::special::sin_cos_fast(el),
+            );
+            (sin_az, cos_az, cos_el, sin_el)
+        };
         let leg_db = |(sin_az, cos_az, cos_el, sin_el): (f64, f64, f64, f64), range_m: f64| {
             attenuator.one_way_db_path(
                 from,

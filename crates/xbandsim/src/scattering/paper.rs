@@ -77,7 +77,9 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
                     dir: direction_from_az_el(az, el),
                 };
                 let hit = bvh.closest_hit(&ray, f64::INFINITY)?;
-                let (az_h, el_h) = azimuth_elevation_rad(ray.dir);
+                // The ray's own grid angles (not read back from its direction, which would
+                // only add rounding: the grid's azimuths fall on the echo groups' cell edges).
+                let (az_h, el_h) = (az, el);
                 let path_m = 2.0 * hit.t_m;
                 Some(Contribution {
                     amplitude_v: carrier_phase(path_m, lambda) * (v_ref * paper_amplitude(hit.t_m)),
