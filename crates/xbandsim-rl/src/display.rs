@@ -87,7 +87,7 @@ pub fn process_spoke(
 #[inline]
 pub fn gray_level(value_db: f32, floor_db: f32) -> u8 {
     let t = ((value_db - floor_db) / DISPLAY_SPAN_DB).clamp(0.0, 1.0);
-    (t * 255.0).round() as u8
+    xbandsim::special::round_to_u8(t * 255.0)
 }
 
 /// A plot: one group of connected hits.

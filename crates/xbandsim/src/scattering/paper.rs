@@ -77,8 +77,9 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
                     dir: direction_from_az_el(az, el),
                 };
                 let hit = bvh.closest_hit(&ray, f64::INFINITY)?;
-                // The ray's own grid angles (not read back from its direction, which would
-                // only add rounding: the grid's azimuths fall on the echo groups' cell edges).
+                // The ray's own grid angles, not read back from its direction (which only
+                // adds rounding; where a grid azimuth falls on an echo group's cell edge, a
+                // last bit decides the group).
                 let (az_h, el_h) = (az, el);
                 let path_m = 2.0 * hit.t_m;
                 Some(Contribution {
