@@ -603,8 +603,8 @@ mod tests {
         let (mut az_tx, mut el_tx) = (0.0, 0.0);
         for i in 0..4000 {
             // Runs of three returns sharing their transmit direction, as a tube's do, each
-            // run another object's; two runs in a row share their elevation, so the cached
-            // pattern values must be dropped where a tilted object follows a level one.
+            // run another object's; two runs in a row share their elevation, so a cached
+            // pattern value must not be reused where a tilted object follows a level one.
             let run = i / 3;
             let object = (run % 5) as u32;
             if i % 3 == 0 {

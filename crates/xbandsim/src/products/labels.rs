@@ -390,9 +390,6 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
     let calibrated = scene.scattering().model() == ScatteringModel::PhysicalOptics;
     // Each object's RCS, multipath gain and whether it returns anything: one pass.
     let sums = set.object_sums(n_objects);
-    let rcs_all: Vec<f64> = sums.iter().map(|s| s.rcs_m2()).collect();
-    let gain_all: Vec<f64> = sums.iter().map(|s| s.multipath_gain()).collect();
-    let has_returns: Vec<bool> = sums.iter().map(|s| s.returns > 0).collect();
     // The long (or single) pulse and, in combined mode, the short one: samples, window
     // weights, window loss and width.
     let pulse_of = |chirp: &crate::waveform::LfmChirp, window: crate::waveform::Window| {
@@ -427,8 +424,9 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
             let (az, el) = azimuth_elevation_rad(rel);
             // RCS and gain exist only where the model is calibrated and a free-space path
             // returned something.
-            let rcs = (calibrated && has_returns[i] && rcs_all[i] > 0.0).then_some(rcs_all[i]);
-            let gain = rcs.map(|_| gain_all[i]);
+            let rcs_m2 = sums[i].rcs_m2();
+            let rcs = (calibrated && sums[i].returns > 0 && rcs_m2 > 0.0).then_some(rcs_m2);
+            let gain = rcs.map(|_| sums[i].multipath_gain());
             let delay_samples = 2.0 * range_m / SPEED_OF_LIGHT_M_PER_S * radar.sample_rate_hz();
             let (channel, (chirp, weights, window_loss, pulse_width_s)) = match &short_pulse {
                 None => (PulseChannel::Single, &long_pulse),
@@ -473,7 +471,7 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
                 Visibility::BeyondHorizon
             } else if centre_range - r_b > radar.max_range_m() {
                 Visibility::BeyondMaxRange
-            } else if !has_returns[i] {
+            } else if sums[i].returns == 0 {
                 let idx = i as u32;
                 let blocked = [
                     o.bounding_centre_m(),

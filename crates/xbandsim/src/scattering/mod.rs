@@ -68,26 +68,8 @@ pub struct ScatterSet {
 }
 
 impl ScatterSet {
-    /// Coherent monostatic RCS of each object at its aspect, `|Σ S|²` over its free-space
-    /// contributions (no sea reflection), m².
-    pub fn rcs_per_object_m2(&self, num_objects: usize) -> Vec<f64> {
-        self.object_sums(num_objects)
-            .iter()
-            .map(ObjectSums::rcs_m2)
-            .collect()
-    }
-
-    /// Power gain of the sea paths for each object, `|Σ_all S|²/|Σ_free-space S|²` (1 when
-    /// the sea is off or the object has no free-space return).
-    pub fn multipath_gain_per_object(&self, num_objects: usize) -> Vec<f64> {
-        self.object_sums(num_objects)
-            .iter()
-            .map(ObjectSums::multipath_gain)
-            .collect()
-    }
-
     /// Each object's coherent sums of root-RCS, in one pass over the contributions (each sum
-    /// taken in the contributions' order).
+    /// taken in the contributions' order): its RCS at its aspect and its multipath gain.
     pub fn object_sums(&self, num_objects: usize) -> Vec<ObjectSums> {
         let mut sums = vec![ObjectSums::default(); num_objects];
         for c in &self.contributions {
@@ -140,6 +122,13 @@ impl ObjectSums {
             1.0
         }
     }
+}
+
+/// A vector's components as bits: equal only for the same vector, bit for bit (a key for
+/// values computed from it, and the test that two directions are one).
+#[inline]
+pub(crate) fn vector_bits(v: DVec3) -> [u64; 3] {
+    v.to_array().map(f64::to_bits)
 }
 
 /// Nautical azimuth (0 = north = +y, clockwise) and elevation of a direction, rad: within a

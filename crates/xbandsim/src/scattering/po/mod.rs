@@ -35,7 +35,7 @@ pub use tube::{
     SbrSettings, TubeCoverage, TubeGrid, TubeReturn,
 };
 
-use super::{azimuth_elevation_rad, carrier_phase, Contribution, ScatterSet};
+use super::{azimuth_elevation_rad, carrier_phase, vector_bits, Contribution, ScatterSet};
 use crate::geometry::{Bvh, Ray, ShapeGeometry};
 use crate::model::{Polarisation, Scene};
 use crate::propagation::SeaSurface;
@@ -353,15 +353,13 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         // another of the same tube): its angles are computed once, the same values.
         let mut tx_angles = LastCall::new();
         set.contributions.extend(traced.returns.iter().map(|r| {
-            let (az_tx, el_tx) = tx_angles.get_or(r.tx_dir.to_array().map(f64::to_bits), || {
-                azimuth_elevation_rad(r.tx_dir)
-            });
-            let (az_rx, el_rx) =
-                if r.rx_dir.to_array().map(f64::to_bits) == r.tx_dir.to_array().map(f64::to_bits) {
-                    (az_tx, el_tx)
-                } else {
-                    azimuth_elevation_rad(r.rx_dir)
-                };
+            let (az_tx, el_tx) =
+                tx_angles.get_or(vector_bits(r.tx_dir), || azimuth_elevation_rad(r.tx_dir));
+            let (az_rx, el_rx) = if vector_bits(r.rx_dir) == vector_bits(r.tx_dir) {
+                (az_tx, el_tx)
+            } else {
+                azimuth_elevation_rad(r.rx_dir)
+            };
             Contribution {
                 amplitude_v: r.root_rcs_m * volts(r.range_tx_m, r.range_rx_m),
                 root_rcs_m: r.root_rcs_m,

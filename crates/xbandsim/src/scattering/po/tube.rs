@@ -3,7 +3,7 @@
 //! perfect-conductor and sea reflections, and the shadow rays of the return paths
 //! (docs/physics.md §2.2, §2.5; the formula is in the parent module's documentation).
 
-use super::super::carrier_phase;
+use super::super::{carrier_phase, vector_bits};
 use crate::geometry::{Aabb, Bvh, Ray};
 use crate::model::Polarisation;
 use crate::propagation::SeaSurface;
@@ -616,12 +616,11 @@ pub fn trace_tube(
             let footprint =
                 n.dot(exit.s_hat) / n_dot_k.abs() * sinc(0.5 * q.dot(f1)) * sinc(0.5 * q.dot(f2));
             // A retraced exit's receive direction is k0 itself: its launch vector, the same.
-            let rx_pol =
-                if exit.rx_dir.to_array().map(f64::to_bits) == k0.to_array().map(f64::to_bits) {
-                    pol_k0
-                } else {
-                    polarisation_vector(exit.rx_dir, s.polarisation)
-                };
+            let rx_pol = if vector_bits(exit.rx_dir) == vector_bits(k0) {
+                pol_k0
+            } else {
+                polarisation_vector(exit.rx_dir, s.polarisation)
+            };
             let pol = exit.field.dot(rx_pol);
             let total_path = path_m + exit.range_rx_m;
             let amplitude = pol * (root_4pi_over_lambda * area_perp * footprint);
