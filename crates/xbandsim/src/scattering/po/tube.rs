@@ -580,20 +580,27 @@ pub fn trace_tube(
                     let sea_pt = hit_p + s2 * t_sea;
                     let up = radar_m - sea_pt;
                     let up_len = up.length();
-                    rays += 2;
-                    let clear = !bvh.any_hit(
-                        &Ray {
-                            origin_m: lift,
-                            dir: s2,
-                        },
-                        t_sea,
-                    ) && !bvh.any_hit(
-                        &Ray {
-                            origin_m: sea_pt,
-                            dir: up / up_len,
-                        },
-                        up_len,
-                    );
+                    // A via-sea tube's first object hit returns via the sea along the path it
+                    // came in by, reversed (the sea point of the line to the radar's image is
+                    // where the tube reflected), and its two searches found that path clear:
+                    // no shadow rays, as for a direct tube's first hit (docs/physics.md §2.2).
+                    let retraces_via_sea = grid.via_sea && object_hits == 1 && interaction == 2;
+                    let clear = retraces_via_sea || {
+                        rays += 2;
+                        !bvh.any_hit(
+                            &Ray {
+                                origin_m: lift,
+                                dir: s2,
+                            },
+                            t_sea,
+                        ) && !bvh.any_hit(
+                            &Ray {
+                                origin_m: sea_pt,
+                                dir: up / up_len,
+                            },
+                            up_len,
+                        )
+                    };
                     if clear {
                         let (field, _) = sea_reflect(e_r, s2, &sea, s.wavelength_m);
                         exits[1] = Some(Exit {
