@@ -4,6 +4,7 @@
 # measured in the same run. Usage: bash bench/run.sh [--repeats N]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. scripts/cpu-level.sh
 cargo build --release -p xbandsim-cli
 venv="${XBANDSIM_BENCH_VENV:-target/bench-venv}"
 if [ ! -x "$venv/bin/python" ]; then

@@ -9,6 +9,7 @@
 #      xbandsim/Detection-v0 to show it works.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. scripts/cpu-level.sh
 
 echo "== building xbandsim and rendering scenes/paper.toml into out/"
 cargo build --release -p xbandsim-cli

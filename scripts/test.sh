@@ -7,6 +7,7 @@
 # writes the CLI's bytes for the same dataset, and its pytest suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. scripts/cpu-level.sh
 
 cargo test --workspace
 
