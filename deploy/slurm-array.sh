@@ -21,6 +21,8 @@
 set -euo pipefail
 
 XBANDSIM="${XBANDSIM:-target/release/xbandsim}"   # built once: cargo build --release -p xbandsim-cli
+# (on x86-64 the build is for x86-64-v3; for nodes without AVX2 build it with
+#  RUSTFLAGS="-C target-cpu=x86-64", docs/distributed.md)
 SPEC="${SPEC:-datasets/detection.toml}"
 OUT="${OUT:-/shared/datasets/detection}"
 COUNT="${COUNT:-1000000}"
