@@ -540,9 +540,15 @@ pub fn trace_tube(
         let k_r = k - n * (2.0 * n_dot_k);
         let e_r = e_field.pec_reflect(n);
         let lift = hit_p + n * SURFACE_OFFSET_M;
+        // A tube's first object hit returns along the way it came in, which its own searches
+        // found clear: a direct tube's straight back, a via-sea tube's via the same sea point
+        // (the line from the hit to the radar's image meets the sea where the tube reflected).
+        // Those returns need no shadow rays (docs/physics.md §2.2).
+        let first_hit = object_hits == 1 && interaction == 1 + usize::from(grid.via_sea);
+        let retraces = first_hit && !grid.via_sea;
+        let retraces_via_sea = first_hit && grid.via_sea;
         // Direct return.
         let (s_hat, range_rx_m) = grid.return_path(hit_p);
-        let retraces = object_hits == 1 && interaction == 1;
         let mut exits: [Option<Exit>; 2] = [None, None];
         if n.dot(s_hat) > 0.0 {
             let clear = retraces || {
@@ -580,11 +586,6 @@ pub fn trace_tube(
                     let sea_pt = hit_p + s2 * t_sea;
                     let up = radar_m - sea_pt;
                     let up_len = up.length();
-                    // A via-sea tube's first object hit returns via the sea along the path it
-                    // came in by, reversed (the sea point of the line to the radar's image is
-                    // where the tube reflected), and its two searches found that path clear:
-                    // no shadow rays, as for a direct tube's first hit (docs/physics.md §2.2).
-                    let retraces_via_sea = grid.via_sea && object_hits == 1 && interaction == 2;
                     let clear = retraces_via_sea || {
                         rays += 2;
                         !bvh.any_hit(
