@@ -29,18 +29,29 @@ pub struct Mask {
 }
 
 impl Mask {
+    /// The set pixels' inclusive box `[x_min, y_min, x_max, y_max]`; None when empty. Rows
+    /// are scanned whole (a search the compiler vectorises), columns only in the rows that
+    /// have a set pixel: a mask is a small patch of a large image.
+    fn pixel_box(&self) -> Option<[usize; 4]> {
+        let mut b: Option<[usize; 4]> = None;
+        for (y, row) in self.pixels.chunks_exact(self.width.max(1)).enumerate() {
+            let Some(first) = row.iter().position(|&p| p) else {
+                continue;
+            };
+            let last = row.iter().rposition(|&p| p).unwrap_or(first);
+            b = Some(match b {
+                None => [first, y, last, y],
+                Some([x0, y0, x1, _]) => [x0.min(first), y0, x1.max(last), y],
+            });
+        }
+        b
+    }
+
     /// The tight pixel box of the set pixels, `[x_min, y_min, x_max, y_max]` in pixel edges
     /// (a single pixel (x, y) gives `[x, y, x + 1, y + 1]`); None when empty.
     pub fn bounds(&self) -> Option<[f64; 4]> {
-        let mut b: Option<[usize; 4]> = None;
-        for (i, _) in self.pixels.iter().enumerate().filter(|(_, &p)| p) {
-            let (x, y) = (i % self.width, i / self.width);
-            b = Some(match b {
-                None => [x, y, x, y],
-                Some([x0, y0, x1, y1]) => [x0.min(x), y0.min(y), x1.max(x), y1.max(y)],
-            });
-        }
-        b.map(|[x0, y0, x1, y1]| [x0 as f64, y0 as f64, (x1 + 1) as f64, (y1 + 1) as f64])
+        self.pixel_box()
+            .map(|[x0, y0, x1, y1]| [x0 as f64, y0 as f64, (x1 + 1) as f64, (y1 + 1) as f64])
     }
 
     /// Pixels set.
@@ -49,24 +60,57 @@ impl Mask {
     }
 
     /// COCO's run lengths: column-major (down each column, left to right), starting with a
-    /// run of zeros (possibly empty), alternating.
+    /// run of zeros (possibly empty), alternating. Only the set pixels' box is read; the
+    /// zeros around it are counted, not visited.
     pub fn rle_counts(&self) -> Vec<u64> {
-        let mut counts = Vec::new();
-        let mut current = false;
-        let mut run = 0u64;
-        for x in 0..self.width {
-            for y in 0..self.height {
-                let p = self.pixels[y * self.width + x];
-                if p != current {
-                    counts.push(run);
-                    run = 0;
-                    current = p;
-                }
-                run += 1;
+        let (w, h) = (self.width, self.height);
+        let Some([x0, y0, x1, y1]) = self.pixel_box() else {
+            return vec![(w * h) as u64];
+        };
+        let mut runs = Runs::default();
+        // Zeros down the columns left of the box and above it in its first column.
+        runs.extend(false, (x0 * h + y0) as u64);
+        for x in x0..=x1 {
+            if x > x0 {
+                // Below the box in the previous column, above it in this one.
+                runs.extend(false, (h - 1 - y1 + y0) as u64);
+            }
+            for y in y0..=y1 {
+                runs.extend(self.pixels[y * w + x], 1);
             }
         }
-        counts.push(run);
-        counts
+        // Below the box in its last column and the columns right of it.
+        runs.extend(false, ((h - 1 - y1) + (w - 1 - x1) * h) as u64);
+        runs.finish()
+    }
+}
+
+/// Run lengths of a sequence of flags fed in stretches, starting with a run of zeros.
+#[derive(Default)]
+struct Runs {
+    counts: Vec<u64>,
+    current: bool,
+    run: u64,
+}
+
+impl Runs {
+    /// `n` more flags `value` (none when `n` is 0).
+    #[inline]
+    fn extend(&mut self, value: bool, n: u64) {
+        if n == 0 {
+            return;
+        }
+        if value != self.current {
+            self.counts.push(self.run);
+            self.run = 0;
+            self.current = value;
+        }
+        self.run += n;
+    }
+
+    fn finish(mut self) -> Vec<u64> {
+        self.counts.push(self.run);
+        self.counts
     }
 }
 
@@ -523,6 +567,72 @@ mod tests {
         assert_eq!(rle_from_string(&rle_string(&counts)).unwrap(), counts);
         assert!(rle_from_string("a b").is_err());
         assert!(mask_from_rle(&[3, 4], 3, 3).is_err());
+    }
+
+    /// The box-limited run lengths and bounds against a walk of every pixel, on empty, full,
+    /// single-pixel, patch and scattered masks, at the image's edges too.
+    #[test]
+    fn rle_counts_and_bounds_match_a_walk_of_every_pixel() {
+        fn walked_counts(m: &Mask) -> Vec<u64> {
+            let (mut counts, mut current, mut run) = (Vec::new(), false, 0u64);
+            for x in 0..m.width {
+                for y in 0..m.height {
+                    let p = m.pixels[y * m.width + x];
+                    if p != current {
+                        counts.push(run);
+                        run = 0;
+                        current = p;
+                    }
+                    run += 1;
+                }
+            }
+            counts.push(run);
+            counts
+        }
+        fn walked_bounds(m: &Mask) -> Option<[f64; 4]> {
+            let set: Vec<(usize, usize)> = (0..m.pixels.len())
+                .filter(|&i| m.pixels[i])
+                .map(|i| (i % m.width, i / m.width))
+                .collect();
+            let x0 = set.iter().map(|p| p.0).min()?;
+            let y0 = set.iter().map(|p| p.1).min()?;
+            let x1 = set.iter().map(|p| p.0).max()?;
+            let y1 = set.iter().map(|p| p.1).max()?;
+            Some([x0 as f64, y0 as f64, (x1 + 1) as f64, (y1 + 1) as f64])
+        }
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = |n: usize| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % n as u64) as usize
+        };
+        for case in 0..300 {
+            let (w, h) = (1 + next(12), 1 + next(12));
+            let mut m = Mask {
+                width: w,
+                height: h,
+                pixels: vec![false; w * h],
+            };
+            match case % 5 {
+                0 => {}
+                1 => m.pixels.fill(true),
+                2 => m.pixels[next(w * h)] = true,
+                3 => {
+                    // A patch with holes.
+                    let (x0, y0) = (next(w), next(h));
+                    let (x1, y1) = (x0 + next(w - x0), y0 + next(h - y0));
+                    for y in y0..=y1 {
+                        for x in x0..=x1 {
+                            m.pixels[y * w + x] = next(4) > 0;
+                        }
+                    }
+                }
+                _ => m.pixels.iter_mut().for_each(|p| *p = next(3) == 0),
+            }
+            assert_eq!(m.rle_counts(), walked_counts(&m), "case {case}: {w}x{h}");
+            assert_eq!(m.bounds(), walked_bounds(&m), "case {case}: {w}x{h}");
+        }
     }
 
     #[test]

@@ -140,10 +140,15 @@ pub fn trace_object(
                 },
             )
             .collect();
-        returns.reserve(runs.iter().map(|(r, _)| r.len()).sum());
-        for (r, n) in runs {
-            returns.extend(r);
-            rays += n;
+        rays += runs.iter().map(|(_, n)| n).sum::<u64>();
+        if returns.is_empty() && runs.len() == 1 {
+            // One run (no other thread took rows): the first grid's returns as they are.
+            returns = runs.into_iter().next().map(|(r, _)| r).unwrap_or_default();
+        } else {
+            returns.reserve(runs.iter().map(|(r, _)| r.len()).sum());
+            for (r, _) in runs {
+                returns.extend(r);
+            }
         }
     }
     ObjectTrace {
@@ -273,6 +278,60 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         tube_budgets: vec![None; scene.objects().len()],
         ..ScatterSet::default()
     };
+    // Every extended object's tubes first (None for a point or an object that cannot be
+    // seen), so that the contributions are reserved once, not moved as each object adds its
+    // own; then the contributions in object order.
+    let traces: Vec<Option<ObjectTrace>> = scene
+        .objects()
+        .iter()
+        .enumerate()
+        .map(|(idx, obj)| {
+            if let ShapeGeometry::Point { .. } = obj.shape() {
+                return None;
+            }
+            // Objects that cannot be seen are not traced: wholly beyond the recorded range
+            // (max range + c·T/2, where the last echo tail ends) or below the radar horizon.
+            let centre = obj.bounding_centre_m();
+            let radius = obj.shape().bounding_radius_m();
+            let nearest_m = (centre - radar.position_m()).length() - radius;
+            let ground_m = ((centre - radar.position_m()).truncate().length() - radius).max(0.0);
+            if nearest_m > radar.max_range_m() + radar.eclipse_range_m()
+                || (s.earth_curvature
+                    && !crate::propagation::above_horizon(
+                        radar.position_m().z,
+                        ground_m,
+                        centre.z + radius,
+                    ))
+            {
+                return None;
+            }
+            let illumination = Illumination::FromPoint {
+                radar_m: radar.position_m(),
+            };
+            Some(trace_object(
+                bvh,
+                illumination,
+                centre,
+                radius,
+                idx as u32,
+                &s,
+            ))
+        })
+        .collect();
+    let points = scene
+        .objects()
+        .iter()
+        .filter(|o| matches!(o.shape(), ShapeGeometry::Point { .. }))
+        .count();
+    // A point's legs: direct and via the sea, each way.
+    set.contributions.reserve(
+        traces
+            .iter()
+            .flatten()
+            .map(|t| t.returns.len())
+            .sum::<usize>()
+            + 4 * points,
+    );
     for (idx, obj) in scene.objects().iter().enumerate() {
         let index = idx as u32;
         if let ShapeGeometry::Point { rcs_m2 } = obj.shape() {
@@ -320,33 +379,9 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
             }
             continue;
         }
-        // Objects that cannot be seen are not traced: wholly beyond the recorded range
-        // (max range + c·T/2, where the last echo tail ends) or below the radar horizon.
-        let centre = obj.bounding_centre_m();
-        let radius = obj.shape().bounding_radius_m();
-        let nearest_m = (centre - radar.position_m()).length() - radius;
-        let ground_m = ((centre - radar.position_m()).truncate().length() - radius).max(0.0);
-        if nearest_m > radar.max_range_m() + radar.eclipse_range_m()
-            || (s.earth_curvature
-                && !crate::propagation::above_horizon(
-                    radar.position_m().z,
-                    ground_m,
-                    centre.z + radius,
-                ))
-        {
+        let Some(traced) = &traces[idx] else {
             continue;
-        }
-        let illumination = Illumination::FromPoint {
-            radar_m: radar.position_m(),
         };
-        let traced = trace_object(
-            bvh,
-            illumination,
-            obj.bounding_centre_m(),
-            obj.shape().bounding_radius_m(),
-            index,
-            &s,
-        );
         set.rays_cast += traced.rays;
         set.tube_budgets[idx] = Some(traced.budget);
         // A tube's returns share its launch direction (about half of all returns follow
