@@ -127,10 +127,26 @@ pub fn gamma_p(a: f64, x: f64) -> f64 {
     }
 }
 
-/// `x.trunc()` without a libm call (the x86-64 baseline has no rounding instruction, so
-/// `f64::trunc`, `floor` and `round` are calls): the same value, signed zero included.
+/// Whether `f64::trunc`, `floor` and `round` compile to instructions rather than libm calls:
+/// SSE4.1's `roundsd` (x86-64-v2 and up, so the default build, .cargo/config.toml), AArch64's
+/// `frint*`. The functions below then are those methods; elsewhere (the x86-64 baseline) they
+/// compute the same values without a call.
+const HARDWARE_ROUNDING: bool = cfg!(any(target_feature = "sse4.1", target_arch = "aarch64"));
+
+/// `x.trunc()` without a libm call: the same value, signed zero included.
 #[inline]
 pub fn trunc_exact(x: f64) -> f64 {
+    if HARDWARE_ROUNDING {
+        x.trunc()
+    } else {
+        trunc_portable(x)
+    }
+}
+
+/// [`trunc_exact`] in plain arithmetic (the x86-64 baseline has no rounding instruction, so
+/// `f64::trunc`, `floor` and `round` are calls there).
+#[inline]
+fn trunc_portable(x: f64) -> f64 {
     if x.abs() < 4_503_599_627_370_496.0 {
         ((x as i64) as f64).copysign(x)
     } else {
@@ -148,7 +164,17 @@ pub fn floor_i64(x: f64) -> i64 {
 /// `x.floor()` without a libm call: the same value.
 #[inline]
 pub fn floor_exact(x: f64) -> f64 {
-    let t = trunc_exact(x);
+    if HARDWARE_ROUNDING {
+        x.floor()
+    } else {
+        floor_portable(x)
+    }
+}
+
+/// [`floor_exact`] in plain arithmetic.
+#[inline]
+fn floor_portable(x: f64) -> f64 {
+    let t = trunc_portable(x);
     if t > x {
         t - 1.0
     } else {
@@ -156,11 +182,20 @@ pub fn floor_exact(x: f64) -> f64 {
     }
 }
 
-/// `x.round()` (half away from zero) without a libm call: the same value. `x − trunc x` is
-/// exact, so the half-way test is.
+/// `x.round()` (half away from zero) without a libm call: the same value.
 #[inline]
 pub fn round_exact(x: f64) -> f64 {
-    let t = trunc_exact(x);
+    if HARDWARE_ROUNDING {
+        x.round()
+    } else {
+        round_portable(x)
+    }
+}
+
+/// [`round_exact`] in plain arithmetic: `x − trunc x` is exact, so the half-way test is.
+#[inline]
+fn round_portable(x: f64) -> f64 {
+    let t = trunc_portable(x);
     let d = x - t;
     if d >= 0.5 {
         t + 1.0
@@ -489,8 +524,9 @@ mod tests {
         }
     }
 
-    /// The libm-free trunc, floor (also as an integer), round and rem_euclid(2π) give `f64`'s values bit for
-    /// bit, halves, signed zeros, huge values and non-finite ones included.
+    /// The libm-free trunc, floor (also as an integer), round and rem_euclid(2π) give `f64`'s
+    /// values bit for bit, halves, signed zeros, huge values and non-finite ones included:
+    /// the plain-arithmetic forms too where this build uses the instructions.
     #[test]
     fn rounding_without_libm_matches_std() {
         let mut xs = vec![
@@ -533,15 +569,23 @@ mod tests {
             );
         }
         for x in xs {
-            assert_eq!(trunc_exact(x).to_bits(), x.trunc().to_bits(), "trunc {x}");
-            assert_eq!(floor_exact(x).to_bits(), x.floor().to_bits(), "floor {x}");
-            assert_eq!(round_exact(x).to_bits(), x.round().to_bits(), "round {x}");
+            // Both forms, whichever this build uses.
+            for (trunc, floor, round) in [
+                (trunc_exact(x), floor_exact(x), round_exact(x)),
+                (trunc_portable(x), floor_portable(x), round_portable(x)),
+            ] {
+                assert_eq!(trunc.to_bits(), x.trunc().to_bits(), "trunc {x}");
+                assert_eq!(floor.to_bits(), x.floor().to_bits(), "floor {x}");
+                assert_eq!(round.to_bits(), x.round().to_bits(), "round {x}");
+            }
             if x.abs() < 1e15 {
                 assert_eq!(floor_i64(x), x.floor() as i64, "floor_i64 {x}");
             }
         }
         assert!(trunc_exact(f64::NAN).is_nan() && floor_exact(f64::NAN).is_nan());
         assert!(round_exact(f64::NAN).is_nan());
+        assert!(trunc_portable(f64::NAN).is_nan() && floor_portable(f64::NAN).is_nan());
+        assert!(round_portable(f64::NAN).is_nan());
     }
 
     /// `atan2_fast` against libm's over directions all round the circle (a fine sweep, the
