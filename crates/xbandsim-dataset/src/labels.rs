@@ -29,12 +29,15 @@ pub struct Mask {
 }
 
 impl Mask {
-    /// The set pixels' inclusive box `[x_min, y_min, x_max, y_max]`; None when empty. Rows
-    /// are scanned whole (a search the compiler vectorises), columns only in the rows that
-    /// have a set pixel: a mask is a small patch of a large image.
+    /// The set pixels' inclusive box `[x_min, y_min, x_max, y_max]`; None when empty. Each
+    /// row is tested whole (an OR over its flags, which the compiler vectorises), and only
+    /// the rows with a set pixel are searched: a mask is a small patch of a large image.
     fn pixel_box(&self) -> Option<[usize; 4]> {
         let mut b: Option<[usize; 4]> = None;
         for (y, row) in self.pixels.chunks_exact(self.width.max(1)).enumerate() {
+            if !row.iter().fold(false, |any, &p| any | p) {
+                continue;
+            }
             let Some(first) = row.iter().position(|&p| p) else {
                 continue;
             };
@@ -54,9 +57,16 @@ impl Mask {
             .map(|[x0, y0, x1, y1]| [x0 as f64, y0 as f64, (x1 + 1) as f64, (y1 + 1) as f64])
     }
 
-    /// Pixels set.
+    /// Pixels set (counted in their box's rows).
     pub fn area(&self) -> usize {
-        self.pixels.iter().filter(|&&p| p).count()
+        self.pixel_box().map_or(0, |[x0, y0, x1, y1]| {
+            (y0..=y1)
+                .map(|y| {
+                    let row = &self.pixels[y * self.width..][x0..=x1];
+                    row.iter().map(|&p| usize::from(p)).sum::<usize>()
+                })
+                .sum()
+        })
     }
 
     /// COCO's run lengths: column-major (down each column, left to right), starting with a
@@ -569,7 +579,7 @@ mod tests {
         assert!(mask_from_rle(&[3, 4], 3, 3).is_err());
     }
 
-    /// The box-limited run lengths and bounds against a walk of every pixel, on empty, full,
+    /// The box-limited run lengths, bounds and area against a walk of every pixel, on empty, full,
     /// single-pixel, patch and scattered masks, at the image's edges too.
     #[test]
     fn rle_counts_and_bounds_match_a_walk_of_every_pixel() {
@@ -632,6 +642,8 @@ mod tests {
             }
             assert_eq!(m.rle_counts(), walked_counts(&m), "case {case}: {w}x{h}");
             assert_eq!(m.bounds(), walked_bounds(&m), "case {case}: {w}x{h}");
+            let walked_area = m.pixels.iter().filter(|&&p| p).count();
+            assert_eq!(m.area(), walked_area, "case {case}: {w}x{h}");
         }
     }
 

@@ -707,6 +707,8 @@ mod tests {
         let mut worst = 0f64;
         let mut check = |x: f64| {
             let (s, c) = sin_cos_fast(x);
+            // One reduction, the same polynomials: the sine is sin_fast's bit for bit.
+            assert_eq!(s.to_bits(), sin_fast(x).to_bits(), "{x}");
             worst = worst
                 .max((sin_fast(x) - x.sin()).abs())
                 .max((s - x.sin()).abs())
