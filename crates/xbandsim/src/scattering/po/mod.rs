@@ -68,6 +68,14 @@ pub struct ObjectTrace {
     pub budget: TubeBudget,
 }
 
+/// [`ObjectTrace`] with the returns as the runs of rows the parallel trace made, in order
+/// (their concatenation is `ObjectTrace::returns`), not copied into one vector.
+struct ObjectRuns {
+    runs: Vec<Vec<TubeReturn>>,
+    rays: u64,
+    budget: TubeBudget,
+}
+
 /// All returns of one object lit by `illumination` (rows traced in parallel, collected in
 /// order so the result does not depend on the thread count). With the sea on (and a radar
 /// at a point), a second grid aimed at the object's mirror image adds the paths that reach
@@ -80,6 +88,28 @@ pub fn trace_object(
     index: u32,
     s: &SbrSettings,
 ) -> ObjectTrace {
+    let traced = trace_object_runs(bvh, illumination, centre_m, radius_m, index, s);
+    let mut runs = traced.runs.into_iter();
+    let mut returns = runs.next().unwrap_or_default();
+    for run in runs {
+        returns.extend(run);
+    }
+    ObjectTrace {
+        returns,
+        rays: traced.rays,
+        budget: traced.budget,
+    }
+}
+
+/// [`trace_object`] without joining the runs.
+fn trace_object_runs(
+    bvh: &Bvh,
+    illumination: Illumination,
+    centre_m: DVec3,
+    radius_m: f64,
+    index: u32,
+    s: &SbrSettings,
+) -> ObjectRuns {
     let mut grids = vec![TubeGrid::new(
         illumination,
         centre_m,
@@ -114,7 +144,7 @@ pub fn trace_object(
             .sum(),
         capped: direct.capped,
     };
-    let mut returns = Vec::new();
+    let mut returns: Vec<Vec<TubeReturn>> = Vec::new();
     let mut rays = 0;
     let bounds = bvh.object_bounds(index);
     for grid in &grids {
@@ -140,19 +170,15 @@ pub fn trace_object(
                 },
             )
             .collect();
-        rays += runs.iter().map(|(_, n)| n).sum::<u64>();
-        if returns.is_empty() && runs.len() == 1 {
-            // One run (no other thread took rows): the first grid's returns as they are.
-            returns = runs.into_iter().next().map(|(r, _)| r).unwrap_or_default();
-        } else {
-            returns.reserve(runs.iter().map(|(r, _)| r.len()).sum());
-            for (r, _) in runs {
-                returns.extend(r);
+        for (run, n) in runs {
+            rays += n;
+            if !run.is_empty() {
+                returns.push(run);
             }
         }
     }
-    ObjectTrace {
-        returns,
+    ObjectRuns {
+        runs: returns,
         rays,
         budget,
     }
@@ -281,7 +307,7 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
     // Every extended object's tubes first (None for a point or an object that cannot be
     // seen), so that the contributions are reserved once, not moved as each object adds its
     // own; then the contributions in object order.
-    let traces: Vec<Option<ObjectTrace>> = scene
+    let traces: Vec<Option<ObjectRuns>> = scene
         .objects()
         .iter()
         .enumerate()
@@ -308,7 +334,7 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
             let illumination = Illumination::FromPoint {
                 radar_m: radar.position_m(),
             };
-            Some(trace_object(
+            Some(trace_object_runs(
                 bvh,
                 illumination,
                 centre,
@@ -328,7 +354,8 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         traces
             .iter()
             .flatten()
-            .map(|t| t.returns.len())
+            .flat_map(|t| &t.runs)
+            .map(Vec::len)
             .sum::<usize>()
             + 4 * points,
     );
@@ -387,27 +414,28 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         // A tube's returns share its launch direction (about half of all returns follow
         // another of the same tube): its angles are computed once, the same values.
         let mut tx_angles = LastCall::new();
-        set.contributions.extend(traced.returns.iter().map(|r| {
-            let (az_tx, el_tx) =
-                tx_angles.get_or(vector_bits(r.tx_dir), || azimuth_elevation_rad(r.tx_dir));
-            let (az_rx, el_rx) = if vector_bits(r.rx_dir) == vector_bits(r.tx_dir) {
-                (az_tx, el_tx)
-            } else {
-                azimuth_elevation_rad(r.rx_dir)
-            };
-            Contribution {
-                amplitude_v: r.root_rcs_m * volts(r.range_tx_m, r.range_rx_m),
-                root_rcs_m: r.root_rcs_m,
-                path_m: r.path_m,
-                az_tx_rad: az_tx,
-                el_tx_rad: el_tx,
-                az_rx_rad: az_rx,
-                el_rx_rad: el_rx,
-                object: index,
-                bounces: r.bounces,
-                sea_reflections: r.sea_reflections,
-            }
-        }));
+        set.contributions
+            .extend(traced.runs.iter().flatten().map(|r| {
+                let (az_tx, el_tx) =
+                    tx_angles.get_or(vector_bits(r.tx_dir), || azimuth_elevation_rad(r.tx_dir));
+                let (az_rx, el_rx) = if vector_bits(r.rx_dir) == vector_bits(r.tx_dir) {
+                    (az_tx, el_tx)
+                } else {
+                    azimuth_elevation_rad(r.rx_dir)
+                };
+                Contribution {
+                    amplitude_v: r.root_rcs_m * volts(r.range_tx_m, r.range_rx_m),
+                    root_rcs_m: r.root_rcs_m,
+                    path_m: r.path_m,
+                    az_tx_rad: az_tx,
+                    el_tx_rad: el_tx,
+                    az_rx_rad: az_rx,
+                    el_rx_rad: el_rx,
+                    object: index,
+                    bounces: r.bounces,
+                    sea_reflections: r.sea_reflections,
+                }
+            }));
     }
     set
 }
