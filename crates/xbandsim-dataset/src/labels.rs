@@ -33,6 +33,7 @@ impl Mask {
     /// row is tested whole (an OR over its flags, which the compiler vectorises), and only
     /// the rows with a set pixel are searched: a mask is a small patch of a large image.
     fn pixel_box(&self) -> Option<[usize; 4]> {
+        debug_assert_eq!(self.pixels.len(), self.width * self.height);
         let mut b: Option<[usize; 4]> = None;
         for (y, row) in self.pixels.chunks_exact(self.width.max(1)).enumerate() {
             if !row.iter().fold(false, |any, &p| any | p) {
@@ -617,6 +618,16 @@ mod tests {
             state ^= state << 17;
             (state % n as u64) as usize
         };
+        // Images without pixels (0 × N, N × 0, 0 × 0): a single run of no zeros.
+        for (w, h) in [(0, 5), (5, 0), (0, 0)] {
+            let m = Mask {
+                width: w,
+                height: h,
+                pixels: Vec::new(),
+            };
+            assert_eq!(m.rle_counts(), walked_counts(&m), "{w}x{h}");
+            assert_eq!((m.bounds(), m.area()), (None, 0), "{w}x{h}");
+        }
         for case in 0..300 {
             let (w, h) = (1 + next(12), 1 + next(12));
             let mut m = Mask {

@@ -129,9 +129,13 @@ pub fn gamma_p(a: f64, x: f64) -> f64 {
 
 /// Whether `f64::trunc`, `floor` and `round` compile to instructions rather than libm calls:
 /// SSE4.1's `roundsd` (x86-64-v2 and up, so the default build, .cargo/config.toml), AArch64's
-/// `frint*`. The functions below then are those methods; elsewhere (the x86-64 baseline) they
+/// `frint*` (with its floating-point unit, which the `neon` feature implies). The functions
+/// below then are those methods; elsewhere (the x86-64 baseline, soft-float targets) they
 /// compute the same values without a call.
-const HARDWARE_ROUNDING: bool = cfg!(any(target_feature = "sse4.1", target_arch = "aarch64"));
+const HARDWARE_ROUNDING: bool = cfg!(any(
+    target_feature = "sse4.1",
+    all(target_arch = "aarch64", target_feature = "neon")
+));
 
 /// `x.trunc()` without a libm call: the same value, signed zero included.
 #[inline]
@@ -543,6 +547,11 @@ mod tests {
             -4_503_599_627_370_495.5,
             9.1e15,
             -9.1e15,
+            4_503_599_627_370_496.0,
+            -4_503_599_627_370_496.0,
+            4_503_599_627_370_497.0,
+            4_503_599_627_370_495.0,
+            9_007_199_254_740_992.0,
             1e300,
             f64::INFINITY,
             f64::NEG_INFINITY,

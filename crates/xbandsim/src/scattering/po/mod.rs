@@ -89,8 +89,10 @@ pub fn trace_object(
     s: &SbrSettings,
 ) -> ObjectTrace {
     let traced = trace_object_runs(bvh, illumination, centre_m, radius_m, index, s);
+    let total: usize = traced.runs.iter().map(Vec::len).sum();
     let mut runs = traced.runs.into_iter();
     let mut returns = runs.next().unwrap_or_default();
+    returns.reserve(total - returns.len());
     for run in runs {
         returns.extend(run);
     }
