@@ -204,3 +204,87 @@ fn tubes_outside_the_window_return_nothing() {
         }
     }
 }
+
+/// A tube's first hit returns along the way its tube came in without shadow rays
+/// (docs/physics.md §2.2): a direct tube's echo straight back, a via-sea tube's echo back via
+/// the sea point where the tube reflected. Here the shadow rays of every first hit's returns
+/// are cast, those the tracer leaves out included, and none is blocked, for ship-sized and
+/// small objects over the sea with a yacht in front of the ship, at two radar heights. (The
+/// returns it does test are there only if clear; a rule that left out a return's rays
+/// where its path is not retraced would show here as a blocked one: skipping a direct
+/// tube's shadow rays via the sea does.)
+#[test]
+fn first_hit_returns_are_clear() {
+    use glam::DVec3;
+    use xbandsim::geometry::Ray;
+    use xbandsim::scattering::po::{sea_mirror, settings_for, trace_object, Illumination};
+    // Off the surface by this along the return (the tracer lifts along the normal).
+    const LIFT_M: f64 = 1e-3;
+    for radar_height_m in [6.0, 25.0] {
+        let s = scene(&format!(
+            "[environment]\nnoise = false\nclutter = false\n[radar]\nposition_m = [0.0, 0.0, {radar_height_m}]\nmax_range_m = 1500.0\n[scattering]\nmax_rays_per_object = 4096\n\
+             [[object]]\nname = \"ship\"\nshape = \"vessel\"\nlength_m = 120.0\nbeam_m = 18.0\nfreeboard_m = 8.0\nmast_height_m = 25.0\nyaw_deg = 35.0\nposition_m = [200.0, 600.0, 0.0]\n\
+             [[object]]\nname = \"yacht\"\nshape = \"vessel\"\nlength_m = 9.0\nbeam_m = 3.0\nfreeboard_m = 0.8\nmast_height_m = 12.0\nyaw_deg = 250.0\nposition_m = [140.0, 420.0, 0.0]\n\
+             [[object]]\nname = \"buoy\"\nshape = \"buoy\"\nradius_m = 0.9\nheight_m = 0.7\nmast_height_m = 4.0\nposition_m = [-300.0, 250.0, 0.0]\n",
+        ));
+        let bvh = xbandsim::scattering::build_scene_bvh(s.objects());
+        let settings = settings_for(&s);
+        let radar_m = s.radar().position_m();
+        let radar_image_m = sea_mirror(radar_m);
+        let blocked = |from: DVec3, to: DVec3| {
+            let v = to - from;
+            let dir = v.normalize();
+            bvh.any_hit(
+                &Ray {
+                    origin_m: from + dir * LIFT_M,
+                    dir,
+                },
+                v.length() - LIFT_M,
+            )
+        };
+        // The return from `hit` via the sea: its two legs blocked?
+        let blocked_via_sea = |hit: DVec3| {
+            let toward_image = (radar_image_m - hit).normalize();
+            let sea_point = hit + toward_image * (hit.z / -toward_image.z);
+            blocked(hit, sea_point) || blocked(sea_point, radar_m)
+        };
+        // Returns checked: [direct tube, direct back (retraced); direct tube, via the sea;
+        // via-sea tube, direct back; via-sea tube, via the sea (retraced)].
+        let mut checked = [0usize; 4];
+        for (index, obj) in s.objects().iter().enumerate() {
+            let traced = trace_object(
+                &bvh,
+                Illumination::FromPoint { radar_m },
+                obj.bounding_centre_m(),
+                obj.shape().bounding_radius_m(),
+                index as u32,
+                &settings,
+            );
+            for r in traced.returns.iter().filter(|r| r.bounces == 1) {
+                // The first hit from the launch direction and the path to it: a direct
+                // tube's, or a via-sea tube's unfolded (it ends at the hit's mirror image,
+                // below the sea).
+                let along = radar_m + r.tx_dir * r.range_tx_m;
+                let via_sea_tube = along.z < 0.0;
+                let hit = if via_sea_tube {
+                    sea_mirror(along)
+                } else {
+                    along
+                };
+                let exit_via_sea = usize::from(r.sea_reflections) == 1 + usize::from(via_sea_tube);
+                let kind = 2 * usize::from(via_sea_tube) + usize::from(exit_via_sea);
+                let is_blocked = if exit_via_sea {
+                    blocked_via_sea(hit)
+                } else {
+                    blocked(hit, radar_m)
+                };
+                assert!(!is_blocked, "object {index}, kind {kind}: {r:?}");
+                checked[kind] += 1;
+            }
+        }
+        assert!(
+            checked.iter().all(|&n| n > 100),
+            "radar at {radar_height_m} m: only {checked:?} returns of each kind"
+        );
+    }
+}
