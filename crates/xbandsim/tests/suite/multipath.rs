@@ -100,23 +100,31 @@ fn objects_shadow_each_other() {
     );
 }
 
+/// A 120 m ship 632 m out with a 9 m yacht in front of it on the same bearing and a buoy
+/// elsewhere, over the sea (no noise or clutter), the radar `radar_height_m` above it, at most
+/// 4096 tubes an object.
+fn ship_yacht_and_buoy(radar_height_m: f64) -> xbandsim::Scene {
+    scene(&format!(
+        "[environment]\nnoise = false\nclutter = false\n[radar]\nposition_m = [0.0, 0.0, {radar_height_m}]\nmax_range_m = 1500.0\n[scattering]\nmax_rays_per_object = 4096\n\
+         [[object]]\nname = \"ship\"\nshape = \"vessel\"\nlength_m = 120.0\nbeam_m = 18.0\nfreeboard_m = 8.0\nmast_height_m = 25.0\nyaw_deg = 35.0\nposition_m = [200.0, 600.0, 0.0]\n\
+         [[object]]\nname = \"yacht\"\nshape = \"vessel\"\nlength_m = 9.0\nbeam_m = 3.0\nfreeboard_m = 0.8\nmast_height_m = 12.0\nyaw_deg = 250.0\nposition_m = [140.0, 420.0, 0.0]\n\
+         [[object]]\nname = \"buoy\"\nshape = \"buoy\"\nradius_m = 0.9\nheight_m = 0.7\nmast_height_m = 4.0\nposition_m = [-300.0, 250.0, 0.0]\n",
+    ))
+}
+
 /// Tube culling (`TubeGrid::window`, then `TubeGrid::coverage`: the union of the object's
 /// primitives' windows, from their vertices or boxes) is exact: for ship-sized and small
 /// objects over the sea, one behind another, every tube an object's coverage leaves out
-/// (direct and via-sea grids) traced anyway returns nothing, and the covered tubes give `trace_object`'s returns. The coverage
-/// leaves out tubes of the object's window too (the ship's oblique hull, the masts), and
-/// with a plane wave (the `rcs` command's illumination) the same holds.
+/// (direct and via-sea grids) traced anyway returns nothing, and the covered tubes give
+/// `trace_object`'s returns. The coverage leaves out tubes of the object's window too (the
+/// ship's oblique hull, the masts), and with a plane wave (the `rcs` command's illumination)
+/// the same holds.
 #[test]
 fn tubes_outside_the_window_return_nothing() {
     use xbandsim::scattering::po::{
         object_parts, sea_mirror, settings_for, trace_object, trace_tube, Illumination, TubeGrid,
     };
-    let s = scene(
-        "[environment]\nnoise = false\nclutter = false\n[radar]\nposition_m = [0.0, 0.0, 12.0]\nmax_range_m = 1500.0\n[scattering]\nmax_rays_per_object = 4096\n\
-         [[object]]\nname = \"ship\"\nshape = \"vessel\"\nlength_m = 120.0\nbeam_m = 18.0\nfreeboard_m = 8.0\nmast_height_m = 25.0\nyaw_deg = 35.0\nposition_m = [200.0, 600.0, 0.0]\n\
-         [[object]]\nname = \"yacht\"\nshape = \"vessel\"\nlength_m = 9.0\nbeam_m = 3.0\nfreeboard_m = 0.8\nmast_height_m = 12.0\nyaw_deg = 250.0\nposition_m = [140.0, 420.0, 0.0]\n\
-         [[object]]\nname = \"buoy\"\nshape = \"buoy\"\nradius_m = 0.9\nheight_m = 0.7\nmast_height_m = 4.0\nposition_m = [-300.0, 250.0, 0.0]\n",
-    );
+    let s = ship_yacht_and_buoy(12.0);
     let bvh = xbandsim::scattering::build_scene_bvh(s.objects());
     let settings = settings_for(&s);
     let radar_m = s.radar().position_m();
@@ -221,12 +229,7 @@ fn first_hit_returns_are_clear() {
     // Off the surface by this along the return (the tracer lifts along the normal).
     const LIFT_M: f64 = 1e-3;
     for radar_height_m in [6.0, 25.0] {
-        let s = scene(&format!(
-            "[environment]\nnoise = false\nclutter = false\n[radar]\nposition_m = [0.0, 0.0, {radar_height_m}]\nmax_range_m = 1500.0\n[scattering]\nmax_rays_per_object = 4096\n\
-             [[object]]\nname = \"ship\"\nshape = \"vessel\"\nlength_m = 120.0\nbeam_m = 18.0\nfreeboard_m = 8.0\nmast_height_m = 25.0\nyaw_deg = 35.0\nposition_m = [200.0, 600.0, 0.0]\n\
-             [[object]]\nname = \"yacht\"\nshape = \"vessel\"\nlength_m = 9.0\nbeam_m = 3.0\nfreeboard_m = 0.8\nmast_height_m = 12.0\nyaw_deg = 250.0\nposition_m = [140.0, 420.0, 0.0]\n\
-             [[object]]\nname = \"buoy\"\nshape = \"buoy\"\nradius_m = 0.9\nheight_m = 0.7\nmast_height_m = 4.0\nposition_m = [-300.0, 250.0, 0.0]\n",
-        ));
+        let s = ship_yacht_and_buoy(radar_height_m);
         let bvh = xbandsim::scattering::build_scene_bvh(s.objects());
         let settings = settings_for(&s);
         let radar_m = s.radar().position_m();
