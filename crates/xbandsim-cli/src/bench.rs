@@ -421,7 +421,7 @@ fn dataset_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<
     let n = DATASET_BENCH_SAMPLES;
     // Each run writes a fresh folder, and all are removed at the end: on ext4, files made
     // just after many were deleted cost the inode allocator a search past them
-    // (docs/performance.md, twelfth pass), which is not the generator's time.
+    // (docs/performance.md, "Measuring"), which is not the generator's time.
     let mut dirs = Vec::new();
     let mut rate = |spec: &DatasetSpec| {
         let t = median_s(repeats, || {
