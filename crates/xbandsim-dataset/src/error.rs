@@ -29,6 +29,12 @@ pub enum DatasetError {
     /// The output directory holds a different dataset.
     #[error("{}: {message}", path.display())]
     Mismatch { path: PathBuf, message: String },
+    /// The run was asked to stop (Ctrl-C in Python) before its samples were all made: the
+    /// samples already written are whole and a later run resumes from them.
+    #[error(
+        "stopped after {made} new samples: the dataset is resumable (run the same command again)"
+    )]
+    Interrupted { made: u64 },
 }
 
 impl DatasetError {

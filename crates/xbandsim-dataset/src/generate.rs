@@ -21,6 +21,7 @@ use crate::labels::{frame_labels, mask_spokes, object_masks, FrameContext};
 use crate::spec::DatasetSpec;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use xbandsim::engine::Outputs;
 use xbandsim::products::frame_files::encode_frame_files;
 use xbandsim::Simulation;
@@ -260,6 +261,21 @@ pub fn generate(
     request: &Request,
     sample_done: &(dyn Fn() + Sync),
 ) -> Result<Summary> {
+    generate_until(spec, out, request, sample_done, &AtomicBool::new(false))
+}
+
+/// [`generate`], stopping early once `stop` is set (by another thread, e.g. on Ctrl-C): no
+/// sample is started after that, the samples being rendered are finished and written whole
+/// (a sample takes well under a second at the shipped sizes), and the run returns
+/// [`DatasetError::Interrupted`]. The folder is then as a killed run leaves it, without its
+/// temporary files: the same request resumes it.
+pub fn generate_until(
+    spec: &DatasetSpec,
+    out: &Path,
+    request: &Request,
+    sample_done: &(dyn Fn() + Sync),
+    stop: &AtomicBool,
+) -> Result<Summary> {
     if request.count == 0 {
         return Err(DatasetError::argument(
             "--count",
@@ -277,6 +293,10 @@ pub fn generate(
         ));
     }
     std::fs::create_dir_all(out).map_err(|e| DatasetError::io(out, e))?;
+    // While this run lives its temporaries are its own; what runs that are gone left
+    // half-written goes now (crate::owner).
+    let _owner = crate::owner::Owner::claim(out)?;
+    crate::owner::clean(out);
     let record = dataset_record(spec, request)?;
     let record_path = out.join("dataset.json");
     match std::fs::read(&record_path) {
@@ -295,9 +315,9 @@ pub fn generate(
         .build()
         .map_err(|e| DatasetError::argument("--jobs", e.to_string()))?;
     let mut summary = match request.format {
-        Format::Dir => pool.install(|| make_dir_samples(spec, out, request, sample_done))?,
+        Format::Dir => pool.install(|| make_dir_samples(spec, out, request, sample_done, stop))?,
         Format::WebDataset { samples_per_shard } => pool.install(|| {
-            crate::webdataset::make_shards(spec, out, request, samples_per_shard, sample_done)
+            crate::webdataset::make_shards(spec, out, request, samples_per_shard, sample_done, stop)
         })?,
     };
     if !request.assemble {
@@ -316,7 +336,7 @@ pub fn generate(
     // README.md is written last by the assembly (crate::assemble): without it the index
     // files are missing or unfinished.
     if summary.missing == 0 && (summary.made > 0 || !out.join("README.md").is_file()) {
-        remove_stale_partials(out);
+        crate::owner::clean(out);
         summary.assembled = Some(crate::assemble::assemble(
             spec,
             out,
@@ -333,6 +353,7 @@ fn make_dir_samples(
     out: &Path,
     request: &Request,
     sample_done: &(dyn Fn() + Sync),
+    stop: &AtomicBool,
 ) -> Result<Summary> {
     let indices: Vec<u64> = (0..request.count)
         .filter(|&i| request.shard.holds(i))
@@ -342,11 +363,23 @@ fn make_dir_samples(
         .copied()
         .filter(|&i| !sample_dir(out, i).is_dir())
         .collect();
+    let made = AtomicU64::new(0);
     pending.par_iter().try_for_each(|&i| {
+        if stop.load(Ordering::Relaxed) {
+            return Err(DatasetError::Interrupted {
+                made: made.load(Ordering::Relaxed),
+            });
+        }
         make_sample(spec, out, request.seed, i)?;
+        made.fetch_add(1, Ordering::Relaxed);
         sample_done();
         Ok::<(), DatasetError>(())
     })?;
+    if stop.load(Ordering::Relaxed) && made.load(Ordering::Relaxed) < pending.len() as u64 {
+        return Err(DatasetError::Interrupted {
+            made: made.load(Ordering::Relaxed),
+        });
+    }
     Ok(Summary {
         in_shard: indices.len() as u64,
         skipped: (indices.len() - pending.len()) as u64,
@@ -483,18 +516,12 @@ pub fn make_sample(spec: &DatasetSpec, out: &Path, seed: u64, index: u64) -> Res
     if partial.exists() {
         std::fs::remove_dir_all(&partial).map_err(|e| DatasetError::io(&partial, e))?;
     }
-    std::fs::create_dir_all(&partial).map_err(|e| DatasetError::io(&partial, e))?;
-    let mut manifest = String::new();
-    for (rel, bytes) in &written {
-        manifest.push_str(&format!("{}  {rel}\n", sha256_hex(bytes)));
-        let path = partial.join(rel);
-        if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent).map_err(|e| DatasetError::io(parent, e))?;
-        }
-        std::fs::write(&path, bytes).map_err(|e| DatasetError::io(&path, e))?;
+    let filled = fill_partial(&partial, &written);
+    if filled.is_err() {
+        // A full disk or a failed write: the half-written folder goes (best effort).
+        let _ = std::fs::remove_dir_all(&partial);
     }
-    let manifest_path = partial.join(MANIFEST);
-    std::fs::write(&manifest_path, manifest).map_err(|e| DatasetError::io(&manifest_path, e))?;
+    filled?;
     let dest = sample_dir(out, index);
     let parent = dest.parent().unwrap_or(out);
     std::fs::create_dir_all(parent).map_err(|e| DatasetError::io(parent, e))?;
@@ -508,82 +535,20 @@ pub fn make_sample(spec: &DatasetSpec, out: &Path, seed: u64, index: u64) -> Res
     }
 }
 
-/// How long a temporary file or folder must be untouched before a completing run deletes it
-/// as a killed run's leftover (a live writer touches its files every sample).
-const STALE_PARTIAL: std::time::Duration = std::time::Duration::from_secs(600);
-
-/// The dataset root's temporary names (crate::assemble and the record's write), each
-/// followed by a process tag (`xbandsim::products::output::temp_suffix`).
-const ROOT_TEMPORARY_PREFIXES: [&str; 9] = [
-    "annotations.partial-",
-    "targets.partial-",
-    "README.partial-",
-    "annotations.json.annotations-",
-    ".yolo.partial-",
-    ".yolo_obb.partial-",
-    ".yolo.old-",
-    ".yolo_obb.old-",
-    ".dataset.json.tmp-",
-];
-
-/// Whether `path` and everything in it down to `depth` levels (a folder's time changes only
-/// when its own entries do) is older than [`STALE_PARTIAL`].
-fn untouched(path: &Path, depth: u32) -> bool {
-    let Ok(meta) = std::fs::symlink_metadata(path) else {
-        return false;
-    };
-    let old = meta
-        .modified()
-        .ok()
-        .and_then(|t| t.elapsed().ok())
-        .is_some_and(|age| age > STALE_PARTIAL);
-    if !old || !meta.is_dir() || depth == 0 {
-        return old;
-    }
-    match std::fs::read_dir(path) {
-        Ok(entries) => entries.flatten().all(|e| untouched(&e.path(), depth - 1)),
-        Err(_) => false,
-    }
-}
-
-/// Deletes what killed runs left half-written (`.partial/<index>-<tag>/`,
-/// `shards/*.partial-<tag>`, the assembly's temporary files and trees in the root), once the
-/// dataset is complete and only when untouched for [`STALE_PARTIAL`]. Best effort: what
-/// cannot be read or removed stays (never read).
-fn remove_stale_partials(out: &Path) {
-    let remove = |path: &Path| {
-        let _ = if path.is_dir() {
-            std::fs::remove_dir_all(path)
-        } else {
-            std::fs::remove_file(path)
-        };
-    };
-    if let Ok(entries) = std::fs::read_dir(out.join(".partial")) {
-        for e in entries.flatten() {
-            if untouched(&e.path(), 2) {
-                remove(&e.path());
-            }
+/// Writes a sample's files and its manifest into the new folder `partial`.
+fn fill_partial(partial: &Path, written: &SampleFiles) -> Result<()> {
+    std::fs::create_dir_all(partial).map_err(|e| DatasetError::io(partial, e))?;
+    let mut manifest = String::new();
+    for (rel, bytes) in written {
+        manifest.push_str(&format!("{}  {rel}\n", sha256_hex(bytes)));
+        let path = partial.join(rel);
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent).map_err(|e| DatasetError::io(parent, e))?;
         }
+        std::fs::write(&path, bytes).map_err(|e| DatasetError::io(&path, e))?;
     }
-    if let Ok(entries) = std::fs::read_dir(out.join("shards")) {
-        for e in entries.flatten() {
-            let name = e.file_name();
-            if name.to_string_lossy().contains(".partial-") && untouched(&e.path(), 0) {
-                remove(&e.path());
-            }
-        }
-    }
-    if let Ok(entries) = std::fs::read_dir(out) {
-        for e in entries.flatten() {
-            let name = e.file_name();
-            let name = name.to_string_lossy();
-            if ROOT_TEMPORARY_PREFIXES.iter().any(|p| name.starts_with(p))
-                && untouched(&e.path(), 3)
-            {
-                remove(&e.path());
-            }
-        }
-    }
+    let manifest_path = partial.join(MANIFEST);
+    std::fs::write(&manifest_path, manifest).map_err(|e| DatasetError::io(&manifest_path, e))
 }
 
 /// Each sample's list of its files' sha256, written last.

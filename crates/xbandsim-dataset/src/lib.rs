@@ -11,6 +11,7 @@ pub mod dist;
 pub mod error;
 pub mod generate;
 pub mod labels;
+pub mod owner;
 pub mod sample;
 pub mod spec;
 pub mod stats;
@@ -19,6 +20,7 @@ pub mod webdataset;
 
 pub use error::{DatasetError, Result};
 pub use generate::{
-    generate, make_sample, render_sample, sample_dir, Format, Request, Shard, Summary,
+    generate, generate_until, make_sample, render_sample, sample_dir, Format, Request, Shard,
+    Summary,
 };
 pub use spec::DatasetSpec;

@@ -17,6 +17,7 @@ use rayon::prelude::*;
 use sha2::Digest;
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A sample file's member name in its shard.
 pub fn member_name(index: u64, rel: &str) -> String {
@@ -79,6 +80,7 @@ pub fn make_shards(
     request: &Request,
     per_shard: u64,
     sample_done: &(dyn Fn() + Sync),
+    stop: &AtomicBool,
 ) -> Result<Summary> {
     if per_shard == 0 {
         return Err(DatasetError::argument(
@@ -100,7 +102,23 @@ pub fn make_shards(
             summary.skipped += samples(&t);
             continue;
         }
-        write_shard(spec, out, request.seed, t, per_shard, count, sample_done)?;
+        if stop.load(Ordering::Relaxed) {
+            return Err(DatasetError::Interrupted { made: summary.made });
+        }
+        let written = write_shard(
+            spec,
+            out,
+            request.seed,
+            t,
+            per_shard,
+            count,
+            sample_done,
+            stop,
+        );
+        if let Err(DatasetError::Interrupted { .. }) = written {
+            return Err(DatasetError::Interrupted { made: summary.made });
+        }
+        written?;
         summary.made += samples(&t);
     }
     Ok(summary)
@@ -114,15 +132,42 @@ fn write_shard(
     per_shard: u64,
     count: u64,
     sample_done: &(dyn Fn() + Sync),
+    stop: &AtomicBool,
 ) -> Result<()> {
     let path = shard_path(out, t);
     let dir = path.parent().unwrap_or(out).to_path_buf();
     at(&dir, std::fs::create_dir_all(&dir))?;
-    let tmp = path.with_extension(format!(
-        "tar.partial-{}",
-        xbandsim::products::output::temp_suffix()
-    ));
-    let file = at(&tmp, std::fs::File::create(&tmp))?;
+    let suffix = xbandsim::products::output::temp_suffix();
+    let tmp = path.with_extension(format!("tar.partial-{suffix}"));
+    let manifest_file = manifest_path(out, t);
+    let manifest_tmp = manifest_file.with_extension(format!("json.partial-{suffix}"));
+    let written = fill_shard(
+        spec,
+        (seed, t, per_shard, count),
+        (&path, &tmp),
+        (&manifest_file, &manifest_tmp),
+        sample_done,
+        stop,
+    );
+    if written.is_err() {
+        // Stopped or failed (a full disk): nothing half-written stays behind.
+        let _ = std::fs::remove_file(&tmp);
+        let _ = std::fs::remove_file(&manifest_tmp);
+    }
+    written
+}
+
+/// Renders shard `t`'s samples into the tar `tmp` and its manifest into `manifest_tmp`, then
+/// renames both into place (the tar first: a shard is done when its manifest is there).
+fn fill_shard(
+    spec: &DatasetSpec,
+    (seed, t, per_shard, count): (u64, u64, u64, u64),
+    (path, tmp): (&Path, &Path),
+    (manifest_file, manifest_tmp): (&Path, &Path),
+    sample_done: &(dyn Fn() + Sync),
+    stop: &AtomicBool,
+) -> Result<()> {
+    let file = at(tmp, std::fs::File::create(tmp))?;
     let mut builder = tar::Builder::new(Hashing {
         inner: std::io::BufWriter::new(file),
         hasher: sha2::Sha256::new(),
@@ -136,6 +181,9 @@ fn write_shard(
     // A few samples per worker at a time, appended in index order: memory stays bounded.
     let chunk = (rayon::current_num_threads() * 2).max(1);
     for block in indices.chunks(chunk) {
+        if stop.load(Ordering::Relaxed) {
+            return Err(DatasetError::Interrupted { made: 0 });
+        }
         let rendered: Vec<Result<SampleFiles>> = block
             .par_iter()
             .map(|&i| {
@@ -176,11 +224,6 @@ fn write_shard(
         "tar_sha256": tar_sha,
         "members": members,
     });
-    let manifest_file = manifest_path(out, t);
-    let manifest_tmp = manifest_file.with_extension(format!(
-        "json.partial-{}",
-        xbandsim::products::output::temp_suffix()
-    ));
     let mut text = serde_json::to_vec_pretty(&manifest)
         .map_err(|e| DatasetError::spec("(manifest)", e.to_string()))?;
     text.push(b'\n');

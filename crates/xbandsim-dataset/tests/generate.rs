@@ -411,3 +411,126 @@ fn shard_index_from_a_kubernetes_indexed_job_or_a_slurm_array() {
         );
     }
 }
+
+/// Temporaries are removed by ownership, not age: a run removes at once (however fresh) what
+/// runs that are gone left — their lock file under `.owners/` can be locked — and leaves a
+/// live run's alone (its lock is held, here by this test), in `.partial/`, `shards/` and the
+/// root. A finished dataset run again cleans up too.
+#[test]
+fn a_run_removes_what_dead_runs_left_and_keeps_a_live_runs() {
+    let spec = spec();
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("ds");
+    generate(&spec, &out, &request(2, 3, Shard::ALL, 1), &|| {}).unwrap();
+    assert!(
+        !out.join(".owners").exists(),
+        "the finished run's lock stays"
+    );
+    let before = files(&out);
+    let owners = out.join(".owners");
+    std::fs::create_dir_all(&owners).unwrap();
+    let (dead, live) = ("deadhost-41-0000abcd", "livehost-42-0000beef");
+    std::fs::write(owners.join(format!("{dead}.lock")), b"").unwrap();
+    let live_lock = std::fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(owners.join(format!("{live}.lock")))
+        .unwrap();
+    live_lock.try_lock().unwrap();
+    let temporaries = |tag: &str| {
+        [
+            out.join(".partial").join(format!("000000001-{tag}-0")),
+            out.join("shards")
+                .join(format!("shard-000000.tar.partial-{tag}-1")),
+            out.join(format!("annotations.partial-{tag}-2")),
+            out.join(format!(".yolo.partial-{tag}-3")),
+        ]
+    };
+    for tag in [dead, live] {
+        for (k, t) in temporaries(tag).iter().enumerate() {
+            std::fs::create_dir_all(t.parent().unwrap()).unwrap();
+            if k % 2 == 0 {
+                std::fs::create_dir_all(t).unwrap();
+                std::fs::write(t.join("polar.npy"), b"half").unwrap();
+            } else {
+                std::fs::write(t, b"half").unwrap();
+            }
+        }
+    }
+    let s = generate(&spec, &out, &request(2, 3, Shard::ALL, 1), &|| {}).unwrap();
+    assert_eq!((s.skipped, s.made), (2, 0));
+    for t in temporaries(dead) {
+        assert!(!t.exists(), "{} of a dead run stays", t.display());
+    }
+    for t in temporaries(live) {
+        assert!(t.exists(), "{} of a live run was removed", t.display());
+    }
+    assert!(!owners.join(format!("{dead}.lock")).exists());
+    assert!(owners.join(format!("{live}.lock")).exists());
+    // The live run ends (its lock goes with its process; here the file is unlocked): the
+    // next run removes the rest, and the folder is the finished dataset again.
+    drop(live_lock);
+    generate(&spec, &out, &request(2, 3, Shard::ALL, 1), &|| {}).unwrap();
+    for t in temporaries(live) {
+        assert!(!t.exists(), "{} stays after its run ended", t.display());
+    }
+    let _ = std::fs::remove_dir(out.join("shards"));
+    assert_eq!(files(&out), before);
+}
+
+/// A run told to stop (Ctrl-C from Python) starts no sample after that, returns
+/// `Interrupted`, and leaves whole samples only: the same request then resumes and finishes
+/// with the bytes of an uninterrupted run, in folders and in tar shards.
+#[test]
+fn a_stopped_run_leaves_whole_samples_and_resumes() {
+    use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+    let spec = spec();
+    let tmp = tempfile::tempdir().unwrap();
+    for format in [
+        Format::Dir,
+        Format::WebDataset {
+            samples_per_shard: 2,
+        },
+    ] {
+        let name = format!("{format:?}");
+        let req = Request {
+            format,
+            ..request(8, 5, Shard::ALL, 1)
+        };
+        let whole = tmp.path().join(format!("whole-{name}"));
+        generate(&spec, &whole, &req, &|| {}).unwrap();
+        let stopped = tmp.path().join(format!("stopped-{name}"));
+        let stop = AtomicBool::new(false);
+        let done = AtomicU64::new(0);
+        let err = xbandsim_dataset::generate_until(
+            &spec,
+            &stopped,
+            &req,
+            &|| {
+                if done.fetch_add(1, Ordering::Relaxed) + 1 == 3 {
+                    stop.store(true, Ordering::Relaxed);
+                }
+            },
+            &stop,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(err, DatasetError::Interrupted { .. }),
+            "{name}: {err}"
+        );
+        let left = files(&stopped);
+        assert!(
+            left.keys()
+                .all(|k| !k.contains("partial") && !k.starts_with(".owners")),
+            "{name}: temporaries left: {:?}",
+            left.keys().collect::<Vec<_>>()
+        );
+        assert!(!stopped.join("README.md").exists(), "{name}: assembled");
+        let s = generate(&spec, &stopped, &req, &|| {}).unwrap();
+        assert!(s.skipped >= 2 && s.made > 0, "{name}: {s:?}");
+        let _ = std::fs::remove_dir(stopped.join(".partial"));
+        let _ = std::fs::remove_dir(whole.join(".partial"));
+        assert_eq!(files(&whole), files(&stopped), "{name}");
+    }
+}

@@ -11,11 +11,12 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Condvar, Mutex};
 use xbandsim::engine::{Outputs, Simulation};
 use xbandsim::products::frame_files::{frame_products, Images};
 use xbandsim::scene::LoadedSpec;
-use xbandsim_dataset::{generate, DatasetError, DatasetSpec, Format, Request, Shard};
+use xbandsim_dataset::{generate_until, DatasetError, DatasetSpec, Format, Request, Shard};
 
 /// The Python exception for a library error: `(class name in xbandsim.errors, message)`.
 fn library_error_class(e: &xbandsim::Error) -> &'static str {
@@ -82,6 +83,9 @@ fn dataset_error(py: Python<'_>, e: DatasetError) -> PyErr {
         DatasetError::Io { .. } => raise(py, "XbandsimIOError", e.to_string(), None, None),
         DatasetError::Mismatch { .. } => {
             raise(py, "DatasetMismatchError", e.to_string(), None, None)
+        }
+        DatasetError::Interrupted { .. } => {
+            pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string())
         }
     }
 }
@@ -357,7 +361,12 @@ fn generate_dataset<'py>(
     shard_samples: Option<u64>,
     assemble: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let run = py.detach(|| {
+    // The run goes on a thread of its own while this one waits with the GIL released and
+    // wakes every 50 ms to let Python handle signals: on Ctrl-C (a KeyboardInterrupt from
+    // check_signals) the run is told to stop, finishes the samples it is writing and
+    // returns, and the interrupt is raised; the folder resumes like a killed run's.
+    let stop = AtomicBool::new(false);
+    let run_dataset = || {
         let spec = DatasetSpec::read(&spec_path)?;
         let shard = match &shard {
             Some(s) => Shard::resolve(s, &|name| std::env::var(name).ok())?,
@@ -377,8 +386,43 @@ fn generate_dataset<'py>(
             format,
             assemble,
         };
-        generate(&spec, &out, &request, &|| {})
+        generate_until(&spec, &out, &request, &|| {}, &stop)
+    };
+    let mut interrupt = None;
+    let done = (Mutex::new(false), Condvar::new());
+    let run = std::thread::scope(|scope| {
+        let worker = scope.spawn(|| {
+            // Set when the run ends, also by a panic (then re-raised below).
+            struct Finished<'a>(&'a (Mutex<bool>, Condvar));
+            impl Drop for Finished<'_> {
+                fn drop(&mut self) {
+                    *self.0 .0.lock().unwrap_or_else(|p| p.into_inner()) = true;
+                    self.0 .1.notify_all();
+                }
+            }
+            let _finished = Finished(&done);
+            run_dataset()
+        });
+        let tick = std::time::Duration::from_millis(50);
+        let finished = || {
+            let flag = done.0.lock().unwrap_or_else(|p| p.into_inner());
+            let waited = done.1.wait_timeout_while(flag, tick, |finished| !*finished);
+            waited.map_or(true, |(flag, _)| *flag)
+        };
+        while !py.detach(finished) {
+            if interrupt.is_none() {
+                if let Err(e) = py.check_signals() {
+                    stop.store(true, Ordering::Relaxed);
+                    interrupt = Some(e);
+                }
+            }
+        }
+        worker.join()
     });
+    let run = run.unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+    if let Some(e) = interrupt {
+        return Err(e);
+    }
     let summary = run.map_err(|e| dataset_error(py, e))?;
     let d = PyDict::new(py);
     d.set_item("in_shard", summary.in_shard)?;
