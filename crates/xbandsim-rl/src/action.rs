@@ -131,7 +131,7 @@ impl Action {
                     Problem::OutOfRange,
                     format!("action.{}", ACTION_NAMES[i]),
                     x,
-                    format!("must be in 0..{n}"),
+                    format!("must be 0 … {}", n - 1),
                 ));
             }
         }
@@ -220,6 +220,13 @@ mod tests {
         );
         let e = Action::from_vector(&[0, 0, 4, 0, 0, 0]).unwrap_err();
         assert!(e.to_string().contains("action.gain"), "{e}");
+        // Inclusive bounds, as everywhere else: the last choice is the one named.
+        assert!(e.to_string().ends_with("= 4: must be 0 … 3"), "{e}");
+        let e = Action::from_vector(&[5, 0, 0, 0, 0, 0]).unwrap_err();
+        assert!(
+            e.to_string().ends_with("`action.scan` = 5: must be 0 … 4"),
+            "{e}"
+        );
         let e = Action::from_vector(&[0, -1, 0, 0, 0, 0]).unwrap_err();
         assert!(e.to_string().contains("action.pulse"), "{e}");
         assert!(Action::from_vector(&[0, 0, 0]).is_err());

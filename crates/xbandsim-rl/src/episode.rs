@@ -62,7 +62,7 @@ impl EpisodeConfig {
                 Problem::OutOfRange,
                 "level",
                 self.level,
-                format!("curriculum levels are 0..{LEVELS}"),
+                format!("must be 0 … {} (the curriculum levels)", LEVELS - 1),
             ));
         }
         if !(16..=2048).contains(&self.image_size_px) {

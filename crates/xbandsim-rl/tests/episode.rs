@@ -91,7 +91,14 @@ fn a_quadrant_dwell_refreshes_only_its_quadrant_and_costs_its_pulses() {
 #[test]
 fn bad_configs_and_steps_are_errors_naming_the_field() {
     let mut c = EpisodeConfig::new(Task::Detection, 4);
-    assert!(Episode::new(c).err().unwrap().to_string().contains("level"));
+    let e = Episode::new(c).err().unwrap().to_string();
+    // Inclusive bounds: level 4 is not among 0 … 3.
+    assert!(
+        e.ends_with("`level` = 4: must be 0 … 3 (the curriculum levels)"),
+        "{e}"
+    );
+    c.level = 3;
+    assert!(Episode::new(c).is_ok());
     c.level = 0;
     c.image_size_px = 8;
     assert!(Episode::new(c)
