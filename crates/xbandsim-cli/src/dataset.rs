@@ -31,7 +31,7 @@ pub struct DatasetArgs {
     /// SLURM_ARRAY_TASK_ID, a job array numbered 0 … K-1): --shard k8s/8.
     #[arg(long, value_name = "I/K")]
     pub shard: Option<String>,
-    /// Samples rendered at once (default: one per core).
+    /// Samples rendered at once (default: one per core; at most 4 per core).
     #[arg(long, default_value_t = 0)]
     pub jobs: usize,
     /// Storage: `dir` (a folder per sample, YOLO trees) or `webdataset` (tar shards of
@@ -210,6 +210,14 @@ fn make(
         jobs: a.jobs,
         assemble: !a.no_assemble,
     };
+    if request.worker_threads() < request.jobs {
+        eprintln!(
+            "note: --jobs {} is more than {} per core; rendering {} samples at once (more would only add memory)",
+            request.jobs,
+            xbandsim_dataset::generate::MAX_JOBS_PER_CORE,
+            request.worker_threads()
+        );
+    }
     let in_shard = request.samples_in_shard();
     let progress = crate::progress::bar(in_shard, "dataset: samples");
     let summary = generate(&spec, out, &request, &|| progress.inc(1))

@@ -557,7 +557,7 @@ mod tests {
         for seed in 0..40u64 {
             // A pseudo-random mask with long and short runs.
             let pixels: Vec<bool> = (0..h * w)
-                .map(|i| ((i as u64 * 2654435761 + seed * 97) >> 5) % (2 + seed % 5) == 0)
+                .map(|i| ((i as u64 * 2654435761 + seed * 97) >> 5).is_multiple_of(2 + seed % 5))
                 .collect();
             let m = Mask {
                 width: w,

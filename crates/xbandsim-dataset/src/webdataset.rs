@@ -196,7 +196,7 @@ fn fill_shard(
             for (rel, bytes) in files? {
                 let name = member_name(i, &rel);
                 let mut header = tar::Header::new_ustar();
-                at(&tmp, header.set_path(&name))?;
+                at(tmp, header.set_path(&name))?;
                 header.set_size(bytes.len() as u64);
                 header.set_mode(0o644);
                 header.set_mtime(0);
@@ -204,7 +204,7 @@ fn fill_shard(
                 header.set_gid(0);
                 header.set_entry_type(tar::EntryType::Regular);
                 header.set_cksum();
-                at(&tmp, builder.append(&header, bytes.as_slice()))?;
+                at(tmp, builder.append(&header, bytes.as_slice()))?;
                 members.push(serde_json::json!({
                     "name": name,
                     "size": bytes.len(),
@@ -213,8 +213,8 @@ fn fill_shard(
             }
         }
     }
-    let mut hashing = at(&tmp, builder.into_inner())?;
-    at(&tmp, hashing.flush())?;
+    let mut hashing = at(tmp, builder.into_inner())?;
+    at(tmp, hashing.flush())?;
     let tar_sha = crate::generate::hex(&hashing.hasher.finalize());
     let manifest = serde_json::json!({
         "shard": t,
@@ -227,12 +227,9 @@ fn fill_shard(
     let mut text = serde_json::to_vec_pretty(&manifest)
         .map_err(|e| DatasetError::spec("(manifest)", e.to_string()))?;
     text.push(b'\n');
-    at(&manifest_tmp, std::fs::write(&manifest_tmp, text))?;
-    at(&path, std::fs::rename(&tmp, &path))?;
-    at(
-        &manifest_file,
-        std::fs::rename(&manifest_tmp, &manifest_file),
-    )
+    at(manifest_tmp, std::fs::write(manifest_tmp, text))?;
+    at(path, std::fs::rename(tmp, path))?;
+    at(manifest_file, std::fs::rename(manifest_tmp, manifest_file))
 }
 
 /// Calls `f(member name, bytes)` for every member of the tar at `path` that `want` accepts,

@@ -20,10 +20,13 @@ pub use radar::{
     Polarisation, Radar, Scan, ShortPulse, Stagger, MAX_POLAR_CELLS, MAX_PRF_STAGGER, MAX_SPOKES,
 };
 pub use revolution::Revolution;
-pub use scattering::{ScatteringConfig, ScatteringModel};
+pub use scattering::{
+    tube_grid_cells, ScatteringConfig, ScatteringModel, BYTES_PER_TUBE, MAX_TRACE_BYTES,
+};
 pub use world::SceneObject;
 
 use crate::error::{Error, Problem, Result};
+use crate::geometry::ShapeGeometry;
 use crate::scene::{LoadedSpec, SceneSpec};
 use checks::fmt_vec;
 use std::path::Path;
@@ -38,6 +41,67 @@ pub struct Scene {
     objects: Vec<SceneObject>,
     own_ship: Option<OwnShip>,
     processing: Processing,
+}
+
+/// Refuses a ray budget whose PO trace would need more than [`MAX_TRACE_BYTES`]: every
+/// extended object's tube grids (two with the sea on: direct and via the sea) at
+/// [`BYTES_PER_TUBE`], before anything is traced. Names the field that sets the grids: the
+/// budget where it binds, else the spacing.
+fn check_trace_memory(
+    radar: &Radar,
+    environment: &Environment,
+    scattering: &ScatteringConfig,
+    objects: &[SceneObject],
+) -> Result<()> {
+    if scattering.model() != ScatteringModel::PhysicalOptics {
+        return Ok(());
+    }
+    let spacing_m = scattering.ray_spacing_wavelengths() * radar.wavelength_m();
+    let grids = if environment.sea().is_some() {
+        2.0
+    } else {
+        1.0
+    };
+    let (mut tubes, mut capped) = (0.0, false);
+    for obj in objects {
+        if matches!(obj.shape(), ShapeGeometry::Point { .. }) {
+            continue;
+        }
+        let (cells, bound) = tube_grid_cells(
+            obj.shape().bounding_radius_m(),
+            spacing_m,
+            scattering.max_rays_per_object(),
+        );
+        tubes += grids * std::f64::consts::FRAC_PI_4 * (cells as f64).powi(2);
+        capped |= bound;
+    }
+    let bytes = tubes * BYTES_PER_TUBE;
+    if bytes <= MAX_TRACE_BYTES {
+        return Ok(());
+    }
+    let what = format!(
+        "tracing the scene would take about {:.3e} ray tubes, {:.1} GB of memory; the limit is {:.0} GB",
+        tubes,
+        bytes / 1e9,
+        MAX_TRACE_BYTES / 1e9
+    );
+    Err(if capped {
+        Error::invalid(
+            Problem::OutOfRange,
+            "scattering.max_rays_per_object",
+            scattering.max_rays_per_object(),
+            format!("{what}: lower max_rays_per_object (default 32768)"),
+        )
+    } else {
+        Error::invalid(
+            Problem::OutOfRange,
+            "scattering.ray_spacing_wavelengths",
+            scattering.ray_spacing_wavelengths(),
+            format!(
+                "{what}: raise ray_spacing_wavelengths (default 0.5) or lower max_rays_per_object"
+            ),
+        )
+    })
 }
 
 impl Scene {
@@ -68,17 +132,24 @@ impl Scene {
                     format!("the object lies entirely below the sea surface (its highest point is at z = {top_m:.2} m; the sea is the plane z = 0): a radar cannot see it; raise it"),
                 ));
             }
-            let clearance = obj.shape().bounding_radius_m().max(0.5);
+            let radius_m = obj.shape().bounding_radius_m();
+            let clearance = radius_m.max(0.5);
             let dist = (obj.bounding_centre_m() - radar.position_m()).length();
             if dist < clearance {
+                let why = if radius_m > 0.5 {
+                    format!("the radar (radar.position_m = {}) is inside the object's bounding sphere: its centre is {dist:.1} m from the radar and its bounding radius is {radius_m:.1} m; move it at least {clearance:.2} m away or make it smaller", fmt_vec(radar.position_m()))
+                } else {
+                    format!("the object is at the radar's position (radar.position_m = {}); it must be at least {clearance:.2} m away", fmt_vec(radar.position_m()))
+                };
                 return Err(Error::invalid(
                     Problem::Conflict,
                     format!("object \"{}\".position_m", obj.name()),
                     fmt_vec(obj.position_m()),
-                    format!("the object is at the radar's position (radar.position_m = {}); it must be at least {clearance:.2} m away", fmt_vec(radar.position_m())),
+                    why,
                 ));
             }
         }
+        check_trace_memory(&radar, &environment, &scattering, &objects)?;
         Ok(Scene {
             radar,
             environment,

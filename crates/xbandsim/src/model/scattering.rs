@@ -18,6 +18,34 @@ pub enum ScatteringModel {
     Paper,
 }
 
+/// Memory one PO ray tube may take while a scene is traced: its return and the
+/// contribution made from it, with room for the echo groups' per-contribution data (a
+/// test holds the first two's sizes below it). Used to refuse ray budgets that would not fit
+/// before tracing ([`MAX_TRACE_BYTES`]).
+pub const BYTES_PER_TUBE: f64 = 256.0;
+
+/// Largest memory a scene's PO trace may need, bytes ([`BYTES_PER_TUBE`] per tube of every
+/// object's grids): 4 GB, about 240 ship-sized objects at the default budget.
+pub const MAX_TRACE_BYTES: f64 = 4e9;
+
+/// The side, in cells, of the square tube grid over the bounding disk of an object of
+/// bounding radius `radius_m` at tube side `spacing_m`, and whether the budget of
+/// `max_rays` tubes bound it (only the cells inside the disk are traced: about π/4 of the
+/// square). The PO tracer's grids and the scene's memory check both use it.
+pub fn tube_grid_cells(radius_m: f64, spacing_m: f64, max_rays: usize) -> (usize, bool) {
+    // (Casts from f64 saturate: an absurd ratio gives usize::MAX, then the budget binds.)
+    let cells = ((2.0 * radius_m / spacing_m).ceil() as usize).max(1);
+    let max_side = ((max_rays as f64 * 4.0 / std::f64::consts::PI)
+        .sqrt()
+        .floor() as usize)
+        .max(1);
+    if cells > max_side {
+        (max_side, true)
+    } else {
+        (cells, false)
+    }
+}
+
 /// Scattering settings.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ScatteringConfig {

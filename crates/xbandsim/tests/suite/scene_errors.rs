@@ -523,3 +523,57 @@ fn bad_display_is_refused_by_every_loader() {
     let e = Scene::from_toml_str(&text, "d.toml").unwrap_err();
     assert!(e.to_string().contains("display.image_size_px"), "{e}");
 }
+
+/// An object so large that it encloses the radar is not said to be "at the radar's
+/// position": the message gives its distance and bounding radius.
+#[test]
+fn object_enclosing_the_radar() {
+    let msg = error_of("[radar]\nposition_m = [0.0, 0.0, 10.0]\n[[object]]\nname = \"x\"\nshape = \"sphere\"\nradius_m = 1e7\nposition_m = [0.0, 500.0, 5.0]\n");
+    assert!(
+        msg.contains("object \"x\".position_m")
+            && msg.contains("inside the object's bounding sphere")
+            && msg.contains("10000000.0 m")
+            && !msg.contains("at the radar's position"),
+        "{msg}"
+    );
+}
+
+/// A ray budget whose trace would not fit in memory is refused before anything is traced,
+/// naming the field that sets the grid: the spacing where the budget does not bind (a 10 m
+/// sphere at 0.01 wavelengths with a huge budget: 3e9 tubes), the budget where it does (a
+/// billion tubes for a 1 km sphere, twice with the sea on).
+#[test]
+fn ray_budgets_that_would_not_fit_in_memory() {
+    let sphere = "[[object]]\nname = \"x\"\nshape = \"sphere\"\nradius_m = 10.0\nposition_m = [0.0, 500.0, 12.0]\n";
+    assert_mentions(
+        &format!("[scattering]\nray_spacing_wavelengths = 0.01\nmax_rays_per_object = 1000000000000\n{sphere}"),
+        &["scattering.ray_spacing_wavelengths", "0.01", "GB of memory", "limit is 4 GB"],
+    );
+    assert_mentions(
+        "[scattering]\nmax_rays_per_object = 1000000000\n[environment]\nsea_state = 3\n[[object]]\nname = \"x\"\nshape = \"sphere\"\nradius_m = 1000.0\nposition_m = [0.0, 5000.0, 12.0]\n",
+        &["scattering.max_rays_per_object", "1000000000", "GB of memory"],
+    );
+    // The default budget fits with hundreds of ship-sized objects; the paper model has no
+    // tubes.
+    let mut many = String::new();
+    for i in 0..200 {
+        many.push_str(&format!("[[object]]\nname = \"s{i}\"\nshape = \"box\"\nsize_m = [8.0, 60.0, 12.0]\nposition_m = [{}.0, 2000.0, 6.0]\n", 100 * i));
+    }
+    Scene::from_toml_str(&many, "t").unwrap();
+    Scene::from_toml_str(
+        &format!("[scattering]\nmodel = \"paper\"\nray_spacing_wavelengths = 0.01\nmax_rays_per_object = 1000000000000\n{sphere}"),
+        "t",
+    )
+    .unwrap();
+}
+
+/// [`xbandsim::model::BYTES_PER_TUBE`] holds at least a tube's return and its contribution.
+#[test]
+fn bytes_per_tube_covers_a_return_and_a_contribution() {
+    let bytes = std::mem::size_of::<xbandsim::scattering::po::TubeReturn>()
+        + std::mem::size_of::<xbandsim::scattering::Contribution>();
+    assert!(
+        (bytes as f64) <= xbandsim::model::BYTES_PER_TUBE,
+        "{bytes} bytes"
+    );
+}

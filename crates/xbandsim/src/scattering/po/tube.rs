@@ -211,16 +211,7 @@ impl TubeGrid {
         }
         let axis_u = u.normalize();
         let axis_v = axis_u.cross(d).normalize();
-        let mut cells = ((2.0 * radius_m / spacing_m).ceil() as usize).max(1);
-        // Only cells inside the disk are traced: about π/4 of the square.
-        let max_side = ((max_rays as f64 * 4.0 / std::f64::consts::PI)
-            .sqrt()
-            .floor() as usize)
-            .max(1);
-        let capped = cells > max_side;
-        if capped {
-            cells = max_side;
-        }
+        let (cells, capped) = crate::model::tube_grid_cells(radius_m, spacing_m, max_rays);
         // Every tube is sized with this spacing (not the requested one), so that the tubes
         // tile the disk whatever the budget: a wider spacing costs accuracy, never energy.
         TubeGrid {
