@@ -329,6 +329,14 @@ pub fn generate_until(
         .num_threads(request.worker_threads())
         .build()
         .map_err(|e| DatasetError::argument("--jobs", e.to_string()))?;
+    // Every scene this run will draw is checked before the first is rendered.
+    let pending = match request.format {
+        Format::Dir => pending_dir_samples(out, request),
+        Format::WebDataset { samples_per_shard } => {
+            crate::webdataset::pending_samples(out, request, samples_per_shard)
+        }
+    };
+    pool.install(|| crate::check::check_samples(spec, request.seed, &pending))?;
     let mut summary = match request.format {
         Format::Dir => pool.install(|| make_dir_samples(spec, out, request, sample_done, stop))?,
         Format::WebDataset { samples_per_shard } => pool.install(|| {
@@ -363,6 +371,13 @@ pub fn generate_until(
     Ok(summary)
 }
 
+/// The samples of the run's shard not in `out` yet, in index order.
+fn pending_dir_samples(out: &Path, request: &Request) -> Vec<u64> {
+    (0..request.count)
+        .filter(|&i| request.shard.holds(i) && !sample_dir(out, i).is_dir())
+        .collect()
+}
+
 fn make_dir_samples(
     spec: &DatasetSpec,
     out: &Path,
@@ -370,14 +385,10 @@ fn make_dir_samples(
     sample_done: &(dyn Fn() + Sync),
     stop: &AtomicBool,
 ) -> Result<Summary> {
-    let indices: Vec<u64> = (0..request.count)
+    let in_shard = (0..request.count)
         .filter(|&i| request.shard.holds(i))
-        .collect();
-    let pending: Vec<u64> = indices
-        .iter()
-        .copied()
-        .filter(|&i| !sample_dir(out, i).is_dir())
-        .collect();
+        .count();
+    let pending = pending_dir_samples(out, request);
     let made = AtomicU64::new(0);
     pending.par_iter().try_for_each(|&i| {
         if stop.load(Ordering::Relaxed) {
@@ -396,8 +407,8 @@ fn make_dir_samples(
         });
     }
     Ok(Summary {
-        in_shard: indices.len() as u64,
-        skipped: (indices.len() - pending.len()) as u64,
+        in_shard: in_shard as u64,
+        skipped: (in_shard - pending.len()) as u64,
         made: pending.len() as u64,
         ..Default::default()
     })

@@ -7,6 +7,7 @@
 //! summarised ([`stats`]).
 
 pub mod assemble;
+pub mod check;
 pub mod dist;
 pub mod error;
 pub mod generate;

@@ -124,6 +124,17 @@ pub fn make_shards(
     Ok(summary)
 }
 
+/// The samples of the run's tar shards that are not done yet (no manifest), in order.
+pub fn pending_samples(out: &Path, request: &Request, per_shard: u64) -> Vec<u64> {
+    if per_shard == 0 {
+        return Vec::new();
+    }
+    (0..shard_count(request.count, per_shard))
+        .filter(|&t| request.shard.holds(t) && !manifest_path(out, t).is_file())
+        .flat_map(|t| shard_samples(t, per_shard, request.count))
+        .collect()
+}
+
 fn write_shard(
     spec: &DatasetSpec,
     out: &Path,
