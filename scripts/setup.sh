@@ -4,9 +4,12 @@
 # Python packages from PyPI.
 #   1. builds the `xbandsim` command line and renders the paper's 5-target scene into out/
 #      (ppi.png, ppi_gray.png, polar.npy, truth.json);
-#   2. installs the Python package with its Gymnasium environments into .venv
-#      (pip builds the Rust extension with maturin) and takes one step of
-#      xbandsim/Detection-v0 to show it works.
+#   2. installs the Python package with its Gymnasium environments, what the scripts in
+#      examples/ need (matplotlib) and the dataset readers (webdataset, Pillow, pycocotools)
+#      into .venv (pip builds the Rust extension with maturin; the extras gym, examples and
+#      data of crates/xbandsim-py/pyproject.toml) and takes one step of
+#      xbandsim/Detection-v0 to show it works. Ray (xbandsim.distributed) is the [ray] extra,
+#      not installed here: pip install "./crates/xbandsim-py[ray]".
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . scripts/cpu-level.sh
@@ -15,12 +18,12 @@ echo "== building xbandsim and rendering scenes/paper.toml into out/"
 cargo build --release -p xbandsim-cli
 target/release/xbandsim render scenes/paper.toml --out out/
 
-echo "== installing the Python package (xbandsim[gym]) into .venv"
+echo "== installing the Python package (xbandsim[gym,examples,data]) into .venv"
 venv="${XBANDSIM_VENV:-.venv}"
 if [ ! -x "$venv/bin/python" ]; then
   python3 -m venv "$venv"
 fi
-"$venv/bin/python" -m pip install --quiet --disable-pip-version-check "./crates/xbandsim-py[gym]"
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check "./crates/xbandsim-py[gym,examples,data]"
 "$venv/bin/python" - <<'PY'
 import gymnasium as gym
 import xbandsim

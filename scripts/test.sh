@@ -3,8 +3,9 @@
 # the labels, the CLI, `xbandsim validate`'s checks, the golden hashes —, then a dataset's
 # label files through a real COCO client (pycocotools in a virtual environment under target/,
 # installed from PyPI on first use; scripts/check_labels.py), then the Python package
-# (crates/xbandsim-py, built by pip with maturin into the same environment), a check that it
-# writes the CLI's bytes for the same dataset, and its pytest suite.
+# (crates/xbandsim-py, built by pip with maturin into the same environment, with Ray,
+# Stable-Baselines3 and torch from PyPI for its tests), a check that it writes the CLI's
+# bytes for the same dataset, and its pytest suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . scripts/cpu-level.sh
@@ -41,6 +42,20 @@ elif grep -q "No matching distribution found" "$ray_log" \
   export XBANDSIM_RAY_UNAVAILABLE="PyPI has no wheel of scripts/requirements-ray.txt for this platform"
 else
   cat "$ray_log" >&2
+  exit 1
+fi
+# Stable-Baselines3 and torch (the environments through SB3, RadarDataset's torch tensors):
+# the same rule as Ray's. Skipped only where PyPI has no torch wheel for this platform or
+# Python; any other failure to install fails the run.
+sb3_log=target/pip-sb3.log
+if "$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r scripts/requirements-sb3.txt >"$sb3_log" 2>&1; then
+  export XBANDSIM_SB3_REQUIRED=1
+elif grep -q "No matching distribution found" "$sb3_log" \
+    && ! grep -qiE "Retrying|NewConnectionError|ProxyError|Could not fetch URL|Temporary failure in name resolution|Network is unreachable|timed out" "$sb3_log"; then
+  echo "xbandsim: PyPI has no torch wheel for this platform or Python; the Stable-Baselines3 tests will be skipped" >&2
+  export XBANDSIM_SB3_UNAVAILABLE="PyPI has no wheel of scripts/requirements-sb3.txt for this platform"
+else
+  cat "$sb3_log" >&2
   exit 1
 fi
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check --force-reinstall --no-deps ./crates/xbandsim-py

@@ -75,10 +75,11 @@ fn dataset_error(py: Python<'_>, e: DatasetError) -> PyErr {
             let field = Some(field.clone());
             raise(py, "DatasetSpecError", e.to_string(), field, None)
         }
-        // A generate() argument: the same class (errors.py), the argument named in `field`.
+        // A generate() argument (the message names it as the CLI's option, `--shard`): the
+        // class of every bad argument (errors.py), its Python name in `field` (`shard`).
         DatasetError::Argument { ref name, .. } => {
-            let field = Some(name.clone());
-            raise(py, "DatasetSpecError", e.to_string(), field, None)
+            let field = Some(name.trim_start_matches('-').replace('-', "_"));
+            raise(py, "InvalidArgumentError", e.to_string(), field, None)
         }
         DatasetError::Io { .. } => raise(py, "XbandsimIOError", e.to_string(), None, None),
         DatasetError::Mismatch { .. } => {

@@ -158,13 +158,48 @@ def test_ray_data_samples_are_the_stored_bytes(local_ray, single_run, tmp_path):
     assert members == stored
 
 
+def test_generate_as_the_readme_shows_it_with_its_progress_lines(
+    local_ray, single_run, tmp_path, capfd
+):
+    """`distributed.generate(spec, out, count, seed)` with nothing else: the default
+    progress=True path, which writes a line per finished block (it raised TypeError after
+    the last block: the progress line's prefix had taken the start time's name)."""
+    out = tmp_path / "readme"
+    summary = distributed.generate(SPEC, out, COUNT, 3)
+    assert summary["complete"] and summary["missing"] == 0 and summary["made"] == COUNT
+    assert isinstance(summary["seconds"], float) and summary["seconds"] > 0
+    err = capfd.readouterr().err
+    blocks = summary["blocks"]
+    assert f"xbandsim: {blocks}/{blocks} blocks done" in err.splitlines()
+    assert tree_digest(out) == tree_digest(single_run)
+
+
 def test_bad_arguments_raise(local_ray, tmp_path):
-    with pytest.raises(xbandsim.DatasetSpecError):
+    with pytest.raises(xbandsim.InvalidArgumentError) as e:
         distributed.generate(SPEC, tmp_path / "x", 0)
-    with pytest.raises(xbandsim.DatasetSpecError, match="blocks"):
+    assert str(e.value) == "invalid count 0: must be a whole number 1 … 2**64 - 1"
+    with pytest.raises(xbandsim.InvalidArgumentError, match="invalid blocks 5: must be a "
+                       "whole number 1 … 4"):
         distributed.generate(SPEC, tmp_path / "x", 4, blocks=5)
-    with pytest.raises(ValueError, match="shard_samples"):
+    with pytest.raises(xbandsim.InvalidArgumentError, match="shard_samples") as e:
         distributed.generate(SPEC, "s3://bucket/ds", 4)
+    assert e.value.problem == "conflict"
+    for kwargs, name in ((dict(count="10"), "count"), (dict(seed=None), "seed"),
+                         (dict(progress="yes"), "progress"), (dict(blocks=True), "blocks")):
+        with pytest.raises(xbandsim.ArgumentTypeError) as e:
+            distributed.generate(**dict(dict(spec=SPEC, out=tmp_path / "x", count=4), **kwargs))
+        assert e.value.field == name
+    with pytest.raises(xbandsim.InvalidArgumentError) as e:
+        distributed.generate(SPEC, tmp_path / "x", 4, seed=1.5)
+    assert e.value.problem == "not a whole number"
+    with pytest.raises(xbandsim.InvalidArgumentError) as e:
+        distributed.generate(SPEC, tmp_path / "x", 4, cpus_per_task=float("nan"))
+    assert str(e.value) == (
+        "invalid cpus_per_task NaN: must be a finite number greater than 0"
+    )
+    with pytest.raises(xbandsim.ArgumentTypeError):
+        distributed.samples(SPEC, "4")
+    assert not (tmp_path / "x").exists()
     # An error in a task is the library's own exception (Ray's wrapper subclasses it), raised
     # once: errors are not retried, only lost workers are.
     bad = tmp_path / "bad.toml"

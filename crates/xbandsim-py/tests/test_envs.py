@@ -25,7 +25,8 @@ IDS = ["xbandsim/Detection-v0", "xbandsim/Tracking-v0"]
 def test_registered_and_passes_gymnasiums_checker(env_id):
     env = gym.make(env_id, level=1, image_size=64, render_mode="rgb_array")
     check_env(env.unwrapped, skip_render_check=False)
-    assert env.observation_space.shape == (64, 64)
+    # One channel, last: (H, W, 1), Gymnasium's and Stable-Baselines3's image layout.
+    assert env.observation_space.shape == (64, 64, 1)
     assert env.observation_space.dtype == np.uint8
     assert list(env.action_space.nvec) == [5, 4, 4, 4, 3, 3]
     assert ACTION_NAMES == ("scan", "pulse", "gain", "sea", "rain", "integration")
@@ -35,11 +36,12 @@ def test_registered_and_passes_gymnasiums_checker(env_id):
 def test_default_observation_is_256_and_dict_observation_passes_the_checker():
     env = gym.make("xbandsim/Tracking-v0")
     obs, _ = env.reset(seed=0)
-    assert obs.shape == (256, 256) and obs.dtype == np.uint8
+    assert obs.shape == (256, 256, 1) and obs.dtype == np.uint8
     env = gym.make("xbandsim/Tracking-v0", level=2, image_size=48, own_ship_state=True)
     check_env(env.unwrapped)
     obs, info = env.reset(seed=1)
     assert set(obs) == {"ppi", "own_ship"}
+    assert obs["ppi"].shape == (48, 48, 1) and env.observation_space["ppi"].shape == (48, 48, 1)
     speed, s, c = obs["own_ship"]
     assert speed == pytest.approx(info["own_ship_speed_kn"], rel=1e-6)
     assert s * s + c * c == pytest.approx(1.0, abs=1e-6)
@@ -114,25 +116,89 @@ def test_render_rgb_array():
     assert plain.render() is None
 
 
-def test_bad_settings_and_actions_raise_naming_the_field():
-    with pytest.raises(xbandsim.InvalidFieldError) as e:
+def test_bad_settings_and_actions_raise_naming_the_argument():
+    with pytest.raises(xbandsim.InvalidArgumentError) as e:
         gym.make("xbandsim/Detection-v0", level=4)
     assert e.value.field == "level"
-    with pytest.raises(xbandsim.InvalidFieldError) as e:
+    assert str(e.value) == "invalid level 4: must be a whole number 0 … 3"
+    with pytest.raises(xbandsim.InvalidArgumentError) as e:
         gym.make("xbandsim/Detection-v0", image_size=8)
-    assert e.value.field == "image_size_px"
-    with pytest.raises(ValueError, match="render_mode"):
+    assert e.value.field == "image_size"
+    assert str(e.value) == "invalid image_size 8: must be a whole number 16 … 2048"
+    with pytest.raises(xbandsim.InvalidArgumentError, match="render_mode"):
         xbandsim.envs.DetectionEnv(render_mode="human")
+    for kwargs, name in ((dict(level="1"), "level"), (dict(level=None), "level"),
+                         (dict(threads=True), "threads"), (dict(own_ship_state=1), "own_ship_state")):
+        with pytest.raises(xbandsim.ArgumentTypeError) as e:
+            xbandsim.envs.DetectionEnv(**kwargs)
+        assert e.value.field == name
+    with pytest.raises(xbandsim.InvalidArgumentError) as e:
+        xbandsim.envs.TrackingEnv(max_steps=1.5)
+    assert e.value.problem == "not a whole number"
     env = gym.make("xbandsim/Detection-v0", image_size=32)
     env.reset(seed=0)
-    with pytest.raises(xbandsim.InvalidFieldError) as e:
+    with pytest.raises(xbandsim.InvalidArgumentError) as e:
+        env.reset(seed=0, options={"level": 4})
+    assert "0 … 3" in str(e.value)
+    with pytest.raises(xbandsim.ArgumentTypeError):
+        env.reset(seed="3")
+    # Actions: each component named, its range written with inclusive bounds.
+    with pytest.raises(xbandsim.InvalidArgumentError) as e:
         env.unwrapped.step([0, 0, 9, 0, 0, 0])
-    assert e.value.field == "action.gain" and "0..4" in str(e.value)
-    with pytest.raises(xbandsim.InvalidFieldError) as e:
+    assert e.value.field == "action.gain"
+    assert str(e.value) == "invalid action.gain 9: must be a whole number 0 … 3"
+    with pytest.raises(xbandsim.InvalidArgumentError) as e:
+        env.unwrapped.step(np.array([5, 0, 0, 0, 0, 0]))
+    assert str(e.value) == "invalid action.scan 5: must be a whole number 0 … 4"
+    # NaN is not read as a number (it was cast to -9223372036854775808).
+    with pytest.raises(xbandsim.InvalidArgumentError) as e:
+        env.unwrapped.step(np.array([0, 0, np.nan, 0, 0, 0]))
+    assert str(e.value) == "invalid action.gain NaN: must be a whole number 0 … 3"
+    assert e.value.problem == "not finite"
+    with pytest.raises(xbandsim.InvalidArgumentError) as e:
         env.unwrapped.step([0, 0])
     assert e.value.field == "action"
-    with pytest.raises(ValueError):
+    assert "scan, pulse, gain, sea, rain, integration" in str(e.value)
+    with pytest.raises(xbandsim.ArgumentTypeError):
+        env.unwrapped.step([0, 0, True, 0, 0, 0])
+    # Whole floats and NumPy integers are actions too.
+    env.unwrapped.step(np.array([0, 3, 1.0, 2, 0, 0]))
+    env.unwrapped.step([np.int8(0), 3, np.uint16(1), 2, 0, 0])
+    # The episode's own checks (the Rust crate's) say the same.
+    with pytest.raises(xbandsim.InvalidFieldError) as e:
+        xbandsim._xbandsim.Env("detection", 4, 64, 0, 1)
+    assert str(e.value) == "invalid `level` = 4: must be 0 … 3 (the curriculum levels)"
+    xbandsim._xbandsim.Env("detection", xbandsim.envs.LEVELS - 1, 64, 0, 1)
+
+
+def test_action_vector_checks_and_lists_the_names():
+    assert list(action_vector(scan=2, pulse="long", gain=3, sea=0, rain=2, integration=1)) == [
+        3, 2, 3, 0, 2, 1
+    ]
+    assert xbandsim.envs.PULSES == ("short", "medium", "long", "combined")
+    with pytest.raises(xbandsim.InvalidArgumentError) as e:
         action_vector(pulse="medium-long")
+    assert str(e.value) == (
+        "invalid pulse 'medium-long': must be one of 'short', 'medium', 'long', 'combined'"
+    )
+    with pytest.raises(xbandsim.InvalidArgumentError) as e:
+        action_vector(scan="north")
+    assert str(e.value) == 'invalid scan \'north\': must be "full" or a quadrant 0 … 3'
+    with pytest.raises(xbandsim.InvalidArgumentError) as e:
+        action_vector(scan=4)
+    assert str(e.value) == 'invalid scan 4: must be "full" or a quadrant 0 … 3'
+    for name, bad in (("gain", 4), ("sea", -1), ("rain", 3), ("integration", 3)):
+        with pytest.raises(xbandsim.InvalidArgumentError) as e:
+            action_vector(**{name: bad})
+        assert e.value.field == name and "must be a whole number 0 … " in str(e.value)
+    with pytest.raises(xbandsim.InvalidArgumentError, match="invalid rain NaN"):
+        action_vector(rain=float("nan"))
+    with pytest.raises(xbandsim.ArgumentTypeError):
+        action_vector(gain="2")
+    # Every component name is an argument name.
+    import inspect
+
+    assert tuple(inspect.signature(action_vector).parameters) == ACTION_NAMES
 
 
 def _vector_rollout(vector_cls):
@@ -143,7 +209,7 @@ def _vector_rollout(vector_cls):
     frames = [obs]
     for _ in range(3):
         obs, rewards, terms, truncs, infos = envs.step(np.stack([action_vector()] * 2))
-        assert obs.shape == (2, 48, 48) and rewards.shape == (2,)
+        assert obs.shape == (2, 48, 48, 1) and rewards.shape == (2,)
         frames.append(obs)
     envs.close()
     return frames
@@ -179,13 +245,3 @@ def test_example_agents_heuristic_beats_random():
         heuristic = np.mean(returns[f"{task}/heuristic"])
         random = np.mean(returns[f"{task}/random"])
         assert heuristic > random, (task, returns)
-
-
-def test_example_render_frame_and_dataset_boxes_run_headless(tmp_path):
-    pytest.importorskip("matplotlib", reason="the plotting examples need matplotlib")
-    png = tmp_path / "frame.png"
-    out = _example("examples/render_frame.py", "scenes/paper.toml", "--out", str(png))
-    assert png.stat().st_size > 10_000 and "5 objects" in out
-    ds = tmp_path / "ds"
-    out = _example("examples/dataset_boxes.py", "--count", "4", "--out", str(ds))
-    assert (ds / "boxes.png").stat().st_size > 10_000 and "4 samples" in out

@@ -18,7 +18,7 @@ from typing import Any, Dict, List, Mapping, Optional, Union
 
 import numpy as np
 
-from . import _xbandsim
+from . import _args, _xbandsim
 from . import data, dataset
 
 try:  # The Gymnasium environments, when Gymnasium is installed (pip install xbandsim[gym]).
@@ -30,9 +30,12 @@ else:
 
     envs.register_envs()
 from .errors import (
+    ArgumentTypeError,
     DatasetMismatchError,
     DatasetSpecError,
     EncodeError,
+    IncompleteDatasetWarning,
+    InvalidArgumentError,
     InvalidFieldError,
     MeshError,
     MissingFieldError,
@@ -59,25 +62,40 @@ class Scene:
     @classmethod
     def from_file(cls, path: PathLike) -> "Scene":
         """Reads a scene TOML file (mesh files are found relative to its folder)."""
-        return cls(_xbandsim.SceneSpec.read(os.fspath(path)))
+        return cls(_xbandsim.SceneSpec.read(_args.path("path", path)))
 
     @classmethod
     def from_toml(cls, text: str, name: str = "<string>", base_dir: PathLike = ".") -> "Scene":
         """Parses scene TOML text; ``name`` names it in error messages."""
-        return cls(_xbandsim.SceneSpec.from_toml(text, name, os.fspath(base_dir)))
+        return cls(
+            _xbandsim.SceneSpec.from_toml(
+                _args.text("text", text), _args.text("name", name), _args.path("base_dir", base_dir)
+            )
+        )
 
     @classmethod
     def from_dict(
         cls, scene: Mapping[str, Any], name: str = "<dict>", base_dir: PathLike = "."
     ) -> "Scene":
         """A scene from nested dicts and lists with the TOML file's layout, e.g.
-        ``{"radar": {"spokes": 360}, "object": [{"name": "buoy", "shape": "point", ...}]}``."""
-        return cls(_xbandsim.SceneSpec.from_json(json.dumps(scene), name, os.fspath(base_dir)))
+        ``{"radar": {"spokes": 360}, "object": [{"name": "buoy", "shape": "point", ...}]}``.
+        NumPy scalars and arrays are taken as their values; NaN and infinity are refused
+        (``InvalidFieldError`` naming the field), as ``with_settings`` does."""
+        name = _args.text("name", name)
+        plain = _args.scene_value(_args.mapping("scene", scene), name, "")
+        return cls(
+            _xbandsim.SceneSpec.from_json(json.dumps(plain), name, _args.path("base_dir", base_dir))
+        )
 
     def with_settings(self, settings: Mapping[str, Any]) -> "Scene":
         """A copy with fields set by dotted path, in order: ``{"radar.pulse_width_us": 0.5,
-        "environment.sea_state": 4, "object[0].yaw_deg": 30}`` (the CLI's ``--set``)."""
-        pairs = [(str(k), json.dumps(_plain(v))) for k, v in settings.items()]
+        "environment.sea_state": 4, "object[0].yaw_deg": 30}`` (the CLI's ``--set``). NumPy
+        scalars and arrays are taken as their values; NaN and infinity are refused
+        (``InvalidFieldError`` naming the field), as ``from_dict`` does."""
+        pairs = []
+        for k, v in _args.mapping("settings", settings).items():
+            field = _args.text("settings key", k)
+            pairs.append((field, json.dumps(_args.scene_value(v, "settings", field))))
         return Scene(self._spec.with_overrides(pairs))
 
     @property
@@ -91,17 +109,6 @@ class Scene:
 
     def __repr__(self) -> str:
         return f"Scene({self.origin!r})"
-
-
-def _plain(v: Any) -> Any:
-    """NumPy scalars and arrays as plain Python values (for JSON)."""
-    if isinstance(v, np.ndarray):
-        return v.tolist()
-    if isinstance(v, np.generic):
-        return v.item()
-    if isinstance(v, (list, tuple)):
-        return [_plain(x) for x in v]
-    return v
 
 
 @dataclass(frozen=True)
@@ -176,12 +183,15 @@ class Simulation:
         noise and clutter of ``seed``: the same arguments give the same arrays.
 
         ``iq`` adds the raw I/Q of every pulse, ``doppler_cube`` the range-Doppler cube
-        (``processing.mode = "pulse"``), ``images=False`` skips the 8-bit images."""
-        if seed < 0 or frame < 0:
-            raise InvalidFieldError(
-                f"seed {seed}, frame {frame}: both must be whole numbers of 0 or more"
-            )
-        out = self._sim.render(int(seed), int(frame), bool(iq), bool(doppler_cube), bool(images))
+        (``processing.mode = "pulse"``), ``images=False`` skips the 8-bit images. ``seed``
+        and ``frame`` are whole numbers 0 … 2**64 - 1."""
+        out = self._sim.render(
+            _args.seed("seed", seed),
+            _args.seed("frame", frame),
+            _args.flag("iq", iq),
+            _args.flag("doppler_cube", doppler_cube),
+            _args.flag("images", images),
+        )
         pulses = None
         if out["iq"] is not None:
             pulses = {
@@ -206,6 +216,7 @@ class Simulation:
 
 def render(scene: Union[Scene, PathLike], seed: int = 0, frame: int = 0) -> Frame:
     """Shorthand for ``Simulation(scene).render(seed, frame)``."""
+    seed, frame = _args.seed("seed", seed), _args.seed("frame", frame)  # before building
     return Simulation(scene).render(seed=seed, frame=frame)
 
 
@@ -225,4 +236,7 @@ __all__ = [
     "XbandsimIOError",
     "DatasetSpecError",
     "DatasetMismatchError",
+    "InvalidArgumentError",
+    "ArgumentTypeError",
+    "IncompleteDatasetWarning",
 ]

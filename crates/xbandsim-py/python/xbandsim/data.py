@@ -20,11 +20,13 @@ import json
 import os
 import re
 import tarfile
+import warnings
 from typing import Any, Callable, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 
-from . import _xbandsim
+from . import _args, _xbandsim
+from .errors import ArgumentTypeError, IncompleteDatasetWarning
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -55,6 +57,41 @@ def _folder_sample(folder: str) -> _Files:
     return _Files(read, sorted(names))
 
 
+def _warn_if_unfinished(folder: str, found: int) -> None:
+    """Warns (IncompleteDatasetWarning) when the dataset in ``folder`` lacks samples that its
+    dataset.json counts, or its index files (README.md, the dataset card, is written last by
+    the assembly; annotations.json before it): a run stopped part-way, shard runs not all
+    done, or runs with ``assemble=False`` (``--no-assemble``) whose assembly is still to come."""
+    try:
+        with open(os.path.join(folder, "dataset.json"), "rb") as fh:
+            record = json.load(fh)
+        count = int(record["count"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return  # not a dataset this version wrote: nothing to compare with
+    missing = max(0, count - found)
+    absent = [f for f in ("annotations.json", "README.md") if not os.path.isfile(os.path.join(folder, f))]
+    if not missing and not absent:
+        return
+    what = []
+    if missing:
+        what.append(f"{missing} of its {count} samples are missing")
+    if absent:
+        what.append(f"its index files are not written ({', '.join(absent)} absent)")
+    command = f"xbandsim dataset SPEC --out {folder} --count {count} --seed {record.get('seed', 0)}"
+    call = f"xbandsim.dataset.generate(SPEC, {folder!r}, {count}, {record.get('seed', 0)}"
+    if record.get("format") == "webdataset":
+        per = record.get("samples_per_shard")
+        command += f" --format webdataset --shard-samples {per}"
+        call += f", shard_samples={per}"
+    warnings.warn(
+        f"{folder}: unfinished dataset: {' and '.join(what)}; {found} samples are read. "
+        f"Finish it by running the same command again, which makes only what is missing and "
+        f"then writes the index files: `{command}` or {call}) with the spec it was made from",
+        IncompleteDatasetWarning,
+        stacklevel=3,
+    )
+
+
 class RadarDataset:
     """Samples of an xbandsim dataset as ``(image, target)`` pairs (see the module doc).
 
@@ -77,11 +114,18 @@ class RadarDataset:
         tensors: Optional[bool] = None,
         transforms: Optional[Callable[[Any, Dict[str, Any]], Tuple[Any, Dict[str, Any]]]] = None,
     ) -> None:
-        if image not in ("gray", "colour"):
-            raise ValueError(f"image {image!r}: must be 'gray' or 'colour'")
+        image = _args.choice("image", image, ("gray", "colour"))
         self.image_file = "ppi_gray.png" if image == "gray" else "ppi.png"
-        self.masks = masks
+        self.masks = _args.flag("masks", masks)
+        if transforms is not None and not callable(transforms):
+            raise _args.error(
+                "transforms", transforms, "must be callable (image, target) or None",
+                "wrong type", ArgumentTypeError,
+            )
         self.transforms = transforms
+        count = _args.optional(_args.whole, "count", count, 1, _args.U64_MAX)
+        seed = _args.seed("seed", seed)
+        tensors = _args.optional(_args.flag, "tensors", tensors)
         if tensors is None:
             try:
                 import torch  # noqa: F401
@@ -90,31 +134,43 @@ class RadarDataset:
             except ImportError:
                 tensors = False
         self.tensors = tensors
-        source = os.fspath(source)
+        source = _args.path("source", source)
         self._spec: Optional[str] = None
         self._samples: List[Tuple[int, Callable[[], _Files]]] = []
         if os.path.isfile(source) and source.endswith(".toml"):
-            if count is None or count < 1:
-                raise ValueError("a dataset spec needs count >= 1 samples to render")
-            self._spec, self._seed = source, int(seed)
-            self._samples = [(i, self._render_closure(i)) for i in range(int(count))]
+            if count is None:
+                raise _args.error(
+                    "count", count, "a dataset spec needs count (1 or more samples to render)",
+                    "missing", ArgumentTypeError,
+                )
+            self._spec, self._seed = source, seed
+            self._samples = [(i, self._render_closure(i)) for i in range(count)]
         elif os.path.isdir(os.path.join(source, "samples")):
             self._samples = self._scan_folders(os.path.join(source, "samples"))
+            _warn_if_unfinished(source, len(self._samples))
         elif os.path.isdir(os.path.join(source, "shards")):
             self._samples = self._scan_shards(os.path.join(source, "shards"))
+            _warn_if_unfinished(source, len(self._samples))
         else:
             raise FileNotFoundError(
                 f"{source}: neither a dataset folder (with samples/ or shards/) nor a dataset spec .toml"
             )
         if count is not None and self._spec is None:
-            self._samples = self._samples[: int(count)]
+            self._samples = self._samples[:count]
         # One item per (sample, frame): the frame folders are found in the first sample.
         self._frames = self._frame_prefixes(self._samples[0][1]()) if self._samples else [""]
 
     def _render_closure(self, index: int) -> Callable[[], _Files]:
         def load() -> _Files:
-            files = dict(_xbandsim.render_sample(self._spec, self._seed, index))
-            return _Files(files.__getitem__, sorted(files))
+            # A sequence's frames are items in a row: the sample last rendered is kept, so
+            # that its frames do not render the whole sequence again each.
+            cached = getattr(self, "_last_rendered", None)
+            if cached is not None and cached[0] == index:
+                return cached[1]
+            rendered = dict(_xbandsim.render_sample(self._spec, self._seed, index))
+            files = _Files(rendered.__getitem__, sorted(rendered))
+            self._last_rendered = (index, files)  # one assignment: safe between threads
+            return files
 
         return load
 
@@ -141,7 +197,10 @@ class RadarDataset:
                 for m in tar.getmembers():
                     hit = _MEMBER.match(m.name)
                     if m.isfile() and hit:
-                        members.setdefault(int(hit.group(1)), {})[hit.group(2)] = (
+                        # A sequence's frame folder is joined to the file by a dot in a tar
+                        # (000000042.frame_0003.ppi_gray.png): the folder's name again.
+                        name = re.sub(r"^(frame_\d+)\.", r"\1/", hit.group(2))
+                        members.setdefault(int(hit.group(1)), {})[name] = (
                             path,
                             m.offset_data,
                             m.size,
@@ -197,7 +256,10 @@ class RadarDataset:
             "area": np.array([a["area"] for a in annotations], dtype=np.float32),
             "iscrowd": np.array([a["iscrowd"] for a in annotations], dtype=np.int64),
             "track_ids": np.array([a["track_id"] for a in annotations], dtype=np.int64),
-            "image_id": item,
+            # The COCO image id annotations.json gives this frame (the assembler's numbering:
+            # sample index x frames per sample + frame + 1), also for a count= subset and on
+            # the fly, so predictions score against the dataset's own annotations.
+            "image_id": sample * len(self._frames) + f + 1,
             "sample": sample,
             "frame": f,
         }

@@ -9,7 +9,7 @@ completes the dataset.
 import os
 from typing import Dict, Optional, Union
 
-from . import _xbandsim
+from . import _args, _xbandsim
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -34,22 +34,23 @@ def generate(
     ``in_shard``, ``skipped`` (already there), ``made``, ``missing`` (other shards' samples
     not made yet; with ``assemble=False`` this shard's only) and ``assembled`` (index files
     written).
-    """
-    for name, v in (("count", count), ("seed", seed), ("jobs", jobs)):
-        if int(v) < 0:
-            from .errors import DatasetSpecError
 
-            raise DatasetSpecError(f"{name} {v}: must be a whole number of 0 or more")
-    return _xbandsim.generate_dataset(
-        os.fspath(spec),
-        os.fspath(out),
-        int(count),
-        int(seed),
-        shard,
-        int(jobs),
-        None if shard_samples is None else int(shard_samples),
-        bool(assemble),
+    ``count`` is a whole number of 1 or more, ``seed`` 0 … 2**64 - 1, ``jobs`` 0 or more,
+    ``shard_samples`` 1 or more; other values raise ``InvalidArgumentError`` (a wrong type
+    ``ArgumentTypeError``) naming the argument, and a bad ``shard`` text the same naming
+    ``shard``.
+    """
+    args = (
+        _args.path("spec", spec),
+        _args.path("out", out),
+        _args.whole("count", count, 1, _args.U64_MAX),
+        _args.seed("seed", seed),
+        _args.optional(_args.text, "shard", shard),
+        _args.whole("jobs", jobs, 0),
+        _args.optional(_args.whole, "shard_samples", shard_samples, 1, _args.U64_MAX),
+        _args.flag("assemble", assemble),
     )
+    return _xbandsim.generate_dataset(*args)
 
 
 __all__ = ["generate"]

@@ -35,7 +35,7 @@ import tempfile
 import time
 from typing import Any, Dict, List, Optional, Tuple, Union
 
-from . import _xbandsim
+from . import _args, _xbandsim
 from . import dataset as _dataset
 from .errors import XbandsimError, XbandsimIOError
 
@@ -257,26 +257,30 @@ def generate(
     ``skipped`` by the tasks' last attempts, ``missing``, ``complete``: every sample and the
     index files are in place, ``seconds``).
     """
-    url = os.fspath(out) if "://" in os.fspath(out) else None
+    spec = os.path.abspath(_args.path("spec", spec))
+    out = _args.path("out", out)
+    count = _args.whole("count", count, 1, _args.U64_MAX)
+    seed = _args.seed("seed", seed)
+    blocks = _args.optional(_args.whole, "blocks", blocks, 1)
+    cpus_per_task = _args.number("cpus_per_task", cpus_per_task, above=0)
+    jobs_per_task = _args.whole("jobs_per_task", jobs_per_task, 0)
+    memory_per_task = _args.optional(_args.whole, "memory_per_task", memory_per_task, 1)
+    resources = _args.optional(_args.mapping, "resources", resources)
+    max_retries = _args.whole("max_retries", max_retries, -1, what="a whole number (-1: forever)")
+    shard_samples = _args.optional(_args.whole, "shard_samples", shard_samples, 1, _args.U64_MAX)
+    progress = _args.flag("progress", progress)
+    url = out if "://" in out else None
     if url is not None and shard_samples is None:
-        raise ValueError(
-            f"out {url!r}: a URL needs tar shards (shard_samples=N): sample folders of many "
-            "small files cannot be renamed into place on object storage (docs/distributed.md)"
+        raise _args.error(
+            "shard_samples",
+            None,
+            f"out {url!r} is a URL, which needs tar shards (shard_samples=N): sample folders "
+            "of many small files cannot be renamed into place on object storage "
+            "(docs/distributed.md)",
+            "conflict",
         )
     ray = _ray()
-    spec = os.path.abspath(os.fspath(spec))
-    out = url if url is not None else os.path.abspath(os.fspath(out))
-    count, seed = int(count), int(seed)
-    if count <= 0:
-        from .errors import DatasetSpecError
-
-        raise DatasetSpecError(f"count {count}: a dataset needs at least one sample")
-    if shard_samples is not None and int(shard_samples) < 1:
-        from .errors import DatasetSpecError
-
-        raise DatasetSpecError(
-            f"shard_samples {shard_samples}: a tar shard needs at least one sample"
-        )
+    out = url if url is not None else os.path.abspath(out)
     if url is not None:
         fs, root = _fsspec(url)
         _check_record(fs, root, url, spec, count, seed, int(shard_samples))
@@ -286,12 +290,12 @@ def generate(
     if blocks is None:
         cpus = int(ray.cluster_resources().get("CPU", 1))
         blocks = max(1, min(units, 4 * cpus))
-    blocks = int(blocks)
-    if not 1 <= blocks <= units:
-        from .errors import DatasetSpecError
-
-        raise DatasetSpecError(
-            f"blocks {blocks}: must be 1 … {units} (one sample or tar shard per block at least)"
+    if blocks > units:
+        raise _args.error(
+            "blocks",
+            blocks,
+            f"must be a whole number 1 … {units} (one sample or tar shard per block at least)",
+            "out of range",
         )
     options: Dict[str, Any] = dict(
         num_cpus=cpus_per_task, max_retries=max_retries, retry_exceptions=False
@@ -316,8 +320,8 @@ def generate(
             if progress:
                 # Rewritten in place on a terminal; a line each in logs (a RayJob's, a file).
                 end = "" if sys.stderr.isatty() else "\n"
-                start = "\r" if end == "" else ""
-                sys.stderr.write(f"{start}xbandsim: {len(results)}/{blocks} blocks done{end}")
+                lead = "\r" if end == "" else ""
+                sys.stderr.write(f"{lead}xbandsim: {len(results)}/{blocks} blocks done{end}")
                 sys.stderr.flush()
     finally:
         # On an error (or Ctrl-C) the other blocks are stopped, so that calling generate
@@ -366,9 +370,11 @@ def samples(spec: PathLike, count: int, seed: int = 0, *, cpus_per_task: float =
     Write it with Ray's writers (``ds.write_parquet(...)``; for ``write_webdataset`` see
     ``webdataset_rows``) or iterate it straight into training. (``generate(...,
     shard_samples=N)`` writes tar shards with manifests, byte for byte reproducible.)"""
+    spec = os.path.abspath(_args.path("spec", spec))
+    count = _args.whole("count", count, 1, _args.U64_MAX)
+    seed = _args.seed("seed", seed)
+    cpus_per_task = _args.number("cpus_per_task", cpus_per_task, above=0)
     ray = _ray()
-    spec = os.path.abspath(os.fspath(spec))
-    seed = int(seed)
 
     def render(batch: Dict[str, Any]) -> Dict[str, Any]:
         rows = []
@@ -376,7 +382,7 @@ def samples(spec: PathLike, count: int, seed: int = 0, *, cpus_per_task: float =
             rows.append(dict(_xbandsim.render_sample(spec, seed, int(i))))
         return {"index": list(batch["id"]), "files": rows}
 
-    return ray.data.range(int(count)).map_batches(
+    return ray.data.range(count).map_batches(
         render, batch_size=1, num_cpus=cpus_per_task, batch_format="numpy"
     )
 
