@@ -1,0 +1,37 @@
+"""Every ```python example of docs/python.md and docs/rl.md runs as written: a page's blocks
+in order, as one script, from the repository root (a stand-in for it whose out/ is the
+test's own), in the test venv. A block may use what a block above it made (docs/python.md's
+RadarDataset example reads the dataset its Datasets example generates)."""
+
+import os
+
+import pytest
+
+from conftest import ROOT, run_python
+from test_examples import python_blocks
+
+DOCS = ["python.md", "rl.md"]
+
+
+def _needs_sb3(blocks):
+    if not any("stable_baselines3" in b for b in blocks):
+        return
+    if os.environ.get("XBANDSIM_SB3_REQUIRED") == "1":
+        return  # scripts/test.sh installed it: the page must run
+    pytest.importorskip(
+        "stable_baselines3",
+        reason="a block needs Stable-Baselines3, which is not installed: "
+        + os.environ.get("XBANDSIM_SB3_UNAVAILABLE", "pip install -r scripts/requirements-sb3.txt"),
+    )
+
+
+@pytest.mark.parametrize("doc", DOCS)
+def test_the_python_examples_of_the_docs_run_as_written(doc, repo_root):
+    blocks = python_blocks(ROOT / "docs" / doc)
+    assert blocks, f"docs/{doc} has no python example"
+    _needs_sb3(blocks)
+    script = repo_root / f"docs-{doc}.py"
+    script.write_text(
+        "".join(f"# --- docs/{doc}, example {k + 1}\n{block}\n" for k, block in enumerate(blocks))
+    )
+    run_python([str(script)], repo_root)
