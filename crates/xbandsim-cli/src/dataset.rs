@@ -21,10 +21,10 @@ pub struct DatasetArgs {
     #[arg(long, required = true)]
     pub out: Option<PathBuf>,
     /// Samples in the whole dataset.
-    #[arg(long, required = true)]
+    #[arg(long, required = true, value_parser = crate::whole_number)]
     pub count: Option<u64>,
     /// Dataset seed: sample i depends only on (spec, seed, i).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = crate::whole_number)]
     pub seed: u64,
     /// Make only shard I of K (the samples with index mod K = I), e.g. --shard 0/4. I may be
     /// `k8s` (from JOB_COMPLETION_INDEX, set by a Kubernetes Indexed Job) or `slurm` (from
@@ -32,15 +32,15 @@ pub struct DatasetArgs {
     #[arg(long, value_name = "I/K")]
     pub shard: Option<String>,
     /// Samples rendered at once (default: one per core; at most 4 per core).
-    #[arg(long, default_value_t = 0)]
-    pub jobs: usize,
+    #[arg(long, default_value_t = 0, value_parser = crate::whole_number)]
+    pub jobs: u64,
     /// Storage: `dir` (a folder per sample, YOLO trees) or `webdataset` (tar shards of
     /// --shard-samples samples with sha256 manifests, for 10^6 samples and more; --shard I/K
     /// then splits the tar shards).
     #[arg(long, value_enum, default_value_t = StorageFormat::Dir)]
     pub format: StorageFormat,
     /// Samples per tar shard with --format webdataset.
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, default_value_t = 200, value_parser = crate::whole_number)]
     pub shard_samples: u64,
     /// Make this run's samples only and leave the index files (COCO, YOLO, targets.jsonl,
     /// README.md) to a later run without this flag: for many --shard runs at once, which
@@ -207,7 +207,7 @@ fn make(
         count,
         seed: a.seed,
         shard,
-        jobs: a.jobs,
+        jobs: usize::try_from(a.jobs).unwrap_or(usize::MAX),
         assemble: !a.no_assemble,
     };
     if request.worker_threads() < request.jobs {

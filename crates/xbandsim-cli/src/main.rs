@@ -61,7 +61,7 @@ enum Command {
         #[arg(long, default_value = "scenes/paper.toml")]
         scene: PathBuf,
         /// Random seed for the noise.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, value_parser = crate::whole_number)]
         seed: u64,
     },
     /// Measure ray-casting throughput, frame time and peak memory.
@@ -107,8 +107,48 @@ fn make_vessel(out: &std::path::Path, length_m: f64, segments: usize) -> anyhow:
     Ok(())
 }
 
+/// Reads a whole number of 0 or more (seeds, counts): a clear message for `-1` or `2.5`.
+pub fn whole_number(text: &str) -> Result<u64, String> {
+    text.trim()
+        .parse()
+        .map_err(|_| format!("{text:?} must be a whole number of 0 or more"))
+}
+
+/// The command line, with negative numbers taken as values wherever an option takes one
+/// (`--el-deg -5`, `--spokes -1`, which then gets the option's own message), not as flags.
+fn command_line() -> Cli {
+    use clap::{CommandFactory, FromArgMatches};
+    let mut cmd = Cli::command().allow_negative_numbers(true);
+    let names: Vec<String> = cmd
+        .get_subcommands()
+        .map(|s| s.get_name().to_string())
+        .collect();
+    for name in names {
+        cmd = cmd.mut_subcommand(name, |s| s.allow_negative_numbers(true));
+    }
+    let matches = cmd.get_matches();
+    Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
+}
+
+/// The message of `e` and its causes, each once: library errors show their cause in their
+/// own text (for the Python binding's messages) and give it as their source too.
+fn message(e: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in e.chain() {
+        let cause = cause.to_string();
+        if text.contains(&cause) {
+            continue;
+        }
+        if !text.is_empty() {
+            text.push_str(": ");
+        }
+        text.push_str(&cause);
+    }
+    text
+}
+
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = command_line();
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
         Command::Schema => {
@@ -133,7 +173,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", message(&e));
             ExitCode::FAILURE
         }
     }

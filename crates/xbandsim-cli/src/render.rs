@@ -20,7 +20,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub out: PathBuf,
     /// Random seed: the same seed gives the same output.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = crate::whole_number)]
     pub seed: u64,
     /// Override radar.pulse_width_us.
     #[arg(long, allow_negative_numbers = true)]
@@ -45,7 +45,7 @@ pub struct RenderArgs {
     pub no_noise: bool,
     /// Render N consecutive revolutions (everything moving) into OUT/frame_0000/,
     /// OUT/frame_0001/, ... (without it: one revolution, its files straight in OUT).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = crate::whole_number)]
     pub frames: Option<u64>,
     /// Also write each frame's range-Doppler-azimuth cube, doppler_cube.npy (needs
     /// [processing] mode = "pulse").
@@ -78,13 +78,13 @@ pub fn overrides(a: &RenderArgs) -> Result<Vec<String>> {
     };
     let mut sets = Vec::new();
     if let Some(v) = a.pulse_width_us {
-        sets.push(format!("radar.pulse_width_us={v:?}"));
+        sets.push(format!("radar.pulse_width_us={}", toml_float(v)));
     }
     if let Some(v) = a.spokes {
         sets.push(count("--spokes", "radar.spokes", v)?);
     }
     if let Some(v) = a.max_range_m {
-        sets.push(format!("radar.max_range_m={v:?}"));
+        sets.push(format!("radar.max_range_m={}", toml_float(v)));
     }
     if let Some(v) = &a.model {
         sets.push(format!("scattering.model={}", toml_string(v)));
@@ -100,6 +100,12 @@ pub fn overrides(a: &RenderArgs) -> Result<Vec<String>> {
     }
     sets.extend(a.set.iter().cloned());
     Ok(sets)
+}
+
+/// `x` as a TOML float: `nan` and `inf` as TOML writes them, so that the scene's own check
+/// names the field (`must be finite`) rather than the override failing to parse.
+fn toml_float(x: f64) -> String {
+    toml::Value::Float(x).to_string()
 }
 
 /// A TOML basic string holding `text`.

@@ -823,3 +823,94 @@ fn absurd_frame_and_job_counts() {
         "{stderr}"
     );
 }
+
+/// Messages a user meets with bad values: a negative or fractional count or seed says it
+/// must be a whole number (no `-- -1` tip), a NaN range names the field as not finite (not a
+/// type error), a cause is printed once, a speed beyond any craft is refused, and options
+/// that take negative numbers take them.
+#[test]
+fn messages_for_bad_values() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| {
+        let out = xbandsim().args(args).output().unwrap();
+        (
+            out.status.success(),
+            String::from_utf8_lossy(&out.stderr).to_string(),
+        )
+    };
+    let out = dir.path().join("x");
+    let out = out.to_str().unwrap();
+    for (args, wanted) in [
+        (
+            vec!["render", "scenes/paper.toml", "--seed", "-1", "--out", out],
+            "\"-1\" must be a whole number of 0 or more",
+        ),
+        (
+            vec![
+                "dataset",
+                "datasets/detection.toml",
+                "--count",
+                "2.5",
+                "--out",
+                out,
+            ],
+            "\"2.5\" must be a whole number of 0 or more",
+        ),
+        (
+            vec![
+                "render",
+                "scenes/paper.toml",
+                "--max-range-m",
+                "nan",
+                "--out",
+                out,
+            ],
+            "`radar.max_range_m` = NaN: must be a finite number",
+        ),
+        (
+            vec![
+                "render",
+                "scenes/crossing.toml",
+                "--set",
+                "object[0].speed_kn=1e9",
+                "--out",
+                out,
+            ],
+            "speed_kn` = 1000000000: must be at most 300 kn",
+        ),
+    ] {
+        let (ok, stderr) = run(&args);
+        assert!(!ok && stderr.contains(wanted), "{args:?}: {stderr}");
+        assert!(
+            !stderr.contains("-- -1") && !stderr.contains("invalid type"),
+            "{args:?}: {stderr}"
+        );
+    }
+    // A cause is printed once: the path's error is in the library's message already.
+    let file = dir.path().join("a-file");
+    std::fs::write(&file, b"").unwrap();
+    let inside = file.join("sub");
+    let (ok, stderr) = run(&[
+        "render",
+        "scenes/paper.toml",
+        "--out",
+        inside.to_str().unwrap(),
+    ]);
+    assert!(!ok, "{stderr}");
+    let error = stderr.lines().find(|l| l.starts_with("error:")).unwrap();
+    assert_eq!(error.matches("(os error").count(), 1, "{error}");
+    // Negative values where an option takes them.
+    let (ok, stderr) = run(&[
+        "rcs",
+        "scenes/paper.toml",
+        "--object",
+        "ship-plate",
+        "--el-deg",
+        "-5",
+        "--az-deg",
+        "-1:1:1",
+        "--max-rays",
+        "2000",
+    ]);
+    assert!(ok, "{stderr}");
+}

@@ -265,9 +265,12 @@ impl DatasetSpec {
             }
             object.insert("name".into(), format!("{}-0", c.name).into());
             object.insert("class".into(), c.name.clone().into());
+            // As a sample places it: no nearer the antenna than its extent and a margin.
+            let range_m =
+                (crate::sample::extent_m(&object) + crate::sample::MIN_CLEARANCE_M).max(100.0);
             object.insert(
                 "position_m".into(),
-                toml::Value::try_from([0.0, 100.0, 0.0]).unwrap_or(toml::Value::Float(0.0)),
+                toml::Value::try_from([0.0, range_m, 0.0]).unwrap_or(toml::Value::Float(0.0)),
             );
             let mut doc = base.clone();
             doc.insert(

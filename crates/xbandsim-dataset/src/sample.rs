@@ -36,7 +36,7 @@ pub const MIN_CLEARANCE_M: f64 = 20.0;
 
 /// A generous extent of an object from its size fields, m: the largest of its lengths, radii,
 /// heights, edges and mast heights and its box's diagonal.
-fn extent_m(object: &toml::Table) -> f64 {
+pub(crate) fn extent_m(object: &toml::Table) -> f64 {
     let mut extent: f64 = 0.0;
     for key in [
         "radius_m",

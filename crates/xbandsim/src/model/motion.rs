@@ -22,6 +22,36 @@ use std::f64::consts::TAU;
 /// One international knot, m/s (1852 m per hour; BIPM SI brochure, 9th ed., Table 8).
 pub const KNOT_M_PER_S: f64 = 1852.0 / 3600.0;
 
+/// Fastest an object or the own ship may move, knots: above the water speed record (about
+/// 276 kn, set in 1978), so any craft on the water and a helicopter low over it fit, and a
+/// typo (`speed_kn = 1e9`) is refused.
+pub const MAX_SPEED_KN: f64 = 300.0;
+
+/// `speed_kn` if it is finite, 0 or more and at most [`MAX_SPEED_KN`]; else an error at
+/// `field`.
+pub fn check_speed_kn(field: &str, speed_kn: f64) -> Result<f64> {
+    finite(field, speed_kn)?;
+    if speed_kn < 0.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            field,
+            speed_kn,
+            "must be 0 or more (give the direction with course_deg)",
+        ));
+    }
+    if speed_kn > MAX_SPEED_KN {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            field,
+            speed_kn,
+            format!(
+                "must be at most {MAX_SPEED_KN} kn, above the water speed record (about 276 kn)"
+            ),
+        ));
+    }
+    Ok(speed_kn)
+}
+
 /// Horizontal speeds below this are "not moving": the course is undefined (null).
 pub const STILL_SPEED_M_PER_S: f64 = 1e-9;
 
@@ -393,14 +423,7 @@ impl OwnShip {
     /// A ship at `speed_kn` on `course_deg` with its bow on `heading_deg` (nautical degrees):
     /// all finite, the speed ≥ 0.
     pub fn new(speed_kn: f64, course_deg: f64, heading_deg: f64) -> Result<OwnShip> {
-        finite("own_ship.speed_kn", speed_kn)?;
-        if speed_kn < 0.0 {
-            return Err(invalid(
-                "own_ship.speed_kn",
-                speed_kn,
-                "must be 0 or more (give the direction with course_deg)",
-            ));
-        }
+        check_speed_kn("own_ship.speed_kn", speed_kn)?;
         let course = finite("own_ship.course_deg", course_deg)?.to_radians();
         let heading = finite("own_ship.heading_deg", heading_deg)?.to_radians();
         let s = speed_kn * KNOT_M_PER_S;

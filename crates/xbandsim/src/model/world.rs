@@ -593,74 +593,79 @@ fn build_motion(prefix: &str, o: &ObjectSpec, yaw_rad: Option<f64>) -> Result<Op
             format!("give either `{field}` or `{with}`, not both"),
         )
     };
-    let path =
-        if let Some(track) = &o.track {
-            for (field, set) in [
-                ("speed_kn", o.speed_kn.is_some()),
-                ("course_deg", o.course_deg.is_some()),
-                ("velocity_mps", o.velocity_mps.is_some()),
-                ("turn_rate_deg_per_s", o.turn_rate_deg_per_s.is_some()),
-            ] {
-                if set {
-                    return Err(conflict(field, "track"));
-                }
+    let path = if let Some(track) = &o.track {
+        for (field, set) in [
+            ("speed_kn", o.speed_kn.is_some()),
+            ("course_deg", o.course_deg.is_some()),
+            ("velocity_mps", o.velocity_mps.is_some()),
+            ("turn_rate_deg_per_s", o.turn_rate_deg_per_s.is_some()),
+        ] {
+            if set {
+                return Err(conflict(field, "track"));
             }
-            Some(Trajectory::Track {
-                points: track
-                    .iter()
-                    .map(|p| Waypoint {
-                        time_s: p[0],
-                        east_m: p[1],
-                        north_m: p[2],
-                    })
-                    .collect(),
-            })
-        } else {
-            let velocity_mps = match (o.speed_kn, o.course_deg, o.velocity_mps) {
-                (Some(_), _, Some(_)) => return Err(conflict("speed_kn", "velocity_mps")),
-                (None, Some(_), Some(_)) => return Err(conflict("course_deg", "velocity_mps")),
-                (Some(speed), course, None) => {
-                    let speed = finite(&f("speed_kn"), speed)?;
-                    if speed < 0.0 {
-                        return Err(Error::invalid(
+        }
+        Some(Trajectory::Track {
+            points: track
+                .iter()
+                .map(|p| Waypoint {
+                    time_s: p[0],
+                    east_m: p[1],
+                    north_m: p[2],
+                })
+                .collect(),
+        })
+    } else {
+        let velocity_mps = match (o.speed_kn, o.course_deg, o.velocity_mps) {
+            (Some(_), _, Some(_)) => return Err(conflict("speed_kn", "velocity_mps")),
+            (None, Some(_), Some(_)) => return Err(conflict("course_deg", "velocity_mps")),
+            (Some(speed), course, None) => {
+                let speed = super::motion::check_speed_kn(&f("speed_kn"), speed)?;
+                let course = course.ok_or_else(|| {
+                    Error::missing(
+                        f("course_deg"),
+                        "speed_kn needs course_deg (nautical degrees, 0 = north, 90 = east)",
+                    )
+                })?;
+                let c = finite(&f("course_deg"), course)?.to_radians();
+                let s = speed * KNOT_M_PER_S;
+                Some(DVec3::new(s * c.sin(), s * c.cos(), 0.0))
+            }
+            (None, Some(_), None) => {
+                return Err(Error::missing(f("speed_kn"), "course_deg needs speed_kn"))
+            }
+            (None, None, Some(v)) => {
+                let v = finite_vec(&f("velocity_mps"), v)?;
+                let limit_mps = super::motion::MAX_SPEED_KN * KNOT_M_PER_S;
+                if v.length() > limit_mps {
+                    return Err(Error::invalid(
                             Problem::OutOfRange,
-                            f("speed_kn"),
-                            speed,
-                            "must be 0 or more (give the direction with course_deg)",
+                            f("velocity_mps"),
+                            crate::model::checks::fmt_vec(v),
+                            format!("its speed {:.1} m/s is above {limit_mps:.1} m/s ({} kn, above the water speed record)", v.length(), super::motion::MAX_SPEED_KN),
                         ));
-                    }
-                    let course = course.ok_or_else(|| {
-                        Error::missing(
-                            f("course_deg"),
-                            "speed_kn needs course_deg (nautical degrees, 0 = north, 90 = east)",
-                        )
-                    })?;
-                    let c = finite(&f("course_deg"), course)?.to_radians();
-                    let s = speed * KNOT_M_PER_S;
-                    Some(DVec3::new(s * c.sin(), s * c.cos(), 0.0))
                 }
-                (None, Some(_), None) => {
-                    return Err(Error::missing(f("speed_kn"), "course_deg needs speed_kn"))
-                }
-                (None, None, Some(v)) => Some(finite_vec(&f("velocity_mps"), v)?),
-                (None, None, None) => None,
-            };
-            let turn = o
-                .turn_rate_deg_per_s
-                .map(|w| finite(&f("turn_rate_deg_per_s"), w))
-                .transpose()?;
-            match (velocity_mps, turn) {
-                (None, Some(_)) => return Err(Error::missing(
+                Some(v)
+            }
+            (None, None, None) => None,
+        };
+        let turn = o
+            .turn_rate_deg_per_s
+            .map(|w| finite(&f("turn_rate_deg_per_s"), w))
+            .transpose()?;
+        match (velocity_mps, turn) {
+            (None, Some(_)) => {
+                return Err(Error::missing(
                     f("speed_kn"),
                     "turn_rate_deg_per_s needs a speed (speed_kn and course_deg, or velocity_mps)",
-                )),
-                (Some(v), w) => Some(Trajectory::Steady {
-                    velocity_mps: v,
-                    turn_rate_rad_per_s: w.unwrap_or(0.0).to_radians(),
-                }),
-                (None, None) => None,
+                ))
             }
-        };
+            (Some(v), w) => Some(Trajectory::Steady {
+                velocity_mps: v,
+                turn_rate_rad_per_s: w.unwrap_or(0.0).to_radians(),
+            }),
+            (None, None) => None,
+        }
+    };
     let amplitudes = [
         o.heave_amplitude_m,
         o.roll_amplitude_deg,
