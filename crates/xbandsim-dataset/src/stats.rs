@@ -17,8 +17,13 @@ pub const SNR_BIN_EDGES_DB: [f64; 7] = [0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0]
 /// Counts over a dataset's targets tables.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Stats {
-    /// Samples present.
+    /// Samples in the whole dataset (its record's count).
+    pub count: u64,
+    /// Samples present (all of them once the dataset is complete).
     pub samples: u64,
+    /// Whether the index files are written (README.md, the last of them, is there): with
+    /// every sample present, the dataset is complete.
+    pub indexed: bool,
     /// Frames read.
     pub frames: u64,
     /// Per class: (objects, detection labels).
@@ -38,7 +43,12 @@ impl Stats {
     pub fn report(&self) -> String {
         let objects: u64 = self.per_class.values().map(|v| v.0).sum();
         let labelled: u64 = self.per_class.values().map(|v| v.1).sum();
-        let mut s = format!(
+        let mut s = String::new();
+        if let Some(note) = self.unfinished() {
+            let _ = writeln!(s, "{note}\n");
+        }
+        let _ = write!(
+            s,
             "{} samples, {} frames ({} with no detection label), {objects} objects, {labelled} labelled\n\nclass                 objects  labelled\n",
             self.samples, self.frames, self.empty_frames
         );
@@ -70,6 +80,24 @@ impl Stats {
         }
         let _ = writeln!(s, "{:<14} {:>10}", "null", self.snr_null);
         s
+    }
+}
+
+impl Stats {
+    /// What is unfinished about the dataset, if anything: the samples missing, or the index
+    /// files, and how to finish it (the same command again resumes it).
+    pub fn unfinished(&self) -> Option<String> {
+        let missing = self.count.saturating_sub(self.samples);
+        if missing > 0 {
+            Some(format!(
+                "unfinished: {missing} of {} samples are missing and the index files are not written; these figures cover the {} samples present (run the same `xbandsim dataset` command, or xbandsim.dataset.generate call, again to finish it)",
+                self.count, self.samples
+            ))
+        } else if !self.indexed {
+            Some("unfinished: every sample is there but the index files (annotations.json, targets.jsonl, README.md) are not written (run the same `xbandsim dataset` command again to write them)".to_string())
+        } else {
+            None
+        }
     }
 }
 
@@ -127,39 +155,56 @@ impl Stats {
     }
 }
 
-/// Counts over every present sample of the dataset in `out` (tar shards: over its
-/// targets.jsonl, written when the dataset is complete).
+/// Counts over every present sample of the dataset in `out` (tar shards: over the targets
+/// tables of the finished shards), saying how many samples are missing
+/// ([`Stats::unfinished`]).
 pub fn stats(out: &Path) -> Result<Stats> {
     let (count, frames, format) = record_format(out)?;
-    let mut s = Stats::default();
-    if let Format::WebDataset { .. } = format {
-        let path = out.join("targets.jsonl");
-        let text = std::fs::read_to_string(&path).map_err(|e| DatasetError::io(&path, e))?;
-        let mut labelled_frames = std::collections::BTreeSet::new();
-        for line in text.lines().filter(|l| !l.is_empty()) {
-            if s.add_rows(&path, line)? {
-                let row: serde_json::Value =
-                    serde_json::from_str(line).map_err(|e| invalid_data(&path, e.to_string()))?;
-                labelled_frames.insert((row["sample"].as_u64(), row["frame"].as_u64()));
+    let mut s = Stats {
+        count,
+        indexed: out.join("README.md").is_file(),
+        ..Stats::default()
+    };
+    let add_frame = |s: &mut Stats, path: &Path, text: &str| -> Result<()> {
+        s.frames += 1;
+        if !s.add_rows(path, text)? {
+            s.empty_frames += 1;
+        }
+        Ok(())
+    };
+    match format {
+        Format::WebDataset { samples_per_shard } => {
+            let shards = crate::webdataset::shard_count(count, samples_per_shard);
+            for t in 0..shards {
+                if !crate::webdataset::manifest_path(out, t).is_file() {
+                    continue;
+                }
+                let path = crate::webdataset::shard_path(out, t);
+                s.samples +=
+                    crate::webdataset::shard_samples(t, samples_per_shard, count).count() as u64;
+                crate::webdataset::for_each_member(
+                    &path,
+                    &|name| name.ends_with("targets.jsonl"),
+                    &mut |_, bytes| {
+                        let text = String::from_utf8_lossy(&bytes);
+                        add_frame(&mut s, &path, &text)
+                    },
+                )?;
             }
         }
-        s.samples = count;
-        s.frames = count * frames;
-        s.empty_frames = s.frames.saturating_sub(labelled_frames.len() as u64);
-        return Ok(s);
-    }
-    for i in 0..count {
-        let dir = sample_dir(out, i);
-        if !dir.is_dir() {
-            continue;
-        }
-        s.samples += 1;
-        for k in 0..frames {
-            let path = dir.join(frame_subdir(frames, k)).join("targets.jsonl");
-            let text = std::fs::read_to_string(&path).map_err(|e| DatasetError::io(&path, e))?;
-            s.frames += 1;
-            if !s.add_rows(&path, &text)? {
-                s.empty_frames += 1;
+        Format::Dir => {
+            for i in 0..count {
+                let dir = sample_dir(out, i);
+                if !dir.is_dir() {
+                    continue;
+                }
+                s.samples += 1;
+                for k in 0..frames {
+                    let path = dir.join(frame_subdir(frames, k)).join("targets.jsonl");
+                    let text =
+                        std::fs::read_to_string(&path).map_err(|e| DatasetError::io(&path, e))?;
+                    add_frame(&mut s, &path, &text)?;
+                }
             }
         }
     }

@@ -611,3 +611,67 @@ fn spec_errors_blame_the_field_at_fault() {
         "samples were made before the error"
     );
 }
+
+/// `dataset stats` counts what is there and says when a dataset is unfinished (samples
+/// missing, or the index files not written), in folders and tar shards; once complete, the
+/// two formats' counts agree and cover every row of the dataset's targets.jsonl.
+#[test]
+fn stats_say_when_a_dataset_is_unfinished() {
+    use xbandsim_dataset::stats::stats;
+    let spec = spec();
+    let tmp = tempfile::tempdir().unwrap();
+    let mut complete = Vec::new();
+    for (name, format, present) in [
+        ("dir", Format::Dir, 3),
+        (
+            "tar",
+            Format::WebDataset {
+                samples_per_shard: 2,
+            },
+            4,
+        ),
+    ] {
+        let out = tmp.path().join(name);
+        let half = Request {
+            format,
+            assemble: false,
+            ..request(6, 9, Shard { index: 0, count: 2 }, 1)
+        };
+        generate(&spec, &out, &half, &|| {}).unwrap();
+        let s = stats(&out).unwrap();
+        assert_eq!((s.count, s.samples), (6, present), "{name}");
+        let note = s.unfinished().expect("unfinished");
+        assert!(
+            note.contains(&format!("{} of 6 samples are missing", 6 - present))
+                && s.report().starts_with("unfinished: "),
+            "{name}: {note}"
+        );
+        // Every sample there, the index files not yet: still unfinished.
+        let other = Request {
+            shard: Shard { index: 1, count: 2 },
+            ..half.clone()
+        };
+        generate(&spec, &out, &other, &|| {}).unwrap();
+        let s = stats(&out).unwrap();
+        assert_eq!(s.samples, 6);
+        assert!(s.unfinished().unwrap().contains("index files"), "{name}");
+        let whole = Request {
+            format,
+            ..request(6, 9, Shard::ALL, 1)
+        };
+        generate(&spec, &out, &whole, &|| {}).unwrap();
+        let s = stats(&out).unwrap();
+        assert_eq!(s.unfinished(), None, "{name}");
+        let rows = std::fs::read_to_string(out.join("targets.jsonl"))
+            .unwrap()
+            .lines()
+            .count() as u64;
+        assert_eq!(
+            s.per_class.values().map(|v| v.0).sum::<u64>(),
+            rows,
+            "{name}"
+        );
+        complete.push(s);
+    }
+    assert_eq!(complete[0], complete[1]);
+}
