@@ -9,6 +9,11 @@ Items follow torchvision's detection convention::
              "masks": (N, H, W) uint8, "area": (N,) float32, "iscrowd": (N,) int64,
              "track_ids": (N,) int64, "image_id": int, "sample": int, "frame": int}
 
+``image_id`` is the id annotations.json gives the same image (sample index x frames per
+sample + frame + 1), so predictions score against the dataset's own COCO file. A dataset
+folder that is not finished is read as it is, with an ``IncompleteDatasetWarning`` saying
+what is missing and how to finish it.
+
 NumPy arrays without torch; torch tensors when torch is installed (or ``tensors=True``), so
 that ``torch.utils.data.DataLoader(ds, collate_fn=lambda b: tuple(zip(*b)))`` works. The
 labels are the dataset's own COCO annotations (docs/formats.md, "Dataset labels"): an object

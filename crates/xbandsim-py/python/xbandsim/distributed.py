@@ -279,6 +279,14 @@ def generate(
             "(docs/distributed.md)",
             "conflict",
         )
+    units = count if shard_samples is None else -(-count // shard_samples)
+    if blocks is not None and blocks > units:
+        raise _args.error(
+            "blocks",
+            blocks,
+            f"must be a whole number 1 … {units} (one sample or tar shard per block at least)",
+            "out of range",
+        )
     ray = _ray()
     out = url if url is not None else os.path.abspath(out)
     if url is not None:
@@ -286,17 +294,9 @@ def generate(
         _check_record(fs, root, url, spec, count, seed, int(shard_samples))
     if not ray.is_initialized():
         ray.init()
-    units = count if shard_samples is None else -(-count // int(shard_samples))
     if blocks is None:
         cpus = int(ray.cluster_resources().get("CPU", 1))
         blocks = max(1, min(units, 4 * cpus))
-    if blocks > units:
-        raise _args.error(
-            "blocks",
-            blocks,
-            f"must be a whole number 1 … {units} (one sample or tar shard per block at least)",
-            "out of range",
-        )
     options: Dict[str, Any] = dict(
         num_cpus=cpus_per_task, max_retries=max_retries, retry_exceptions=False
     )
