@@ -3,10 +3,6 @@ resets, vector environments in one process and across processes, rendering, erro
 example scripts run headless (the heuristic agent must beat the random one)."""
 
 import json
-import os
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,9 +11,9 @@ gym = pytest.importorskip("gymnasium", reason="gymnasium is not installed")
 from gymnasium.utils.env_checker import check_env  # noqa: E402
 
 import xbandsim  # noqa: E402
+from conftest import run_python  # noqa: E402
 from xbandsim.envs import ACTION_NAMES, action_vector  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[3]
 IDS = ["xbandsim/Detection-v0", "xbandsim/Tracking-v0"]
 
 
@@ -223,24 +219,11 @@ def test_sync_and_async_vector_envs_agree():
     assert not np.array_equal(sync[0][0], sync[0][1])
 
 
-def _example(*args, timeout=600):
-    env = dict(os.environ, MPLBACKEND="Agg")
-    out = subprocess.run(
-        [sys.executable, *args],
-        cwd=ROOT,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=timeout,
+def test_example_agents_heuristic_beats_random(repo_root):
+    out = run_python(
+        ["examples/agents.py", "--episodes", "3", "--level", "1", "--json"], repo_root
     )
-    assert out.returncode == 0, out.stderr
-    return out.stdout
-
-
-def test_example_agents_heuristic_beats_random():
-    returns = json.loads(
-        _example("examples/agents.py", "--episodes", "3", "--level", "1", "--json")
-    )
+    returns = json.loads(out.stdout)
     for task in ("detection", "tracking"):
         heuristic = np.mean(returns[f"{task}/heuristic"])
         random = np.mean(returns[f"{task}/random"])
