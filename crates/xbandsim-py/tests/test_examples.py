@@ -9,7 +9,6 @@ import importlib.util
 import re
 import sys
 import sysconfig
-from pathlib import Path
 
 from conftest import ROOT, run_python
 
