@@ -58,6 +58,22 @@ impl Mask {
             .map(|[x0, y0, x1, y1]| [x0 as f64, y0 as f64, (x1 + 1) as f64, (y1 + 1) as f64])
     }
 
+    /// The echo's oriented box: the smallest-area rectangle around the set pixels
+    /// ([`crate::obb`]), its corners in order around it, in pixel edges clipped to the
+    /// image (a corner past an edge is moved onto it); None when empty.
+    pub fn oriented_box(&self) -> Option<[[f64; 2]; 4]> {
+        let [x0, y0, x1, y1] = self.pixel_box()?;
+        let rows = (y0..=y1).filter_map(|y| {
+            let row = &self.pixels[y * self.width..][x0..=x1];
+            let first = row.iter().position(|&p| p)?;
+            let last = row.iter().rposition(|&p| p)?;
+            Some((y, x0 + first, x0 + last))
+        });
+        let hull = crate::obb::convex_hull(crate::obb::row_extreme_corners(rows));
+        let (w, h) = (self.width as f64, self.height as f64);
+        Some(crate::obb::min_area_rectangle(&hull).map(|[x, y]| [x.clamp(0.0, w), y.clamp(0.0, h)]))
+    }
+
     /// Pixels set (counted in their box's rows).
     pub fn area(&self) -> usize {
         self.pixel_box().map_or(0, |[x0, y0, x1, y1]| {
@@ -209,21 +225,6 @@ pub fn mask_from_rle(
         at += run as usize;
     }
     Ok(mask)
-}
-
-/// Oriented boxes smaller than this on the image are not written (a point's four equal
-/// corners, a plate seen edge-on, a kayak at 3 km): px².
-pub const MIN_OBB_AREA_PX2: f64 = 1.0;
-
-/// Area of a quadrilateral (shoelace), px².
-fn polygon_area(corners: &[[f64; 2]; 4]) -> f64 {
-    let mut twice = 0.0;
-    for i in 0..4 {
-        let [x0, y0] = corners[i];
-        let [x1, y1] = corners[(i + 1) % 4];
-        twice += x0 * y1 - x1 * y0;
-    }
-    0.5 * twice.abs()
 }
 
 /// Whether an object's visibility lets it have a detection label (it is seen above the noise).
@@ -442,19 +443,15 @@ pub fn frame_labels(
                 (x1 - x0) / s,
                 (y1 - y0) / s
             ));
-            if let Some(corners) = o.ppi_footprint_px {
-                let inside = corners
-                    .iter()
-                    .all(|[x, y]| (0.0..=s).contains(x) && (0.0..=s).contains(y));
-                if inside && polygon_area(&corners) >= MIN_OBB_AREA_PX2 {
-                    let mut line = c.to_string();
-                    for [x, y] in corners {
-                        line.push_str(&format!(" {:.6} {:.6}", x / s, y / s));
-                    }
-                    yolo_obb.push_str(&line);
-                    yolo_obb.push('\n');
-                    obb = Some(corners);
+            // Every labelled echo gets its oriented box: the mask's smallest rectangle.
+            if let Some(corners) = mask.oriented_box() {
+                let mut line = c.to_string();
+                for [x, y] in corners {
+                    line.push_str(&format!(" {:.6} {:.6}", x / s, y / s));
                 }
+                yolo_obb.push_str(&line);
+                yolo_obb.push('\n');
+                obb = Some(corners.map(|p| p.map(round6)));
             }
         }
         let row = json!({
@@ -482,6 +479,7 @@ pub fn frame_labels(
             "polar_box": o.polar_box,
             "ppi_box_px": o.ppi_box_px,
             "ppi_obb_px": obb,
+            "ppi_footprint_px": o.ppi_footprint_px,
         });
         rows.push_str(&row.to_string());
         rows.push('\n');

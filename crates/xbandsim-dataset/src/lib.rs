@@ -12,6 +12,7 @@ pub mod dist;
 pub mod error;
 pub mod generate;
 pub mod labels;
+pub mod obb;
 pub mod owner;
 pub mod sample;
 pub mod spec;

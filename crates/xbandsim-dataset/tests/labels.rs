@@ -139,7 +139,19 @@ fn masks_and_boxes_land_on_the_targets() {
         let fragment = json(&dir.join("coco.json"));
         let (_, image) = read_gray(&dir.join("ppi_gray.png"));
         let mut union = vec![false; size * size];
-        for a in fragment["annotations"].as_array().unwrap() {
+        let obb_text = std::fs::read_to_string(dir.join("yolo_obb.txt")).unwrap();
+        let obb_lines: Vec<&str> = obb_text.lines().collect();
+        assert_eq!(
+            obb_lines.len(),
+            fragment["annotations"].as_array().unwrap().len(),
+            "sample {i}: every labelled echo has an oriented box"
+        );
+        for (n, a) in fragment["annotations"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .enumerate()
+        {
             labelled += 1;
             let track = a["track_id"].as_u64().unwrap() as usize;
             let o = &objects[track];
@@ -155,6 +167,39 @@ fn masks_and_boxes_land_on_the_targets() {
                 .iter()
                 .map(|v| v.as_f64().unwrap())
                 .collect();
+            // The oriented box is the echo's: a rectangle around every mask pixel, no
+            // larger than the axis box and no smaller than the mask.
+            let v: Vec<f64> = obb_lines[n]
+                .split(' ')
+                .skip(1)
+                .map(|x| x.parse::<f64>().unwrap() * size as f64)
+                .collect();
+            let r: Vec<[f64; 2]> = v.chunks(2).map(|c| [c[0], c[1]]).collect();
+            let cross = |k: usize, p: [f64; 2]| {
+                let (a, b) = (r[k], r[(k + 1) % 4]);
+                (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
+            };
+            let rect_area = 0.5
+                * (0..4)
+                    .map(|k| r[k][0] * r[(k + 1) % 4][1] - r[(k + 1) % 4][0] * r[k][1])
+                    .sum::<f64>()
+                    .abs();
+            assert!(
+                rect_area <= b[2] * b[3] + 1e-3,
+                "sample {i}: {rect_area} > box {b:?}"
+            );
+            assert!(
+                rect_area >= area as f64 - 1e-3,
+                "sample {i}: {rect_area} < mask {area}"
+            );
+            for p in (0..size * size).filter(|&p| mask[p]) {
+                let c = [(p % size) as f64 + 0.5, (p / size) as f64 + 0.5];
+                let signs: Vec<f64> = (0..4).map(|k| cross(k, c)).collect();
+                assert!(
+                    signs.iter().all(|&x| x >= -1e-3) || signs.iter().all(|&x| x <= 1e-3),
+                    "sample {i} track {track}: mask pixel {c:?} outside its oriented box {r:?}"
+                );
+            }
             let pb = &o["polar_box"];
             let (s0, s1) = (
                 pb["spoke_min"].as_u64().unwrap() as usize,
@@ -364,9 +409,10 @@ fn yolo_trees_follow_the_ultralytics_format() {
     let tmp = tempfile::tempdir().unwrap();
     make(tmp.path(), 6);
     let detect = check_yolo_tree(&tmp.path().join("yolo"), 4, 3);
-    check_yolo_tree(&tmp.path().join("yolo_obb"), 8, 3);
+    let oriented = check_yolo_tree(&tmp.path().join("yolo_obb"), 8, 3);
     let coco = json(&tmp.path().join("annotations.json"));
     assert_eq!(detect, coco["annotations"].as_array().unwrap().len());
+    assert_eq!(oriented, detect, "every labelled echo has an oriented box");
     // val_every = 3: samples 2 and 5.
     let val: BTreeSet<String> = std::fs::read_dir(tmp.path().join("yolo/images/val"))
         .unwrap()
