@@ -21,6 +21,7 @@ use crate::error::{at, invalid_data, Result};
 use crate::generate::{frame_subdir, sample_dir, Format};
 use crate::spec::DatasetSpec;
 use std::collections::BTreeMap;
+use std::fmt::Write as _;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -37,6 +38,88 @@ pub struct Assembled {
     pub labelled_per_category: Vec<(String, u64)>,
     /// Rows per visibility reason.
     pub rows_per_visibility: BTreeMap<String, u64>,
+    /// Labelled objects by range scale (the display range, m, as its bits: exact) and class:
+    /// how their hulls and echoes compare with the radar's resolution cell.
+    pub resolution: BTreeMap<(u64, String), Resolution>,
+}
+
+/// Half-pixel bins of a length histogram, up to 1024 px (longer ones count in the last).
+const LENGTH_BINS: usize = 2048;
+
+/// How labelled objects of one class at one range scale compare with the radar's
+/// resolution cell (the beamwidth times the range across, `c/(2B)` along).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Resolution {
+    /// Labelled objects.
+    pub labels: u64,
+    /// Those whose hull's longest side is longer than the cell's longer side: their echo
+    /// can show the hull's length and shape.
+    pub hull_resolved: u64,
+    /// Histogram of the hull's longest side, half pixels.
+    hull_px: Vec<u64>,
+    /// Histogram of the echo's oriented box's longer side, half pixels.
+    echo_px: Vec<u64>,
+}
+
+impl Default for Resolution {
+    fn default() -> Resolution {
+        Resolution {
+            labels: 0,
+            hull_resolved: 0,
+            hull_px: vec![0; LENGTH_BINS],
+            echo_px: vec![0; LENGTH_BINS],
+        }
+    }
+}
+
+impl Resolution {
+    fn add(hist: &mut [u64], px: f64) {
+        let bin = ((px * 2.0).max(0.0) as usize).min(LENGTH_BINS - 1);
+        hist[bin] += 1;
+    }
+
+    /// The median of a half-pixel histogram, px (the middle bin's centre).
+    fn median(hist: &[u64]) -> f64 {
+        let total: u64 = hist.iter().sum();
+        let mut seen = 0;
+        for (bin, n) in hist.iter().enumerate() {
+            seen += n;
+            if 2 * seen >= total && total > 0 {
+                return (bin as f64 + 0.5) / 2.0;
+            }
+        }
+        0.0
+    }
+
+    /// Median hull length on the image, px.
+    pub fn median_hull_px(&self) -> f64 {
+        Resolution::median(&self.hull_px)
+    }
+
+    /// Median echo length (its oriented box's longer side), px.
+    pub fn median_echo_px(&self) -> f64 {
+        Resolution::median(&self.echo_px)
+    }
+
+    /// Counts a labelled targets-table row (at an image of `size_px`).
+    fn count(&mut self, row: &serde_json::Value, size_px: f64) {
+        let scale_m = row["range_scale_m"].as_f64().unwrap_or(0.0);
+        if scale_m <= 0.0 || size_px <= 0.0 {
+            return;
+        }
+        let metres_per_px = 2.0 * scale_m / size_px;
+        let side = |i: usize| row["size_m"][i].as_f64().unwrap_or(0.0);
+        let hull_m = side(0).max(side(1));
+        let cell = |i: usize| row["resolution_cell_m"][i].as_f64().unwrap_or(0.0);
+        self.labels += 1;
+        self.hull_resolved += u64::from(hull_m > cell(0).max(cell(1)));
+        Resolution::add(&mut self.hull_px, hull_m / metres_per_px);
+        if let Some(c) = row["ppi_obb_px"].as_array() {
+            let p = |k: usize, i: usize| c[k % 4][i].as_f64().unwrap_or(0.0);
+            let len = |k: usize| (p(k + 1, 0) - p(k, 0)).hypot(p(k + 1, 1) - p(k, 1));
+            Resolution::add(&mut self.echo_px, len(0).max(len(1)));
+        }
+    }
 }
 
 /// Writes `path` through a temporary file and a rename.
@@ -114,6 +197,8 @@ struct Writer {
     targets: AtomicFile,
     summary: Assembled,
     annotation_id: u64,
+    /// The side of the last image added, px (its rows come after it).
+    image_size_px: f64,
 }
 
 impl Writer {
@@ -128,6 +213,7 @@ impl Writer {
         let mut fragment: serde_json::Value =
             serde_json::from_slice(bytes).map_err(|e| invalid_data(path, e.to_string()))?;
         let mut image = fragment["image"].take();
+        self.image_size_px = image["width"].as_f64().unwrap_or(0.0);
         image["id"] = image_id.into();
         if let Some((k, v)) = extra {
             image[k] = v;
@@ -163,8 +249,9 @@ impl Writer {
         Ok(())
     }
 
-    /// One frame's targets-table rows.
+    /// One frame's targets-table rows (after its COCO fragment).
     fn add_rows(&mut self, rows: &[u8]) -> Result<()> {
+        let size_px = self.image_size_px;
         for line in rows.split(|&b| b == b'\n').filter(|l| !l.is_empty()) {
             self.summary.targets += 1;
             if let Ok(v) = serde_json::from_slice::<serde_json::Value>(line) {
@@ -174,6 +261,15 @@ impl Writer {
                         .rows_per_visibility
                         .entry(reason.to_string())
                         .or_default() += 1;
+                }
+                if v["labelled"].as_bool() == Some(true) {
+                    let scale = v["range_scale_m"].as_f64().unwrap_or(0.0).to_bits();
+                    let class = v["class"].as_str().unwrap_or("?").to_string();
+                    self.summary
+                        .resolution
+                        .entry((scale, class))
+                        .or_default()
+                        .count(&v, size_px);
                 }
             }
         }
@@ -227,6 +323,7 @@ pub fn assemble(
             ..Default::default()
         },
         annotation_id: 0,
+        image_size_px: 0.0,
     };
     let cats: Vec<serde_json::Value> = categories
         .iter()
@@ -514,10 +611,44 @@ fn dataset_card(
     c.push_str(
         "\nA labelled object is `visible` or `partially_eclipsed`, has a box in the image and a \
          non-empty mask; the others stay in `targets.jsonl` with their reason \
-         (see xbandsim's docs/formats.md, \"Dataset labels\").\n\n## Spec\n\n```toml\n",
+         (see xbandsim's docs/formats.md, \"Dataset labels\").\n",
     );
+    c.push_str(&resolution_section(s));
+    c.push_str("\n## Spec\n\n```toml\n");
     c.push_str(spec.text.trim_end());
     c.push_str("\n```\n");
+    c
+}
+
+/// The card's section on what a detector can tell apart: per range scale and class, the
+/// labelled objects' hull and echo lengths on the image and how many hulls are longer than
+/// the radar's resolution cell where they are.
+fn resolution_section(s: &Assembled) -> String {
+    let mut c = String::from(
+        "\n## What a detector can tell apart\n\n\
+         An echo is smeared over the radar's resolution cell: the azimuth beamwidth times the \
+         range across the line of sight, the compressed pulse's `c/(2B)` along it \
+         (`resolution_cell_m` in `targets.jsonl`). A hull shorter than that cell leaves an echo \
+         whose size and shape are the radar's, not the hull's: classes whose hulls are all \
+         smaller than the cell at a range scale differ on that scale only in brightness (their \
+         RCS, `rcs_dbsm`), in how the echo fluctuates and moves, and in where they are, not in \
+         shape. Where few hulls are resolved, expect a detector to find such targets but not to \
+         tell their classes apart; a coarse class set (vessel, buoy or marker, reflector: \
+         xbandsim's `datasets/detection-coarse.toml`) is the realistic target there.\n\n\
+         | range scale (m) | class | labels | median hull (px) | median echo (px) | hulls longer than the cell |\n\
+         |---|---|---|---|---|---|\n",
+    );
+    for ((scale_bits, class), r) in &s.resolution {
+        let _ = writeln!(
+            c,
+            "| {:.0} | {class} | {} | {:.1} | {:.1} | {:.0} % |",
+            f64::from_bits(*scale_bits),
+            r.labels,
+            r.median_hull_px(),
+            r.median_echo_px(),
+            100.0 * r.hull_resolved as f64 / r.labels.max(1) as f64
+        );
+    }
     c
 }
 

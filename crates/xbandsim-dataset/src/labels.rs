@@ -375,6 +375,12 @@ pub struct FrameContext<'a> {
     pub image: &'a str,
     /// Image side, px.
     pub size_px: usize,
+    /// Half the image's side on the sea (the display range), m.
+    pub range_scale_m: f64,
+    /// The radar's azimuth 3-dB beamwidth, rad.
+    pub azimuth_beamwidth_rad: f64,
+    /// The compressed pulse's range resolution `c/(2B)`, m.
+    pub range_resolution_m: f64,
     /// Category names; an object's category is its class's position here (YOLO class
     /// index; COCO id = index + 1).
     pub categories: &'a [String],
@@ -480,6 +486,11 @@ pub fn frame_labels(
             "ppi_box_px": o.ppi_box_px,
             "ppi_obb_px": obb,
             "ppi_footprint_px": o.ppi_footprint_px,
+            "range_scale_m": ctx.range_scale_m,
+            "resolution_cell_m": [
+                round6(o.range_m * ctx.azimuth_beamwidth_rad),
+                round6(ctx.range_resolution_m),
+            ],
         });
         rows.push_str(&row.to_string());
         rows.push('\n');

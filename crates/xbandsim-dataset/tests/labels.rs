@@ -662,3 +662,98 @@ fn combined_pulse_masks_use_the_short_pulse_noise() {
         "no mask pixel inside the join: the test saw nothing"
     );
 }
+
+/// The coarse detection spec draws the fine spec's scenes and labels them in three classes:
+/// the same boxes, each fine class mapped to its coarse one. Both cards say, per range scale
+/// and class, how many labelled hulls are longer than the radar's resolution cell, as the
+/// targets table's rows give it.
+#[test]
+fn coarse_spec_relabels_the_fine_specs_scenes() {
+    let datasets = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../datasets");
+    let tmp = tempfile::tempdir().unwrap();
+    let make = |name: &str| {
+        let spec = DatasetSpec::read(&datasets.join(name)).unwrap();
+        let out = tmp.path().join(name);
+        let request = Request {
+            count: 4,
+            seed: 21,
+            shard: Shard::ALL,
+            jobs: 2,
+            format: Format::Dir,
+            assemble: true,
+        };
+        generate(&spec, &out, &request, &|| {}).unwrap();
+        (spec, out)
+    };
+    let (fine_spec, fine) = make("detection.toml");
+    let (coarse_spec, coarse) = make("detection-coarse.toml");
+    assert_eq!(
+        coarse_spec.categories(),
+        ["buoy_or_marker", "reflector", "vessel"]
+    );
+    let coarse_of = |class: &str| match class {
+        "navigation_buoy" | "lobster_pot" | "channel_marker" => "buoy_or_marker",
+        "corner_reflector" => "reflector",
+        _ => "vessel",
+    };
+    let (a, b) = (
+        json(&fine.join("annotations.json")),
+        json(&coarse.join("annotations.json")),
+    );
+    let (fa, ca) = (
+        a["annotations"].as_array().unwrap(),
+        b["annotations"].as_array().unwrap(),
+    );
+    assert!(!fa.is_empty());
+    assert_eq!(fa.len(), ca.len());
+    let fine_names = fine_spec.categories();
+    let coarse_names = coarse_spec.categories();
+    for (f, c) in fa.iter().zip(ca) {
+        assert_eq!(f["bbox"], c["bbox"]);
+        assert_eq!(f["segmentation"], c["segmentation"]);
+        let fine_class = &fine_names[f["category_id"].as_u64().unwrap() as usize - 1];
+        let coarse_class = &coarse_names[c["category_id"].as_u64().unwrap() as usize - 1];
+        assert_eq!(coarse_of(fine_class), coarse_class);
+    }
+    // The card's resolution table, row by row, from the targets table.
+    for out in [&fine, &coarse] {
+        let card = std::fs::read_to_string(out.join("README.md")).unwrap();
+        assert!(card.contains("## What a detector can tell apart"), "{card}");
+        let mut rows: std::collections::BTreeMap<(String, String), (u64, u64)> = Default::default();
+        for line in std::fs::read_to_string(out.join("targets.jsonl"))
+            .unwrap()
+            .lines()
+        {
+            let v: serde_json::Value = serde_json::from_str(line).unwrap();
+            if v["labelled"] != true {
+                continue;
+            }
+            let hull = v["size_m"][0]
+                .as_f64()
+                .unwrap()
+                .max(v["size_m"][1].as_f64().unwrap());
+            let cell = v["resolution_cell_m"][0]
+                .as_f64()
+                .unwrap()
+                .max(v["resolution_cell_m"][1].as_f64().unwrap());
+            let e = rows
+                .entry((
+                    format!("{:.0}", v["range_scale_m"].as_f64().unwrap()),
+                    v["class"].as_str().unwrap().to_string(),
+                ))
+                .or_default();
+            e.0 += 1;
+            e.1 += u64::from(hull > cell);
+        }
+        assert!(!rows.is_empty());
+        for ((scale, class), (n, resolved)) in rows {
+            let start = format!("| {scale} | {class} | {n} | ");
+            let row = card
+                .lines()
+                .find(|l| l.starts_with(&start))
+                .unwrap_or_else(|| panic!("no row {start} in {card}"));
+            let percent = format!("| {:.0} % |", 100.0 * resolved as f64 / n as f64);
+            assert!(row.ends_with(&percent), "{row} vs {percent}");
+        }
+    }
+}
