@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The README's first command: sets up everything on a fresh machine and runs the main job on
-# an example. Needs Rust >= 1.85 (rustup) and python3 with venv; crates come from crates.io and
+# an example. Needs Rust >= 1.89 (rustup) and python3 with venv; crates come from crates.io and
 # Python packages from PyPI.
 #   1. builds the `xbandsim` command line and renders the paper's 5-target scene into out/
 #      (ppi.png, ppi_gray.png, polar.npy, truth.json);
