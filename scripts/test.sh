@@ -29,35 +29,29 @@ target/release/xbandsim dataset schema > target/dataset-spec.schema.json
 "$venv/bin/python" scripts/check_schema.py target/dataset-spec.schema.json datasets/*.toml
 
 echo "== the Python package (pip install ./crates/xbandsim-py, then pytest)"
-# Ray (for xbandsim.distributed) has wheels for fewer platforms and Pythons than the rest.
-# Where PyPI has none for this one, its tests are skipped with that reason; any other failure
-# to install it (PyPI unreachable, which pip also reports as "no matching distribution", or a
-# broken wheel) fails the run, and once installed the tests must import it.
-ray_log=target/pip-ray.log
-if "$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r scripts/requirements-ray.txt >"$ray_log" 2>&1; then
-  export XBANDSIM_RAY_REQUIRED=1
-elif grep -q "No matching distribution found" "$ray_log" \
-    && ! grep -qiE "Retrying|NewConnectionError|ProxyError|Could not fetch URL|Temporary failure in name resolution|Network is unreachable|timed out" "$ray_log"; then
-  echo "xbandsim: PyPI has no Ray wheel for this platform or Python; the Ray tests will be skipped" >&2
-  export XBANDSIM_RAY_UNAVAILABLE="PyPI has no wheel of scripts/requirements-ray.txt for this platform"
-else
-  cat "$ray_log" >&2
-  exit 1
-fi
-# Stable-Baselines3 and torch (the environments through SB3, RadarDataset's torch tensors):
-# the same rule as Ray's. Skipped only where PyPI has no torch wheel for this platform or
-# Python; any other failure to install fails the run.
-sb3_log=target/pip-sb3.log
-if "$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r scripts/requirements-sb3.txt >"$sb3_log" 2>&1; then
-  export XBANDSIM_SB3_REQUIRED=1
-elif grep -q "No matching distribution found" "$sb3_log" \
-    && ! grep -qiE "Retrying|NewConnectionError|ProxyError|Could not fetch URL|Temporary failure in name resolution|Network is unreachable|timed out" "$sb3_log"; then
-  echo "xbandsim: PyPI has no torch wheel for this platform or Python; the Stable-Baselines3 tests will be skipped" >&2
-  export XBANDSIM_SB3_UNAVAILABLE="PyPI has no wheel of scripts/requirements-sb3.txt for this platform"
-else
-  cat "$sb3_log" >&2
-  exit 1
-fi
+# Optional extras with wheels for fewer platforms and Pythons than the rest: Ray (for
+# xbandsim.distributed) and Stable-Baselines3 with torch (the environments through SB3,
+# RadarDataset's torch tensors). Where PyPI has no wheel for this one, their tests are
+# skipped with that reason; any other failure to install (PyPI unreachable, which pip also
+# reports as "no matching distribution", or a broken wheel) fails the run, and once
+# installed the tests must import them. Sets XBANDSIM_<NAME>_REQUIRED or _UNAVAILABLE.
+install_optional() {
+  local name=$1 requirements=$2 what=$3 log="target/pip-$1.log"
+  local upper
+  upper=$(echo "$name" | tr '[:lower:]' '[:upper:]')
+  if "$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r "$requirements" >"$log" 2>&1; then
+    export "XBANDSIM_${upper}_REQUIRED=1"
+  elif grep -q "No matching distribution found" "$log" \
+      && ! grep -qiE "Retrying|NewConnectionError|ProxyError|Could not fetch URL|Temporary failure in name resolution|Network is unreachable|timed out" "$log"; then
+    echo "xbandsim: PyPI has no $what wheel for this platform or Python; its tests will be skipped" >&2
+    export "XBANDSIM_${upper}_UNAVAILABLE=PyPI has no wheel of $requirements for this platform"
+  else
+    cat "$log" >&2
+    exit 1
+  fi
+}
+install_optional ray scripts/requirements-ray.txt Ray
+install_optional sb3 scripts/requirements-sb3.txt torch
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check --force-reinstall --no-deps ./crates/xbandsim-py
 # The package is a second build of the same library (a Python extension, with other
 # dependencies): it must write the CLI's bytes, so that shards made by Ray workers and by

@@ -4,6 +4,7 @@ test's own), in the test venv. A block may use what a block above it made (docs/
 RadarDataset example reads the dataset its Datasets example generates)."""
 
 import os
+import subprocess
 
 import pytest
 
@@ -33,5 +34,27 @@ def test_the_python_examples_of_the_docs_run_as_written(doc, repo_root):
     script = repo_root / f"docs-{doc}.py"
     script.write_text(
         "".join(f"# --- docs/{doc}, example {k + 1}\n{block}\n" for k, block in enumerate(blocks))
+    )
+    run_python([str(script)], repo_root)
+
+
+def test_the_readme_python_examples_run_as_written(repo_root):
+    """The README's ```python blocks, in order, after what its first command leaves in out/
+    (scripts/setup.sh renders the paper scene there with the CLI, which scripts/test.sh has
+    built: the same command, run here into the stand-in's own out/)."""
+    blocks = python_blocks(ROOT / "README.md")
+    assert len(blocks) >= 2, "README.md has fewer python examples than expected"
+    cli = ROOT / "target" / "release" / "xbandsim"
+    if not cli.exists():
+        pytest.skip("the CLI is not built (cargo build --release -p xbandsim-cli)")
+    subprocess.run(
+        [str(cli), "render", "scenes/paper.toml", "--out", "out/"],
+        cwd=repo_root,
+        check=True,
+        capture_output=True,
+    )
+    script = repo_root / "readme.py"
+    script.write_text(
+        "".join(f"# --- README.md, example {k + 1}\n{block}\n" for k, block in enumerate(blocks))
     )
     run_python([str(script)], repo_root)
