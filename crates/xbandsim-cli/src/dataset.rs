@@ -78,13 +78,13 @@ pub enum DatasetAction {
         #[arg(long)]
         sheet: Option<PathBuf>,
         /// Samples on the contact sheet.
-        #[arg(long, default_value_t = 16)]
-        samples: usize,
+        #[arg(long, default_value_t = 16, value_parser = crate::whole_number)]
+        samples: u64,
         /// Side of each tile, px.
-        #[arg(long, default_value_t = 256)]
-        tile_px: usize,
+        #[arg(long, default_value_t = 256, value_parser = crate::whole_number)]
+        tile_px: u64,
         /// Seed of the sheet's random choice.
-        #[arg(long, default_value_t = 0)]
+        #[arg(long, default_value_t = 0, value_parser = crate::whole_number)]
         seed: u64,
     },
 }
@@ -103,7 +103,10 @@ pub fn run(a: &DatasetArgs) -> Result<()> {
             samples,
             tile_px,
             seed,
-        }) => return stats(dir, sheet.as_deref(), *samples, *tile_px, *seed),
+        }) => {
+            let size = |n: u64| usize::try_from(n).unwrap_or(usize::MAX);
+            return stats(dir, sheet.as_deref(), size(*samples), size(*tile_px), *seed);
+        }
         None => {}
     }
     // clap requires these without a subcommand.
@@ -168,12 +171,15 @@ fn stats(
     tile_px: usize,
     seed: u64,
 ) -> Result<()> {
+    if !(1..=4096).contains(&tile_px) {
+        anyhow::bail!("invalid --tile-px {tile_px}: must be 1 … 4096 (pixels on a tile's side)");
+    }
+    if !(1..=1024).contains(&samples) {
+        anyhow::bail!("invalid --samples {samples}: must be 1 … 1024 (tiles on the sheet)");
+    }
     let s = xbandsim_dataset::stats::stats(dir)
         .with_context(|| format!("reading the dataset in {}", dir.display()))?;
     print!("{}", s.report());
-    if tile_px == 0 {
-        anyhow::bail!("--tile-px 0: a tile needs at least one pixel");
-    }
     let (png, shown) = xbandsim_dataset::stats::contact_sheet(dir, samples, tile_px, seed)
         .with_context(|| format!("drawing the contact sheet of {}", dir.display()))?;
     let path = sheet.map_or_else(|| dir.join("contact_sheet.png"), |p| p.to_path_buf());

@@ -118,16 +118,20 @@ pub fn whole_number(text: &str) -> Result<u64, String> {
 /// (`--el-deg -5`, `--spokes -1`, which then gets the option's own message), not as flags.
 fn command_line() -> Cli {
     use clap::{CommandFactory, FromArgMatches};
-    let mut cmd = Cli::command().allow_negative_numbers(true);
-    let names: Vec<String> = cmd
-        .get_subcommands()
-        .map(|s| s.get_name().to_string())
-        .collect();
-    for name in names {
-        cmd = cmd.mut_subcommand(name, |s| s.allow_negative_numbers(true));
+    fn negatives(cmd: clap::Command) -> clap::Command {
+        let names: Vec<String> = cmd
+            .get_subcommands()
+            .map(|s| s.get_name().to_string())
+            .collect();
+        let mut cmd = cmd.allow_negative_numbers(true);
+        for name in names {
+            cmd = cmd.mut_subcommand(name, negatives);
+        }
+        cmd
     }
-    let matches = cmd.get_matches();
-    Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
+    let mut cmd = negatives(Cli::command());
+    let matches = cmd.clone().get_matches();
+    Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.format(&mut cmd).exit())
 }
 
 /// The message of `e` and its causes, each once: library errors show their cause in their

@@ -74,10 +74,22 @@ impl DatasetSpec {
                         .is_some_and(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
                 }) {
                     let top = field.split(['.', '[']).next().unwrap_or(field);
-                    return if c.library.is_some() && !c.object.contains_key(top) {
-                        format!("targets.class[{i}].size_m")
-                    } else {
-                        format!("targets.class[{i}].object.{field}")
+                    // Fields a sample fills from the class's own laws, not its object's.
+                    let own = match top {
+                        "speed_kn" => Some("speed_kn"),
+                        "course_deg" | "yaw_deg" => Some("heading_deg"),
+                        "turn_rate_deg_per_s" => Some("turn_rate_deg_per_s"),
+                        "position_m" => Some("z_m"),
+                        _ => None,
+                    };
+                    return match own {
+                        Some(f) if !c.object.contains_key(top) => {
+                            format!("targets.class[{i}].{f}")
+                        }
+                        _ if c.library.is_some() && !c.object.contains_key(top) => {
+                            format!("targets.class[{i}].size_m")
+                        }
+                        _ => format!("targets.class[{i}].object.{field}"),
                     };
                 }
             }
@@ -219,11 +231,12 @@ impl DatasetSpec {
             }
             Ok(())
         };
+        let max_kn = xbandsim::model::motion::MAX_SPEED_KN;
         number(
             "speed_kn",
             &c.speed_kn,
-            &|x| x >= 0.0,
-            "a speed must be 0 or more knots",
+            &|x| (0.0..=max_kn).contains(&x),
+            &format!("a speed must be 0 … {max_kn} knots (above the water speed record)"),
         )?;
         number(
             "heading_deg",
@@ -316,16 +329,27 @@ impl DatasetSpec {
 }
 
 /// Checks the scene of every sample in `indices` before any is rendered (about half a
-/// millisecond a sample on one core, in parallel on the current thread pool; well under 1 %
-/// of rendering them): the first refused one, by index, is the error, naming the spec's
-/// field, so a run does not stop part-way on a combination of drawn values that the spec's
-/// own check (one field at a time) could not see.
-pub fn check_samples(spec: &DatasetSpec, seed: u64, indices: &[u64]) -> Result<()> {
-    match indices
-        .par_iter()
-        .find_map_first(|&i| spec.check_sample(seed, i).err())
-    {
-        Some(e) => Err(e),
-        None => Ok(()),
+/// millisecond a sample of the shipped specs on one core, in parallel on the current thread
+/// pool, in blocks between which `stop` is honoured; more where every scene loads mesh
+/// files): the first refused one, by index, is the error, naming the spec's field, so a run
+/// does not stop part-way on a combination of drawn values that the spec's own check (one
+/// field at a time) could not see.
+pub fn check_samples(
+    spec: &DatasetSpec,
+    seed: u64,
+    indices: &[u64],
+    stop: &std::sync::atomic::AtomicBool,
+) -> Result<()> {
+    for block in indices.chunks(4096) {
+        if stop.load(std::sync::atomic::Ordering::Relaxed) {
+            return Err(DatasetError::Interrupted { made: 0 });
+        }
+        if let Some(e) = block
+            .par_iter()
+            .find_map_first(|&i| spec.check_sample(seed, i).err())
+        {
+            return Err(e);
+        }
     }
+    Ok(())
 }

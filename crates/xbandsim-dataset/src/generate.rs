@@ -280,10 +280,11 @@ pub fn generate(
 }
 
 /// [`generate`], stopping early once `stop` is set (by another thread, e.g. on Ctrl-C): no
-/// sample is started after that, the samples being rendered are finished and written whole
-/// (a sample takes well under a second at the shipped sizes), and the run returns
-/// [`DatasetError::Interrupted`]. The folder is then as a killed run leaves it, without its
-/// temporary files: the same request resumes it.
+/// sample is started after that, the sample folders being rendered are finished and written
+/// whole (a sample takes well under a second at the shipped sizes; in tar shards, the shard
+/// in progress is dropped after the samples in hand), the index files are not written, and
+/// the run returns [`DatasetError::Interrupted`]. The folder is then as a killed run leaves
+/// it, without its temporary files: the same request resumes it.
 pub fn generate_until(
     spec: &DatasetSpec,
     out: &Path,
@@ -308,10 +309,8 @@ pub fn generate_until(
         ));
     }
     std::fs::create_dir_all(out).map_err(|e| DatasetError::io(out, e))?;
-    // While this run lives its temporaries are its own; what runs that are gone left
-    // half-written goes now (crate::owner).
+    // While this run lives its temporaries are its own (crate::owner).
     let _owner = crate::owner::Owner::claim(out)?;
-    crate::owner::clean(out);
     let record = dataset_record(spec, request)?;
     let record_path = out.join("dataset.json");
     match std::fs::read(&record_path) {
@@ -325,6 +324,8 @@ pub fn generate_until(
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => write_new(&record_path, &record)?,
         Err(e) => return Err(DatasetError::io(&record_path, e)),
     }
+    // The folder holds this dataset: what runs that are gone left half-written goes now.
+    crate::owner::clean(out);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(request.worker_threads())
         .build()
@@ -336,7 +337,7 @@ pub fn generate_until(
             crate::webdataset::pending_samples(out, request, samples_per_shard)
         }
     };
-    pool.install(|| crate::check::check_samples(spec, request.seed, &pending))?;
+    pool.install(|| crate::check::check_samples(spec, request.seed, &pending, stop))?;
     let mut summary = match request.format {
         Format::Dir => pool.install(|| make_dir_samples(spec, out, request, sample_done, stop))?,
         Format::WebDataset { samples_per_shard } => pool.install(|| {
@@ -346,6 +347,9 @@ pub fn generate_until(
     if !request.assemble {
         summary.missing = summary.in_shard - summary.skipped - summary.made;
         return Ok(summary);
+    }
+    if stop.load(Ordering::Relaxed) {
+        return Err(DatasetError::Interrupted { made: summary.made });
     }
     // The index files, once every sample of every shard is in place.
     summary.missing = match request.format {
@@ -389,22 +393,21 @@ fn make_dir_samples(
         .filter(|&i| request.shard.holds(i))
         .count();
     let pending = pending_dir_samples(out, request);
+    // Once stopped, the samples not started are skipped (not failed: a real error of a
+    // sample in hand is the one reported), and the run says how many it made.
     let made = AtomicU64::new(0);
     pending.par_iter().try_for_each(|&i| {
         if stop.load(Ordering::Relaxed) {
-            return Err(DatasetError::Interrupted {
-                made: made.load(Ordering::Relaxed),
-            });
+            return Ok(());
         }
         make_sample(spec, out, request.seed, i)?;
         made.fetch_add(1, Ordering::Relaxed);
         sample_done();
         Ok::<(), DatasetError>(())
     })?;
-    if stop.load(Ordering::Relaxed) && made.load(Ordering::Relaxed) < pending.len() as u64 {
-        return Err(DatasetError::Interrupted {
-            made: made.load(Ordering::Relaxed),
-        });
+    let made = made.into_inner();
+    if made < pending.len() as u64 {
+        return Err(DatasetError::Interrupted { made });
     }
     Ok(Summary {
         in_shard: in_shard as u64,

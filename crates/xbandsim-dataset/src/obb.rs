@@ -49,8 +49,9 @@ pub fn convex_hull(mut points: Vec<Point>) -> Vec<Point> {
 }
 
 /// The smallest-area rectangle enclosing the convex polygon `hull` (at least one point): its
-/// four corners in order around it, starting from the one nearest the image origin along
-/// the hull edge chosen. Ties keep the first edge (the same input gives the same bytes).
+/// four corners in order around it, starting from the one at the least coordinates along and
+/// across the hull edge chosen. Ties keep the first edge (the same input gives the same
+/// bytes).
 pub fn min_area_rectangle(hull: &[Point]) -> [Point; 4] {
     if hull.len() == 1 {
         return [hull[0]; 4];
@@ -75,7 +76,9 @@ pub fn min_area_rectangle(hull: &[Point]) -> [Point; 4] {
             v1 = v1.max(v);
         }
         let area = (u1 - u0) * (v1 - v0);
-        if best.as_ref().is_none_or(|(a, _)| area < *a) {
+        // A clearly smaller area only: near-equal ones keep the first edge, so rounding in
+        // the last bits does not pick another (equally small) rectangle on another machine.
+        if best.as_ref().is_none_or(|(a, _)| area < *a * (1.0 - 1e-12)) {
             let corner = |u: f64, v: f64| [u * ux + v * vx, u * uy + v * vy];
             best = Some((
                 area,

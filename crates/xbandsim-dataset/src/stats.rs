@@ -89,8 +89,13 @@ impl Stats {
     pub fn unfinished(&self) -> Option<String> {
         let missing = self.count.saturating_sub(self.samples);
         if missing > 0 {
+            let index = if self.indexed {
+                "the index files are from before they went"
+            } else {
+                "the index files are not written"
+            };
             Some(format!(
-                "unfinished: {missing} of {} samples are missing and the index files are not written; these figures cover the {} samples present (run the same `xbandsim dataset` command, or xbandsim.dataset.generate call, again to finish it)",
+                "unfinished: {missing} of {} samples are missing and {index}; these figures cover the {} samples present (run the same `xbandsim dataset` command, or xbandsim.dataset.generate call, again to finish it)",
                 self.count, self.samples
             ))
         } else if !self.indexed {
@@ -159,7 +164,8 @@ impl Stats {
 /// tables of the finished shards), saying how many samples are missing
 /// ([`Stats::unfinished`]).
 pub fn stats(out: &Path) -> Result<Stats> {
-    let (count, frames, format) = record_format(out)?;
+    let (count, frames_per_sample, format) = record_format(out)?;
+    let frames = frames_per_sample;
     let mut s = Stats {
         count,
         indexed: out.join("README.md").is_file(),
@@ -173,6 +179,33 @@ pub fn stats(out: &Path) -> Result<Stats> {
         Ok(())
     };
     match format {
+        // A finished dataset's table holds every row: read it, not the shards.
+        Format::WebDataset { samples_per_shard }
+            if s.indexed
+                && crate::webdataset::missing_samples(out, count, samples_per_shard) == 0 =>
+        {
+            let path = out.join("targets.jsonl");
+            let text = std::fs::read_to_string(&path).map_err(|e| DatasetError::io(&path, e))?;
+            let mut frames: BTreeMap<(u64, u64), String> = BTreeMap::new();
+            for line in text.lines().filter(|l| !l.is_empty()) {
+                let row: serde_json::Value =
+                    serde_json::from_str(line).map_err(|e| invalid_data(&path, e.to_string()))?;
+                let key = (
+                    row["sample"].as_u64().unwrap_or(0),
+                    row["frame"].as_u64().unwrap_or(0),
+                );
+                let rows = frames.entry(key).or_default();
+                rows.push_str(line);
+                rows.push('\n');
+            }
+            s.samples = count;
+            for sample in 0..count {
+                for k in 0..frames_per_sample {
+                    let rows = frames.remove(&(sample, k)).unwrap_or_default();
+                    add_frame(&mut s, &path, &rows)?;
+                }
+            }
+        }
         Format::WebDataset { samples_per_shard } => {
             let shards = crate::webdataset::shard_count(count, samples_per_shard);
             for t in 0..shards {

@@ -251,8 +251,9 @@ pub fn for_each_member(
     f: &mut dyn FnMut(String, Vec<u8>) -> Result<()>,
 ) -> Result<()> {
     let file = at(path, std::fs::File::open(path))?;
-    let mut archive = tar::Archive::new(std::io::BufReader::new(file));
-    for entry in at(path, archive.entries())? {
+    // Members not wanted are seeked over, not read (a shard is mostly images and records).
+    let mut archive = tar::Archive::new(file);
+    for entry in at(path, archive.entries_with_seek())? {
         let mut entry = at(path, entry)?;
         let name = at(path, entry.path())?.to_string_lossy().to_string();
         if !want(&name) {

@@ -429,8 +429,18 @@ fn a_run_removes_what_dead_runs_left_and_keeps_a_live_runs() {
     let before = files(&out);
     let owners = out.join(".owners");
     std::fs::create_dir_all(&owners).unwrap();
-    let (dead, live) = ("deadhost-41-0000abcd", "livehost-42-0000beef");
-    std::fs::write(owners.join(format!("{dead}.lock")), b"").unwrap();
+    // Tags are <host>-<pid>-<nanos>: a dead and a live run of this host, and an unlocked
+    // lock file of another host (its run may be alive where locks do not reach across
+    // machines: its files go by age only).
+    let own = xbandsim::products::output::temp_tag();
+    let host = own.rsplitn(3, '-').nth(2).unwrap().to_string();
+    let dead = format!("{host}-41-0000abcd");
+    let live = format!("{host}-42-0000beef");
+    let (dead, live) = (dead.as_str(), live.as_str());
+    let (remote, remote_old) = ("otherhost-43-0000cafe", "otherhost-44-0000f00d");
+    for tag in [dead, remote, remote_old] {
+        std::fs::write(owners.join(format!("{tag}.lock")), b"").unwrap();
+    }
     let live_lock = std::fs::OpenOptions::new()
         .create(true)
         .truncate(false)
@@ -447,14 +457,26 @@ fn a_run_removes_what_dead_runs_left_and_keeps_a_live_runs() {
             out.join(format!(".yolo.partial-{tag}-3")),
         ]
     };
-    for tag in [dead, live] {
+    let eleven_minutes_ago = std::time::SystemTime::now() - std::time::Duration::from_secs(660);
+    for tag in [dead, live, remote, remote_old] {
         for (k, t) in temporaries(tag).iter().enumerate() {
             std::fs::create_dir_all(t.parent().unwrap()).unwrap();
-            if k % 2 == 0 {
+            let file = if k % 2 == 0 {
                 std::fs::create_dir_all(t).unwrap();
-                std::fs::write(t.join("polar.npy"), b"half").unwrap();
+                t.join("polar.npy")
             } else {
-                std::fs::write(t, b"half").unwrap();
+                t.clone()
+            };
+            std::fs::write(&file, b"half").unwrap();
+            if tag == remote_old {
+                for p in [&file, t] {
+                    let f = std::fs::File::options()
+                        .write(p.is_file())
+                        .read(true)
+                        .open(p)
+                        .unwrap();
+                    f.set_modified(eleven_minutes_ago).unwrap();
+                }
             }
         }
     }
@@ -463,11 +485,24 @@ fn a_run_removes_what_dead_runs_left_and_keeps_a_live_runs() {
     for t in temporaries(dead) {
         assert!(!t.exists(), "{} of a dead run stays", t.display());
     }
-    for t in temporaries(live) {
+    for t in temporaries(live).iter().chain(&temporaries(remote)) {
         assert!(t.exists(), "{} of a live run was removed", t.display());
+    }
+    for t in temporaries(remote_old) {
+        assert!(
+            !t.exists(),
+            "{} untouched for 11 minutes stays",
+            t.display()
+        );
     }
     assert!(!owners.join(format!("{dead}.lock")).exists());
     assert!(owners.join(format!("{live}.lock")).exists());
+    for t in temporaries(remote) {
+        let _ = std::fs::remove_dir_all(&t);
+        let _ = std::fs::remove_file(&t);
+    }
+    let _ = std::fs::remove_file(owners.join(format!("{remote}.lock")));
+    let _ = std::fs::remove_file(owners.join(format!("{remote_old}.lock")));
     // The live run ends (its lock goes with its process; here the file is unlocked): the
     // next run removes the rest, and the folder is the finished dataset again.
     drop(live_lock);
@@ -553,6 +588,15 @@ fn spec_errors_blame_the_field_at_fault() {
     );
     assert!(
         err.contains("targets.class[0].object.radius_m") && !err.contains("height_m:"),
+        "{err}"
+    );
+    // A class's speed beyond any craft is the class's speed_kn.
+    let err = parse_err(&SPEC.replace(
+        "speed_kn = { uniform = [0.0, 20.0] }",
+        "speed_kn = { uniform = [0.0, 400.0] }",
+    ));
+    assert!(
+        err.contains("targets.class[1].speed_kn") && err.contains("300"),
         "{err}"
     );
     // A bad base-scene field is the base scene's, not a [vary] field's.
