@@ -143,10 +143,15 @@ fn message(e: &anyhow::Error) -> String {
         if text.contains(&cause) {
             continue;
         }
+        // `writing into DIR` then `DIR: Not a directory`: the path once.
+        let rest = match cause.split_once(": ") {
+            Some((head, rest)) if !head.is_empty() && text.ends_with(head) => rest,
+            _ => cause.as_str(),
+        };
         if !text.is_empty() {
             text.push_str(": ");
         }
-        text.push_str(&cause);
+        text.push_str(rest);
     }
     text
 }

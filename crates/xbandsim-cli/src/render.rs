@@ -62,9 +62,11 @@ pub struct RenderArgs {
     pub set: Vec<String>,
 }
 
-/// Reads a scene file and applies `--set FIELD=VALUE` overrides (the library's one loader).
+/// Reads a scene file and applies `--set FIELD=VALUE` overrides and the options that stand
+/// for them (the library's one loader); errors in their values are said to come from the
+/// command line.
 pub fn load_spec(path: &Path, sets: &[String]) -> Result<LoadedSpec> {
-    Ok(LoadedSpec::read(path)?.with_overrides(sets)?)
+    Ok(LoadedSpec::read(path)?.with_overrides_named("the command line", sets)?)
 }
 
 /// The overrides of `xbandsim render`: its named flags are shorthands for `--set`, applied
@@ -148,6 +150,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     if a.frames == Some(0) {
         bail!("invalid --frames 0: must be 1 or more");
     }
+    check_out_folder(&a.out)?;
     let spec = load_spec(&a.scene, &overrides(a)?)?;
     let scene = spec.build()?;
     let display = spec.ppi_settings()?;
@@ -235,6 +238,21 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
+/// Refuses an `--out` that cannot be a folder (it, or the nearest part of its path that
+/// exists, is a file) before anything is rendered; nothing is created here.
+fn check_out_folder(out: &Path) -> Result<()> {
+    if let Some(existing) = out.ancestors().find(|p| p.exists()) {
+        if !existing.is_dir() {
+            bail!(
+                "invalid --out {}: {} is a file, not a folder",
+                out.display(),
+                existing.display()
+            );
+        }
+    }
+    Ok(())
+}
+
 /// Refuses `--frames count` when frames of `frame_bytes` (the first frame's files; the
 /// others differ by their images' compression) would not fit in the space left where `out`
 /// is, with a tenth to spare: before anything is written, not part-way by a full disk.
@@ -266,7 +284,7 @@ fn check_disk_space(out: &Path, count: u64, frame_bytes: u64) -> Result<()> {
     Ok(())
 }
 
-/// `bytes` in kB, MB or GB (powers of 1000), three significant figures.
+/// `bytes` in kB, MB or GB (powers of 1000), three significant figures (more above 999 GB).
 fn human_bytes(bytes: f64) -> String {
     let (value, unit) = if bytes >= 1e9 {
         (bytes / 1e9, "GB")
@@ -275,7 +293,13 @@ fn human_bytes(bytes: f64) -> String {
     } else {
         (bytes / 1e3, "kB")
     };
-    format!("{value:.3} {unit}")
+    // Three significant figures below 1000, whole numbers above.
+    let decimals = if value >= 1000.0 {
+        0
+    } else {
+        2 - (value.max(1.0).log10().floor() as usize).min(2)
+    };
+    format!("{value:.decimals$} {unit}")
 }
 
 /// The directory of frame `k` of a multi-frame render: `frame_0000`, `frame_0001`, ...

@@ -865,7 +865,7 @@ fn messages_for_bad_values() {
                 "--out",
                 out,
             ],
-            "`radar.max_range_m` = NaN: must be a finite number",
+            "error: the command line: invalid `radar.max_range_m` = NaN: must be a finite number",
         ),
         (
             vec![
@@ -876,7 +876,7 @@ fn messages_for_bad_values() {
                 "--out",
                 out,
             ],
-            "speed_kn` = 1000000000: must be at most 300 kn",
+            "error: the command line: invalid `object \"crossing-ship\".speed_kn` = 1000000000: must be at most 300 kn",
         ),
     ] {
         let (ok, stderr) = run(&args);
@@ -890,15 +890,25 @@ fn messages_for_bad_values() {
     let file = dir.path().join("a-file");
     std::fs::write(&file, b"").unwrap();
     let inside = file.join("sub");
+    let inside = inside.to_str().unwrap();
     let (ok, stderr) = run(&[
-        "render",
-        "scenes/paper.toml",
+        "dataset",
+        "datasets/detection.toml",
+        "--count",
+        "1",
         "--out",
-        inside.to_str().unwrap(),
+        inside,
     ]);
     assert!(!ok, "{stderr}");
     let error = stderr.lines().find(|l| l.starts_with("error:")).unwrap();
     assert_eq!(error.matches("(os error").count(), 1, "{error}");
+    assert_eq!(error.matches(inside).count(), 1, "{error}");
+    // render says so before rendering.
+    let (ok, stderr) = run(&["render", "scenes/paper.toml", "--out", inside]);
+    assert!(
+        !ok && stderr.contains("is a file, not a folder"),
+        "{stderr}"
+    );
     // Negative values where an option takes them.
     let (ok, stderr) = run(&[
         "rcs",

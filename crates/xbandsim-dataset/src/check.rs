@@ -29,9 +29,11 @@ impl DatasetSpec {
             message: e.to_string(),
         })?;
         let loaded = xbandsim::LoadedSpec::from_toml(&text, "sample", &self.base_dir);
+        // The drawn scene's lines and columns mean nothing to the spec's author: the field
+        // is named instead (mapped to the spec's by the caller).
         let refused = |e: xbandsim::Error| Refusal {
             field: e.field().map(str::to_string),
-            message: e.to_string(),
+            message: e.unlocated().to_string(),
         };
         let loaded = loaded.map_err(refused)?;
         let scene = loaded.build().map_err(refused)?;

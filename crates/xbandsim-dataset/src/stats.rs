@@ -95,11 +95,11 @@ impl Stats {
                 "the index files are not written"
             };
             Some(format!(
-                "unfinished: {missing} of {} samples are missing and {index}; these figures cover the {} samples present (run the same `xbandsim dataset` command, or xbandsim.dataset.generate call, again to finish it)",
+                "unfinished: {missing} of {} samples are missing and {index}; these figures cover the {} samples present (to finish it, run `xbandsim dataset` with its spec, --out, --count and --seed again, without --shard and --no-assemble, or the same xbandsim.dataset.generate call)",
                 self.count, self.samples
             ))
         } else if !self.indexed {
-            Some("unfinished: every sample is there but the index files (annotations.json, targets.jsonl, README.md) are not written (run the same `xbandsim dataset` command again to write them)".to_string())
+            Some("unfinished: every sample is there but the index files (annotations.json, targets.jsonl, README.md) are not written (run `xbandsim dataset` with its spec, --out, --count and --seed again, without --no-assemble, to write them)".to_string())
         } else {
             None
         }

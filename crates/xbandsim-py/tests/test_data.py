@@ -174,3 +174,15 @@ def test_tar_shards_read_with_webdataset_as_the_docs_show(made):
         assert polar.dtype == np.float32 and polar.ndim == 2
         seen += 1
     assert seen == 5
+
+
+def test_tensors_without_torch_say_how_to_install_it(monkeypatch):
+    """tensors=True where torch cannot be imported names the extra that installs it."""
+    import sys
+
+    from xbandsim.data import RadarDataset
+
+    monkeypatch.setitem(sys.modules, "torch", None)  # `import torch` raises ImportError
+    with pytest.raises(ImportError, match=r"xbandsim-py\[torch\]"):
+        RadarDataset(ROOT / "datasets" / "detection.toml", count=1, tensors=True)
+    assert RadarDataset(ROOT / "datasets" / "detection.toml", count=1).tensors is False

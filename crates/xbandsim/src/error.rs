@@ -219,4 +219,16 @@ impl Error {
         }
         self
     }
+
+    /// The error without where its field was given: for scene text the user never wrote
+    /// (a dataset sample's drawn scene), whose lines mean nothing to them.
+    pub fn unlocated(mut self) -> Self {
+        match &mut self {
+            Error::InvalidField { location, .. } | Error::MissingField { location, .. } => {
+                *location = None;
+            }
+            _ => {}
+        }
+        self
+    }
 }

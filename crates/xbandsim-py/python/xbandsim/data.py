@@ -138,6 +138,14 @@ class RadarDataset:
                 tensors = True
             except ImportError:
                 tensors = False
+        elif tensors:
+            try:
+                import torch  # noqa: F401
+            except ImportError as e:
+                raise ImportError(
+                    "tensors=True needs torch: pip install './crates/xbandsim-py[torch]' "
+                    "(or leave tensors unset for NumPy arrays)"
+                ) from e
         self.tensors = tensors
         source = _args.path("source", source)
         self._spec: Optional[str] = None

@@ -162,7 +162,25 @@ impl LoadedSpec {
     /// column.
     fn locate_error(&self, e: Error) -> Error {
         let Some(field) = e.field() else { return e };
-        let overridden = self.overrides.iter().any(|o| o == field);
+        // An object's field is named by its name (`object "buoy".radius_m`) in errors and by
+        // its index (`object[2].radius_m`) in overrides; an override of a whole array
+        // (`radar.position_m`) covers its elements' errors.
+        let by_index = field.strip_prefix("object \"").and_then(|rest| {
+            let (name, tail) = rest.split_once("\".")?;
+            let i = self
+                .spec
+                .objects
+                .iter()
+                .position(|o| o.name.as_deref() == Some(name))?;
+            Some(format!("object[{i}].{tail}"))
+        });
+        let covers = |o: &String, f: &str| {
+            f == o || f.starts_with(&format!("{o}.")) || f.starts_with(&format!("{o}["))
+        };
+        let overridden = self
+            .overrides
+            .iter()
+            .any(|o| covers(o, field) || by_index.as_deref().is_some_and(|f| covers(o, f)));
         let location = if overridden {
             Location {
                 origin: self.overrides_label.clone(),

@@ -280,6 +280,24 @@ fn overrides_set_fields_by_path() {
         e.to_string(),
         "--set: invalid `radar.spokes` = 0: must be between 1 and 8192"
     );
+    // Also an object's field, which errors name by the object's name and overrides by its
+    // index, and an element of an array set whole.
+    for (set, field) in [
+        ("object[0].radius_m=-1", "`object \"a\".radius_m` = -1"),
+        ("radar.position_m=[0.0, 0.0, nan]", "`radar.position_m`"),
+    ] {
+        let e = spec
+            .clone()
+            .with_overrides(&[set])
+            .unwrap()
+            .build()
+            .unwrap_err();
+        let msg = e.to_string();
+        assert!(
+            msg.starts_with("--set: invalid ") && msg.contains(field),
+            "{set}: {msg}"
+        );
+    }
     for (set, needle) in [
         ("radar.spokes", "no `=`"),
         ("=3", "no field"),
