@@ -66,7 +66,7 @@ pub fn clutter_mean_power_db(sea_state: f64, range_m: f64) -> (f64, f64) {
 /// Frames (seeds) over which the clutter-cell statistics are measured.
 pub const CLUTTER_FRAMES: u64 = 40;
 
-/// Relative tolerance on `E[I²]/E[I]²` of clutter cells: the 8 %, which is also about
+/// Relative tolerance on `E[I²]/E[I]²` of clutter cells: 8 % (docs/validation.md), about
 /// three standard errors of the estimate over `CLUTTER_FRAMES` frames for ν = 1.5 (the
 /// texture field gives a few thousand independent values per frame).
 pub const CLUTTER_MOMENT_TOLERANCE: f64 = 0.08;
