@@ -25,6 +25,7 @@
 //! ```
 
 pub mod antenna;
+pub mod cache;
 pub mod constants;
 pub mod echo;
 pub mod engine;

@@ -34,11 +34,11 @@
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
 use crate::special::{bessel_i0, floor_i64, gamma_p, ln_gamma, round_exact};
 
+use crate::cache::KeptLast;
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
-use std::collections::HashMap;
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::{Arc, OnceLock};
 
 /// Which σ0 model (`environment.clutter_model`).
 #[derive(
@@ -338,15 +338,19 @@ impl GammaQuantile {
         }
     }
 
-    /// The table for shape ν exactly (cached process-wide by ν).
+    /// The table for shape ν exactly, from the process-wide cache of the last
+    /// [`GammaQuantile::CACHE_LEN`] shapes asked for (all the per-cell levels and a few
+    /// hundred fixed shapes of varied specs).
     pub fn for_shape(shape: f64) -> Arc<GammaQuantile> {
-        static CACHE: OnceLock<Mutex<HashMap<u64, Arc<GammaQuantile>>>> = OnceLock::new();
-        let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
-        let mut map = cache.lock().unwrap_or_else(|p| p.into_inner());
-        map.entry(shape.to_bits())
-            .or_insert_with(|| Arc::new(GammaQuantile::new(shape)))
-            .clone()
+        GAMMA_TABLES.get_or_make(
+            shape.to_bits(),
+            || Arc::new(GammaQuantile::new(shape)),
+            |_| 0,
+        )
     }
+
+    /// Tables kept: the per-cell levels' and as many more.
+    pub const CACHE_LEN: usize = 2 * Self::LEVELS;
 
     /// Smallest shape of the per-cell levels (the empirical formula's clamp).
     pub const LEVEL_MIN: f64 = 0.1;
@@ -570,11 +574,9 @@ impl TabulatedQuantile {
 /// `A(u) = (sin αu / sin u)^(1/(1−α)) · sin((1−α)u)/sin αu`, so
 /// `P(1/Z ≤ t) = 1 − (1/π)∫₀^π exp(−A(u)·t^(α/(1−α))) du`; `T = (1/Z)/Γ(1 + 1/α)`.
 pub fn weibull_texture_quantile(amplitude_shape: f64) -> Arc<TabulatedQuantile> {
-    static CACHE: OnceLock<Mutex<HashMap<u64, Arc<TabulatedQuantile>>>> = OnceLock::new();
-    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
-    let mut map = cache.lock().unwrap_or_else(|p| p.into_inner());
-    map.entry(amplitude_shape.to_bits())
-        .or_insert_with(|| {
+    WEIBULL_TEXTURES.get_or_make(
+        amplitude_shape.to_bits(),
+        || {
             let alpha = (amplitude_shape / 2.0).clamp(1e-3, 1.0 - 1e-6);
             let nodes = 4000;
             let a: Vec<f64> = (0..nodes)
@@ -601,9 +603,23 @@ pub fn weibull_texture_quantile(amplitude_shape: f64) -> Arc<TabulatedQuantile> 
                 hi *= 2.0;
             }
             Arc::new(TabulatedQuantile::from_cdf(lo, hi, cdf))
-        })
-        .clone()
+        },
+        |_| 0,
+    )
 }
+
+/// The Weibull textures' tables made last, by their shape's bits (at most
+/// [`WEIBULL_CACHE_LEN`]).
+pub static WEIBULL_TEXTURES: KeptLast<u64, Arc<TabulatedQuantile>> =
+    KeptLast::new(WEIBULL_CACHE_LEN, usize::MAX);
+
+/// Weibull texture tables kept.
+pub const WEIBULL_CACHE_LEN: usize = 64;
+
+/// The gamma quantile tables made last, by their shape's bits (a table is about 16 kB and
+/// its normal lookup table the same again: at most about 35 MB).
+pub static GAMMA_TABLES: KeptLast<u64, Arc<GammaQuantile>> =
+    KeptLast::new(GammaQuantile::CACHE_LEN, usize::MAX);
 
 /// Unit-mean log-normal texture `exp(s·g − s²/2)` of a standard normal `g`,
 /// `s = sigma_db·ln10/10`.

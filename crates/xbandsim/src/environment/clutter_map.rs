@@ -34,6 +34,7 @@ use super::clutter::{
 };
 use super::rain::volume_reflectivity_m2_per_m3;
 use crate::antenna::SINC_BEAMWIDTH_FACTOR;
+use crate::cache::KeptLast;
 use crate::model::{Environment, Polarisation, Radar};
 use crate::propagation::sin_grazing;
 use crate::rng::{normal_pair, RngKey, Stream};
@@ -42,7 +43,7 @@ use glam::DVec2;
 use num_complex::Complex32;
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::Arc;
 
 /// The clutter of one revolution: mean powers of every (spoke, sample) patch before azimuth
 /// weighting, and the texture of every output cell.
@@ -137,38 +138,23 @@ fn two_way_rain_loss(one_way_db: f64) -> f64 {
 /// last are kept and shared — every frame of a run drifts the same field, and making one takes
 /// longer than the rest of a small clutter map. At most [`FIELD_CACHE_LEN`] fields and
 /// [`FIELD_CACHE_BYTES`] of values are kept.
-fn texture_field(seed: u64, extent_m: f64, correlation_m: f64) -> Arc<GaussianField> {
-    static CACHE: OnceLock<Mutex<Vec<KeptField>>> = OnceLock::new();
-    let key = (seed, extent_m.to_bits(), correlation_m.to_bits());
-    let cache = CACHE.get_or_init(|| Mutex::new(Vec::new()));
-    if let Some((_, f)) = cache
-        .lock()
-        .unwrap_or_else(|p| p.into_inner())
-        .iter()
-        .find(|(k, _)| *k == key)
-    {
-        return Arc::clone(f);
-    }
-    let mut rng = RngKey::new(seed, 0, 0, Stream::ClutterTexture).rng();
-    let field = Arc::new(GaussianField::new(&mut rng, extent_m, correlation_m));
-    let mut kept = cache.lock().unwrap_or_else(|p| p.into_inner());
-    if !kept.iter().any(|(k, _)| *k == key) {
-        kept.push((key, Arc::clone(&field)));
-        // Oldest first out.
-        while kept.len() > FIELD_CACHE_LEN
-            || kept.iter().map(|(_, f)| f.bytes()).sum::<usize>() > FIELD_CACHE_BYTES
-        {
-            kept.remove(0);
-        }
-    }
-    field
+pub(crate) fn texture_field(seed: u64, extent_m: f64, correlation_m: f64) -> Arc<GaussianField> {
+    TEXTURE_FIELDS.get_or_make(
+        (seed, extent_m.to_bits(), correlation_m.to_bits()),
+        || {
+            let mut rng = RngKey::new(seed, 0, 0, Stream::ClutterTexture).rng();
+            Arc::new(GaussianField::new(&mut rng, extent_m, correlation_m))
+        },
+        |f| f.bytes(),
+    )
 }
+
+/// The texture fields made last ([`FIELD_CACHE_LEN`], [`FIELD_CACHE_BYTES`]).
+pub(crate) static TEXTURE_FIELDS: KeptLast<FieldKey, Arc<GaussianField>> =
+    KeptLast::new(FIELD_CACHE_LEN, FIELD_CACHE_BYTES);
 
 /// A texture field's inputs: seed, extent and correlation length (their bits).
 type FieldKey = (u64, u64, u64);
-
-/// A kept texture field and its key.
-type KeptField = (FieldKey, Arc<GaussianField>);
 
 /// Texture fields kept by [`texture_field`].
 const FIELD_CACHE_LEN: usize = 8;

@@ -123,11 +123,9 @@ pub struct ScanConverter {
 /// frames share a few geometries; a table of a 512-pixel image takes about 10 ms to make).
 type ConverterKey = [u64; 8];
 
-fn converter_cache() -> &'static std::sync::Mutex<Vec<(ConverterKey, ScanConverter)>> {
-    static CACHE: std::sync::OnceLock<std::sync::Mutex<Vec<(ConverterKey, ScanConverter)>>> =
-        std::sync::OnceLock::new();
-    CACHE.get_or_init(|| std::sync::Mutex::new(Vec::new()))
-}
+/// The converters made last ([`CONVERTER_CACHE_LEN`], [`CONVERTER_CACHE_BYTES`]).
+pub(crate) static CONVERTERS: crate::cache::KeptLast<ConverterKey, ScanConverter> =
+    crate::cache::KeptLast::new(CONVERTER_CACHE_LEN, CONVERTER_CACHE_BYTES);
 
 /// Converters kept: at most this many, and at most [`CONVERTER_CACHE_BYTES`] of tables
 /// (about 2 MB each at 512 pixels, 8 MB at 1024).
@@ -185,29 +183,11 @@ impl ScanConverter {
             num_bins as u64,
             range_bin_m.to_bits(),
         ];
-        let cache = converter_cache();
-        if let Some((_, c)) = cache
-            .lock()
-            .unwrap_or_else(|p| p.into_inner())
-            .iter()
-            .find(|(k, _)| *k == key)
-        {
-            return c.clone();
-        }
-        let made = ScanConverter::make(geometry, spokes, num_bins, range_bin_m);
-        let bytes = |c: &ScanConverter| c.lut.len() * std::mem::size_of::<(u32, f32)>();
-        if bytes(&made) <= CONVERTER_CACHE_BYTES {
-            let mut list = cache.lock().unwrap_or_else(|p| p.into_inner());
-            while !list.is_empty()
-                && (list.len() >= CONVERTER_CACHE_LEN
-                    || list.iter().map(|(_, c)| bytes(c)).sum::<usize>() + bytes(&made)
-                        > CONVERTER_CACHE_BYTES)
-            {
-                list.remove(0);
-            }
-            list.push((key, made.clone()));
-        }
-        made
+        CONVERTERS.get_or_make(
+            key,
+            || ScanConverter::make(geometry, spokes, num_bins, range_bin_m),
+            |c| c.lut.len() * std::mem::size_of::<(u32, f32)>(),
+        )
     }
 
     fn make(
