@@ -134,16 +134,14 @@ fn command_line() -> Cli {
     Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.format(&mut cmd).exit())
 }
 
-/// The message of `e` and its causes, each once: library errors show their cause in their
-/// own text (for the Python binding's messages) and give it as their source too.
+/// The message of `e` and its causes (the library's errors carry their own cause in their
+/// text, not as a source: each is printed once), with a path said once where the CLI's
+/// context ends with it and the library's message starts with it.
 fn message(e: &anyhow::Error) -> String {
     let mut text = String::new();
     for cause in e.chain() {
         let cause = cause.to_string();
-        if text.contains(&cause) {
-            continue;
-        }
-        // `writing into DIR` then `DIR: Not a directory`: the path once.
+        // `making the dataset in DIR` then `DIR: Not a directory`: the path once.
         let rest = match cause.split_once(": ") {
             Some((head, rest)) if !head.is_empty() && text.ends_with(head) => rest,
             _ => cause.as_str(),

@@ -13,18 +13,16 @@ pub enum DatasetError {
     #[error("{name}: {message}")]
     Argument { name: String, message: String },
     /// A sample's scene was refused by the scene loader (the spec drew an invalid scene).
-    #[error("sample {index}: {source}")]
-    Scene {
-        index: u64,
-        #[source]
-        source: xbandsim::Error,
-    },
-    /// Reading or writing a file failed.
-    #[error("{}: {source}", path.display())]
+    /// The loader's error is part of the message (and not chained as a source as well, so
+    /// it is printed once).
+    #[error("sample {index}: {error}")]
+    Scene { index: u64, error: xbandsim::Error },
+    /// Reading or writing a file failed. The OS error is part of the message (and not
+    /// chained as a source as well, so it is printed once).
+    #[error("{}: {error}", path.display())]
     Io {
         path: PathBuf,
-        #[source]
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// The output directory holds a different dataset.
     #[error("{}: {message}", path.display())]
@@ -58,7 +56,7 @@ impl DatasetError {
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> DatasetError {
         DatasetError::Io {
             path: path.into(),
-            source,
+            error: source,
         }
     }
 }

@@ -442,7 +442,7 @@ pub fn render_sample(
     format: Format,
 ) -> Result<SampleFiles> {
     let sample = spec.sample(seed, index)?;
-    let scene_err = |source| DatasetError::Scene { index, source };
+    let scene_err = |error| DatasetError::Scene { index, error };
     let loaded = xbandsim::LoadedSpec::from_toml(&sample.scene_toml, "scene.toml", &spec.base_dir)
         .map_err(scene_err)?;
     let scene = loaded.build().map_err(scene_err)?;

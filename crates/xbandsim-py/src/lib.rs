@@ -59,7 +59,10 @@ fn library_error(py: Python<'_>, e: xbandsim::Error) -> PyErr {
 
 fn dataset_error(py: Python<'_>, e: DatasetError) -> PyErr {
     match e {
-        DatasetError::Scene { source, index } => {
+        DatasetError::Scene {
+            error: source,
+            index,
+        } => {
             let class = library_error_class(&source);
             let field = source.field().map(str::to_string);
             let problem = source.problem().map(|p| p.to_string());
