@@ -1,5 +1,6 @@
 """Shared fixtures: the repository root, and a stand-in for it where scripts may write."""
 
+import importlib
 import os
 import subprocess
 import sys
@@ -42,3 +43,22 @@ def run_python(args, cwd, timeout=600, env=None):
     )
     assert out.returncode == 0, f"{args} failed:\n{out.stdout}\n{out.stderr}"
     return out
+
+
+def optional_import(module, extra):
+    """``module`` from an optional set of packages that scripts/test.sh installs from
+    ``scripts/requirements-<extra>.txt`` (``ray``, ``sb3``): where it installed them
+    (``XBANDSIM_<EXTRA>_REQUIRED=1``) failing to import is a failure; elsewhere the test is
+    skipped with the reason test.sh gave (``XBANDSIM_<EXTRA>_UNAVAILABLE``) or how to
+    install them."""
+    upper = extra.upper()
+    if os.environ.get(f"XBANDSIM_{upper}_REQUIRED") == "1":
+        return importlib.import_module(module)
+    return pytest.importorskip(
+        module,
+        reason=f"{module} is not installed: "
+        + os.environ.get(
+            f"XBANDSIM_{upper}_UNAVAILABLE", f"pip install -r scripts/requirements-{extra}.txt"
+        ),
+    )
+

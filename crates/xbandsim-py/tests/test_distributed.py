@@ -12,16 +12,9 @@ from pathlib import Path
 
 import pytest
 
-if os.environ.get("XBANDSIM_RAY_REQUIRED") == "1":
-    import ray  # scripts/test.sh installed it: failing to import it is a failure
-else:
-    ray = pytest.importorskip(
-        "ray",
-        reason="Ray is not installed: "
-        + os.environ.get(
-            "XBANDSIM_RAY_UNAVAILABLE", "pip install -r scripts/requirements-ray.txt"
-        ),
-    )
+from conftest import optional_import  # noqa: E402
+
+ray = optional_import("ray", "ray")
 
 import xbandsim  # noqa: E402
 

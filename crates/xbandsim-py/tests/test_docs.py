@@ -3,27 +3,19 @@ in order, as one script, from the repository root (a stand-in for it whose out/ 
 test's own), in the test venv. A block may use what a block above it made (docs/python.md's
 RadarDataset example reads the dataset its Datasets example generates)."""
 
-import os
 import subprocess
 
 import pytest
 
-from conftest import ROOT, run_python
+from conftest import ROOT, optional_import, run_python
 from test_examples import python_blocks
 
 DOCS = ["python.md", "rl.md"]
 
 
 def _needs_sb3(blocks):
-    if not any("stable_baselines3" in b for b in blocks):
-        return
-    if os.environ.get("XBANDSIM_SB3_REQUIRED") == "1":
-        return  # scripts/test.sh installed it: the page must run
-    pytest.importorskip(
-        "stable_baselines3",
-        reason="a block needs Stable-Baselines3, which is not installed: "
-        + os.environ.get("XBANDSIM_SB3_UNAVAILABLE", "pip install -r scripts/requirements-sb3.txt"),
-    )
+    if any("stable_baselines3" in b for b in blocks):
+        optional_import("stable_baselines3", "sb3")
 
 
 @pytest.mark.parametrize("doc", DOCS)

@@ -6,23 +6,15 @@ scripts/test.sh installs SB3 and torch from PyPI (scripts/requirements-sb3.txt);
 has no torch wheel for this platform or Python it says so and these tests are skipped with
 that reason, any other failure to install fails the run."""
 
-import os
 import warnings
 
 import numpy as np
 import pytest
 
+from conftest import optional_import  # noqa: E402
+
 gym = pytest.importorskip("gymnasium", reason="gymnasium is not installed")
-if os.environ.get("XBANDSIM_SB3_REQUIRED") == "1":
-    import stable_baselines3  # scripts/test.sh installed it: failing to import it is a failure
-else:
-    stable_baselines3 = pytest.importorskip(
-        "stable_baselines3",
-        reason="Stable-Baselines3 is not installed: "
-        + os.environ.get(
-            "XBANDSIM_SB3_UNAVAILABLE", "pip install -r scripts/requirements-sb3.txt"
-        ),
-    )
+stable_baselines3 = optional_import("stable_baselines3", "sb3")
 from stable_baselines3 import PPO  # noqa: E402
 from stable_baselines3.common.env_checker import check_env  # noqa: E402
 from stable_baselines3.common.torch_layers import NatureCNN  # noqa: E402
