@@ -7,6 +7,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use xbandsim::engine::Request;
 use xbandsim::engine::Simulation;
 use xbandsim::geometry::{Bvh, Primitive, PrimitiveKind, Ray};
 use xbandsim::products::ppi::PpiSettings;
@@ -36,7 +37,10 @@ pub struct BenchArgs {
 fn traced_frame(sim: &Simulation, seed: u64) -> (Vec<f32>, usize) {
     let set = sim.trace();
     let groups = sim.echo_groups(&set);
-    let polar = sim.synthesize(&groups, seed, 0);
+    let clutter = sim.clutter_map(xbandsim::rng::FrameKey::new(seed, 0));
+    let polar = sim
+        .synthesize(&groups, clutter.as_ref(), &Request::new(seed))
+        .expect("the frozen scan of this radar");
     let truth = sim.truth(&set);
     (polar, truth.len())
 }
@@ -181,7 +185,10 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     let mut next = 0;
     let t = median_s(a.repeats, || {
         next += 1;
-        std::hint::black_box(sim.render_frame(1, next));
+        std::hint::black_box(
+            sim.run(&Request::new(1).frame(next))
+                .expect("the scene's own scan runs"),
+        );
     });
     put(
         "PO frame, next revolution of the same scene (trace cached)",
@@ -221,10 +228,14 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     let groups_plain = plain.echo_groups(&plain.trace());
     let groups_sea = cluttered.echo_groups(&cluttered.trace());
     let t_plain = median_s(a.repeats, || {
-        std::hint::black_box(plain.synthesize(&groups_plain, 1, 0));
+        let clutter = plain.clutter_map(xbandsim::rng::FrameKey::new(1, 0));
+        std::hint::black_box(plain.synthesize(&groups_plain, clutter.as_ref(), &Request::new(1)))
+            .expect("the frozen scan of this radar");
     });
     let t_sea = median_s(a.repeats, || {
-        std::hint::black_box(cluttered.synthesize(&groups_sea, 1, 0));
+        let clutter = cluttered.clutter_map(xbandsim::rng::FrameKey::new(1, 0));
+        std::hint::black_box(cluttered.synthesize(&groups_sea, clutter.as_ref(), &Request::new(1)))
+            .expect("the frozen scan of this radar");
     });
     put(
         &format!(
@@ -264,15 +275,12 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     let mut next = 0;
     let t = median_s(a.repeats, || {
         next += 1;
-        std::hint::black_box(pulse_sim.render_frame_outputs(
-            1,
-            next,
+        std::hint::black_box(pulse_sim.run(&Request::new(1).frame(next).outputs(
             xbandsim::engine::Outputs {
                 doppler_cube: true,
                 ..Default::default()
             },
-            &|| {},
-        ))
+        )))
         .expect("the bench's pulse-mode scene gives a cube");
     });
     put(
@@ -306,16 +314,13 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     let mut next = 0;
     let t_full = median_s(a.repeats, || {
         next += 1;
-        std::hint::black_box(full_sim.render_frame_outputs(
-            1,
-            next,
+        std::hint::black_box(full_sim.run(&Request::new(1).frame(next).outputs(
             xbandsim::engine::Outputs {
                 doppler_cube: true,
                 radial_velocity: true,
                 ..Default::default()
             },
-            &|| {},
-        ))
+        )))
         .expect("the bench's pulse-mode scene gives a cube");
     });
     put(
@@ -489,7 +494,7 @@ fn dataset_stages(spec: &xbandsim_dataset::DatasetSpec, n: u64) -> Result<[f64; 
         let t1 = Instant::now();
         let _ = sim.traced(0.0);
         let t2 = Instant::now();
-        let frame = sim.render_frame_outputs(sample.render_seed, 0, Default::default(), &|| {})?;
+        let frame = sim.run(&Request::new(sample.render_seed))?;
         let t3 = Instant::now();
         // As the dataset does: only the spokes of the objects' polar boxes.
         let quiet = sim
@@ -498,7 +503,7 @@ fn dataset_stages(spec: &xbandsim_dataset::DatasetSpec, n: u64) -> Result<[f64; 
                 &frame.truth,
                 frame.spokes,
             ))
-            .render_frame_outputs(sample.render_seed, 0, Default::default(), &|| {})?;
+            .run(&Request::new(sample.render_seed))?;
         let t4 = Instant::now();
         let encoded = xbandsim::products::frame_files::encode_frame_files(
             sim.scene().radar(),

@@ -4,6 +4,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use xbandsim::engine::Request;
 use xbandsim::engine::{Outputs, Simulation};
 use xbandsim::model::ProcessingMode;
 use xbandsim::products::frame_files::{encode_frame_files, write_frame_files, Images};
@@ -174,7 +175,11 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         } else {
             indicatif::ProgressBar::hidden()
         };
-        let frame = sim.render_frame_outputs(a.seed, 0, outputs, &|| progress.inc(1))?;
+        let frame = sim.run(
+            &Request::new(a.seed)
+                .outputs(outputs)
+                .progress(&|| progress.inc(1)),
+        )?;
         progress.finish_and_clear();
         note_ray_caps(&frame.truth);
         write_frame_files(radar, &display, &frame, &a.out, &scene_name, a.seed)
@@ -198,7 +203,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     let progress = crate::progress::bar(count, "render: frames");
     let (mut trace_s, mut synthesis_s) = (0.0, 0.0);
     for k in 0..count {
-        let frame = sim.render_frame_outputs(a.seed, k, outputs, &|| {})?;
+        let frame = sim.run(&Request::new(a.seed).frame(k).outputs(outputs))?;
         let dir = a.out.join(frame_dir_name(k));
         let encoded = encode_frame_files(
             radar,

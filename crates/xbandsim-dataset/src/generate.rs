@@ -23,6 +23,7 @@ use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use xbandsim::engine::Outputs;
+use xbandsim::engine::Request as RenderRequest;
 use xbandsim::products::frame_files::encode_frame_files;
 use xbandsim::Simulation;
 
@@ -459,7 +460,11 @@ pub fn render_sample(
     let mut written: Vec<(String, Vec<u8>)> = Vec::new();
     for k in 0..spec.frames {
         let frame = sim
-            .render_frame_outputs(sample.render_seed, k, outputs, &|| {})
+            .run(
+                &RenderRequest::new(sample.render_seed)
+                    .frame(k)
+                    .outputs(outputs),
+            )
             .map_err(scene_err)?;
         let sub = frame_subdir(spec.frames, k);
         let encoded = encode_frame_files(
@@ -474,7 +479,7 @@ pub fn render_sample(
         .map_err(scene_err)?;
         let targets_only = quiet
             .only_spokes(&mask_spokes(&encoded.objects, frame.spokes))
-            .render_frame_outputs(sample.render_seed, k, Outputs::default(), &|| {})
+            .run(&RenderRequest::new(sample.render_seed).frame(k))
             .map_err(scene_err)?;
         let masks = object_masks(
             &encoded.objects,

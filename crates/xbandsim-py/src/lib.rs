@@ -13,6 +13,7 @@ use pyo3::types::PyDict;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
+use xbandsim::engine::Request as RenderRequest;
 use xbandsim::engine::{Outputs, Simulation};
 use xbandsim::products::frame_files::{frame_products, Images};
 use xbandsim::scene::LoadedSpec;
@@ -272,7 +273,7 @@ impl Sim {
                 self.sim.check_outputs(outputs)?;
                 let f = self
                     .sim
-                    .render_frame_outputs(seed, frame, outputs, &|| {})?;
+                    .run(&RenderRequest::new(seed).frame(frame).outputs(outputs))?;
                 let products = frame_products(
                     radar,
                     &self.display,

@@ -1,94 +1,19 @@
 //! The operator's display chain and the plot extractor (docs/rl.md, "Display and plots"):
-//! the polar record (dB over noise) through the rain clutter control (FTC: a fraction of the
-//! local mean power along range taken off each cell, a differentiator that keeps leading
-//! edges and flattens extended echoes), the sea clutter control (STC: sensitivity lowered by
-//! `10·k·log10(R_stc/R)` dB inside `R_stc`, the classic R⁻ᵏ law against sea clutter, Skolnik,
-//! *Radar Handbook* 3rd ed. §2.9) and the gain (the gray scale's floor), then plots: the
-//! 4-connected groups of cells at least [`DETECTION_MARGIN_DB`] over the floor, each with its
-//! power-weighted centre. Pure functions with explicit scratch, no allocation per step once
-//! the buffers have grown.
+//! the polar record (dB over noise) through the receiver's display controls — the rain
+//! clutter control (FTC), the sea clutter control (STC) and the gain (the gray scale's
+//! floor), which live in the library's receiver (`xbandsim::receiver::video`, re-exported
+//! here) — then plots: the 4-connected groups of cells at least [`DETECTION_MARGIN_DB`] over
+//! the floor, each with its power-weighted centre. Pure functions with explicit scratch, no
+//! allocation per step once the buffers have grown.
 
 use std::f64::consts::TAU;
 
-/// Range inside which the sea clutter control acts, m.
-pub const STC_RANGE_M: f64 = 1000.0;
-
-/// Half-width of the FTC's local mean along range, bins.
-pub const FTC_HALF_WINDOW_BINS: usize = 8;
-
-/// Span of the gray scale above the floor, dB.
-pub const DISPLAY_SPAN_DB: f32 = 30.0;
+pub use xbandsim::receiver::video::{
+    gray_level, process_spoke, stc_db, DISPLAY_SPAN_DB, FTC_HALF_WINDOW_BINS, STC_RANGE_M,
+};
 
 /// A cell is a hit when its processed value is at least this much over the gain's floor, dB.
 pub const DETECTION_MARGIN_DB: f32 = 6.0;
-
-/// Smallest value the FTC leaves, as a power over noise (−30 dB).
-const FTC_FLOOR_POWER: f32 = 1e-3;
-
-/// STC loss at range `range_m` for law `k`, dB (0 at and beyond [`STC_RANGE_M`]; ranges under
-/// 1 m count as 1 m).
-pub fn stc_db(range_m: f64, k: f32) -> f32 {
-    if k == 0.0 || range_m >= STC_RANGE_M {
-        return 0.0;
-    }
-    (10.0 * f64::from(k) * (STC_RANGE_M / range_m.max(1.0)).log10()) as f32
-}
-
-/// One spoke through the operator's controls: `row_db` (dB over noise) becomes the processed
-/// value `FTC(row) − STC(R)` in `out` (dB). `ftc_fraction` α takes `α·mean` of the
-/// `2·FTC_HALF_WINDOW_BINS + 1` cells around each cell (linear power) off it; `power` is
-/// scratch of the row's length.
-pub fn process_spoke(
-    row_db: &[f32],
-    range_bin_m: f64,
-    ftc_fraction: f32,
-    stc_law: f32,
-    power: &mut [f32],
-    out: &mut [f32],
-) {
-    let n = row_db.len();
-    if ftc_fraction > 0.0 {
-        for (p, &d) in power.iter_mut().zip(row_db) {
-            *p = 10f32.powf(0.1 * d);
-        }
-        // Running sum over the window, clipped at the record's ends.
-        let h = FTC_HALF_WINDOW_BINS;
-        let mut sum: f64 = power[..(h + 1).min(n)].iter().map(|&p| f64::from(p)).sum();
-        for j in 0..n {
-            let lo = j.saturating_sub(h);
-            let hi = (j + h).min(n - 1);
-            let mean = (sum / (hi - lo + 1) as f64) as f32;
-            let v = (power[j] - ftc_fraction * mean).max(FTC_FLOOR_POWER);
-            out[j] = 10.0 * v.log10();
-            // Slide: add j+h+1, drop j−h.
-            if j + h + 1 < n {
-                sum += f64::from(power[j + h + 1]);
-            }
-            if j >= h {
-                sum -= f64::from(power[j - h]);
-            }
-        }
-    } else {
-        out.copy_from_slice(row_db);
-    }
-    if stc_law > 0.0 {
-        for (j, o) in out.iter_mut().enumerate() {
-            let r = j as f64 * range_bin_m;
-            if r >= STC_RANGE_M {
-                break;
-            }
-            *o -= stc_db(r, stc_law);
-        }
-    }
-}
-
-/// Gray level of a processed value with the gain's floor `floor_db`: 0 at the floor, 255 at
-/// `floor + DISPLAY_SPAN_DB`.
-#[inline]
-pub fn gray_level(value_db: f32, floor_db: f32) -> u8 {
-    let t = ((value_db - floor_db) / DISPLAY_SPAN_DB).clamp(0.0, 1.0);
-    xbandsim::special::round_to_u8(t * 255.0)
-}
 
 /// A plot: one group of connected hits.
 #[derive(Debug, Clone, Copy, PartialEq)]

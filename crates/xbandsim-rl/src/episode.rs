@@ -10,6 +10,7 @@ use crate::display::{
     extract_plots, gate_distance, gray_level, process_spoke, Plot, PlotScratch, DETECTION_MARGIN_DB,
 };
 use std::path::Path;
+use xbandsim::engine::Request;
 use xbandsim::engine::{Dwell, Pulse, Schedule};
 use xbandsim::products::ppi::{colour, Colormap, ScanConverter};
 use xbandsim::{Error, LoadedSpec, Problem, Result, Simulation};
@@ -386,7 +387,7 @@ impl Episode {
         }
         let schedule = self.schedule(sim, action, frame)?;
         let pulses = schedule.num_pulses();
-        let frame_out = sim.run(&schedule, seed, &|| {})?;
+        let frame_out = sim.run(&Request::new(seed).schedule(&schedule))?;
         // The display: refreshed spokes through the operator's controls. With the combined
         // pulse each channel is shown over its own noise, as a radar's per-channel gain does:
         // the short pulse's bins (under the join) sit `short_pulse_noise_db` over the long

@@ -6,6 +6,7 @@ use crate::harness::*;
 use crate::{check, Checks, Tolerance};
 use xbandsim::antenna::sinc2_pattern;
 use xbandsim::constants::{linear_to_db, SPEED_OF_LIGHT_M_PER_S};
+use xbandsim::engine::Request;
 use xbandsim::engine::{Outputs, Schedule};
 use xbandsim::model::Scene;
 use xbandsim::{Frame, Simulation};
@@ -28,15 +29,10 @@ pub fn render_pulse(text: &str) -> (Simulation, Frame) {
     let scene = Scene::from_toml_str(text, "validation").expect("validation scene is valid");
     let sim = Simulation::new(scene);
     let frame = sim
-        .render_frame_outputs(
-            1,
-            0,
-            Outputs {
-                doppler_cube: true,
-                ..Default::default()
-            },
-            &|| {},
-        )
+        .run(&Request::new(1).outputs(Outputs {
+            doppler_cube: true,
+            ..Default::default()
+        }))
         .expect("pulse mode gives a cube");
     (sim, frame)
 }

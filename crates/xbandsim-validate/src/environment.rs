@@ -5,8 +5,10 @@ use crate::harness::*;
 use crate::{check, Checks, Tolerance};
 use serde::Serialize;
 use xbandsim::constants::{linear_to_db, SPEED_OF_LIGHT_M_PER_S};
+use xbandsim::engine::Request;
 use xbandsim::engine::Simulation;
 use xbandsim::model::{Polarisation, Scene};
+use xbandsim::rng::FrameKey;
 
 /// Mean sea-clutter power (dB over noise) in the matched-filter output around `range_m`
 /// (±40 bins, 4 frames of 2048 spokes, Rayleigh clutter, HH, radar at 10 m)
@@ -36,7 +38,7 @@ pub fn clutter_mean_power_db(sea_state: f64, range_m: f64) -> (f64, f64) {
         );
         let ground = (r * r - h * h).sqrt();
         let area = ground
-            * xbandsim::environment::clutter_map::two_way_beam_integral_rad(
+            * xbandsim::signal::clutter_map::two_way_beam_integral_rad(
                 radar.antenna().az_beamwidth_rad,
             )
             * SPEED_OF_LIGHT_M_PER_S
@@ -48,7 +50,11 @@ pub fn clutter_mean_power_db(sea_state: f64, range_m: f64) -> (f64, f64) {
     let frames = 4u64;
     let mut ratio = 0.0;
     for frame in 0..frames {
-        let polar = sim.synthesize(&groups, 21, frame);
+        let request = Request::new(21).frame(frame);
+        let clutter = sim.clutter_map(FrameKey::new(21, frame));
+        let polar = sim
+            .synthesize(&groups, clutter.as_ref(), &request)
+            .expect("the frozen scan of this radar");
         let row = radar.num_range_bins();
         for &bin in &bins {
             let e = expected_at(bin);
@@ -142,8 +148,12 @@ pub fn clutter_cell_statistics(environment_lines: &str, frames: u64) -> ClutterC
     };
     for frame in 0..frames {
         let seed = 100 + frame;
-        let map = sim.clutter_map(seed, 0).expect("clutter is on");
-        let polar = sim.synthesize_with(&groups, Some(&map), seed, 0);
+        let map = sim
+            .clutter_map(FrameKey::new(seed, 0))
+            .expect("clutter is on");
+        let polar = sim
+            .synthesize(&groups, Some(&map), &Request::new(seed))
+            .expect("the frozen scan of this radar");
         for k in 0..radar.spokes() {
             let x: Vec<f64> = (first..=last)
                 .map(|n| 10f64.powf(polar[k * row + n] as f64 / 10.0) / map.mean_power(k, n) as f64)
@@ -209,7 +219,7 @@ pub fn rain_clutter_power_db(rate_mm_per_h: f64, bin: usize) -> (f64, f64) {
     let (sim, frame) = render_text(&text, 3);
     let radar = sim.scene().radar();
     let ant = &radar.antenna();
-    let beam = |bw: f64| xbandsim::environment::clutter_map::two_way_beam_integral_rad(bw);
+    let beam = |bw: f64| xbandsim::signal::clutter_map::two_way_beam_integral_rad(bw);
     let eta = xbandsim::environment::rain::volume_reflectivity_m2_per_m3(
         rate_mm_per_h,
         radar.wavelength_m(),

@@ -4,6 +4,7 @@
 use crate::harness::*;
 use crate::{check, Checks, Tolerance};
 use std::f64::consts::TAU;
+use xbandsim::engine::Request;
 use xbandsim::model::motion::KNOT_M_PER_S;
 use xbandsim::model::Scene;
 use xbandsim::{Frame, Simulation};
@@ -60,7 +61,13 @@ pub fn measured_position(
 fn frames_of(text: &str, frames: &[u64]) -> (Simulation, Vec<Frame>) {
     let scene = Scene::from_toml_str(text, "validation").expect("validation scene is valid");
     let sim = Simulation::new(scene);
-    let out = frames.iter().map(|&k| sim.render_frame(1, k)).collect();
+    let out = frames
+        .iter()
+        .map(|&k| {
+            sim.run(&Request::new(1).frame(k))
+                .expect("the scene's own scan runs")
+        })
+        .collect();
     (sim, out)
 }
 

@@ -2,8 +2,10 @@
 //! and the whole synthesis with and without it, 360 spokes × 2049 bins.
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use xbandsim::engine::Request;
 use xbandsim::engine::Simulation;
 use xbandsim::model::Scene;
+use xbandsim::rng::FrameKey;
 
 fn scene(clutter: bool) -> Scene {
     let text = format!(
@@ -18,12 +20,17 @@ fn clutter(c: &mut Criterion) {
     let groups = with.echo_groups(&with.trace());
     let mut g = c.benchmark_group("clutter_360x2049");
     g.sample_size(20);
-    g.bench_function("clutter_map", |b| b.iter(|| with.clutter_map(1, 0)));
+    g.bench_function("clutter_map", |b| {
+        b.iter(|| with.clutter_map(FrameKey::new(1, 0)))
+    });
     g.bench_function("synthesis_with_clutter_and_rain", |b| {
-        b.iter(|| with.synthesize(&groups, 1, 0))
+        b.iter(|| {
+            let map = with.clutter_map(FrameKey::new(1, 0));
+            with.synthesize(&groups, map.as_ref(), &Request::new(1))
+        })
     });
     g.bench_function("synthesis_without", |b| {
-        b.iter(|| without.synthesize(&groups, 1, 0))
+        b.iter(|| without.synthesize(&groups, None, &Request::new(1)))
     });
     g.finish();
 }

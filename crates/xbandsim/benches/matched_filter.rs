@@ -47,7 +47,7 @@ fn frame_synthesis(c: &mut Criterion) {
     let mut g = c.benchmark_group("frame");
     g.sample_size(20);
     g.bench_function("paper_scene_360x2069_synthesis", |b| {
-        b.iter(|| sim.synthesize(&groups, 1, 0))
+        b.iter(|| sim.synthesize(&groups, None, &xbandsim::engine::Request::new(1)))
     });
     g.finish();
 }

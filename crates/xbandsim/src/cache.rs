@@ -154,8 +154,8 @@ mod tests {
         use crate::environment::clutter::{
             weibull_texture_quantile, GammaQuantile, GAMMA_TABLES, WEIBULL_TEXTURES,
         };
-        use crate::environment::clutter_map::{texture_field, TEXTURE_FIELDS};
         use crate::products::ppi::{PpiGeometry, ScanConverter, CONVERTERS};
+        use crate::signal::clutter_map::{texture_field, TEXTURE_FIELDS};
         let within = |len: usize, bytes: usize, (max_len, max_bytes): (usize, usize)| {
             assert!(
                 len <= max_len && bytes <= max_bytes,

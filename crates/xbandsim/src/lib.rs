@@ -40,6 +40,8 @@ pub mod receiver;
 pub mod rng;
 pub mod scattering;
 pub mod scene;
+pub mod schedule;
+pub mod signal;
 pub mod special;
 pub mod targets;
 pub mod waveform;

@@ -104,6 +104,39 @@ impl RngKey {
     }
 }
 
+/// The random streams of one revolution of one render: the seed and the frame, travelling as
+/// one value from the request to every source. A pulse's streams come from its number
+/// ([`crate::engine::Pulse::number`], given by the schedule), a dwell's from its spoke.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct FrameKey {
+    /// The render's seed.
+    pub seed: u64,
+    /// Revolution number.
+    pub frame: u64,
+}
+
+impl FrameKey {
+    /// Revolution `frame` of the render seeded `seed`.
+    pub fn new(seed: u64, frame: u64) -> FrameKey {
+        FrameKey { seed, frame }
+    }
+
+    /// The stream `stream` of pulse number `pulse` (its noise, its speckle).
+    pub fn pulse(&self, pulse: u64, stream: Stream) -> RngKey {
+        RngKey::new(self.seed, self.frame, pulse, stream)
+    }
+
+    /// The Doppler-coloured clutter stream of the dwell of spoke `spoke` (pulse mode).
+    pub fn dwell(&self, spoke: usize) -> RngKey {
+        RngKey::new(self.seed, self.frame, spoke as u64, Stream::ClutterDwell)
+    }
+
+    /// The sea-clutter texture field's stream (one per seed: it drifts from frame to frame).
+    pub fn texture(&self) -> RngKey {
+        RngKey::new(self.seed, 0, 0, Stream::ClutterTexture)
+    }
+}
+
 /// Layers of the ziggurat.
 const ZIGGURAT_LAYERS: usize = 128;
 

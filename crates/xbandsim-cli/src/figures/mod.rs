@@ -144,7 +144,13 @@ fn fig3(out: &Path, base: &SceneSpec, base_dir: &Path, seed: u64) -> Result<()> 
     let three = Scene::from_spec_in(&spec, base_dir)?;
     let sim = Simulation::new(three);
     let set = sim.trace();
-    let raw = sim.raw_spoke(None, &sim.echo_groups(&set), 0.0, seed, 0, 0);
+    let raw = sim.raw_spoke(
+        None,
+        &sim.echo_groups(&set),
+        0.0,
+        xbandsim::rng::FrameKey::new(seed, 0),
+        0,
+    );
     let radar = sim.scene().radar();
     let fs = radar.sample_rate_hz();
     let chirp = radar.chirp();
@@ -163,7 +169,8 @@ fn fig3(out: &Path, base: &SceneSpec, base_dir: &Path, seed: u64) -> Result<()> 
                 ..Default::default()
             };
             let g: EchoGroups = sim.echo_groups(&subset);
-            sim.raw_spoke(None, &g, 0.0, seed, 0, 0).echo_iq
+            sim.raw_spoke(None, &g, 0.0, xbandsim::rng::FrameKey::new(seed, 0), 0)
+                .echo_iq
         })
         .collect();
     save_rgb(&out.join("fig3_signal_chain.png"), 1400, 1000, |root| {

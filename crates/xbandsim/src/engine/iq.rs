@@ -4,9 +4,9 @@
 //! filter's exact path (the record formed in time), so the compressed outputs are the same
 //! signals to float32 rounding.
 
-use super::schedule::Schedule;
 use crate::error::{Error, Problem, Result};
 use crate::products::PulseIq;
+use crate::schedule::Schedule;
 use num_complex::Complex32;
 
 /// Largest raw I/Q capture of one revolution, bytes (complex64): raw I/Q is for short runs.

@@ -7,38 +7,39 @@
 //! frozen-scan schedule: one pulse per spoke and one scene state per revolution, every object
 //! where the beam crosses it ([`crate::model::Revolution`]).
 
+mod chain;
 mod iq;
-mod pulse;
-mod schedule;
+mod request;
 mod trace_cache;
 
+pub use crate::processing::sinks::POLAR_FLOOR_DB;
+pub use crate::schedule::{Dwell, Pulse, Schedule};
+pub use crate::signal::targets::{Mover, MIN_GROUP_AMPLITUDE, MOVING_ECHO_FOLD_ERROR};
 pub use iq::MAX_IQ_BYTES;
-pub use pulse::{Mover, MOVING_ECHO_FOLD_ERROR};
-pub use schedule::{Dwell, Pulse, Schedule};
+pub use request::Request;
 pub use trace_cache::{TraceCache, Traced};
 
 use crate::echo::{EchoGroups, FractionalDelayKernel};
-use crate::environment::clutter_map::ClutterMap;
 use crate::error::{Error, Problem, Result};
 use crate::geometry::Bvh;
 use crate::model::revolution::Revolution;
-use crate::model::{ProcessingMode, Radar, Scene};
-use crate::processing::PulseCompressor;
+use crate::model::{Integration, ProcessingMode, Radar, Scene};
+use crate::processing::sinks::{DopplerPlan, SpokeRows, VelocityRows};
+use crate::processing::{DopplerSpectra, PulseCompressor, SpokeScratch};
 use crate::products::labels::{object_truth, ObjectTruth};
-use crate::products::{Frame, FrameStats};
+use crate::products::{DopplerCube, Frame, FrameStats, RadialVelocity};
+use crate::receiver::stages::GainStc;
 use crate::receiver::Receiver;
-use crate::rng::{RngKey, Stream};
+use crate::rng::{FrameKey, Stream};
 use crate::scattering::{build_scene_bvh, trace_scene, ScatterSet};
+use crate::signal::clutter::{ClutterSpeckle, SeaAndRainClutter};
+use crate::signal::clutter_map::ClutterMap;
+use crate::signal::targets::{FilterReach, FixedEchoes, MovingEchoes};
+use crate::signal::PulseAt;
+use chain::{RevolutionSources, SinkPlan};
 use num_complex::Complex32;
-use rayon::prelude::*;
 use std::sync::{Arc, OnceLock};
 use std::time::Instant;
-
-/// Groups weaker than this after the azimuth weight (noise-rms units, −80 dB) are skipped.
-pub const MIN_GROUP_AMPLITUDE: f32 = 1e-4;
-
-/// Smallest power written to the polar output, dB over noise (for noise-free runs).
-pub const POLAR_FLOOR_DB: f32 = -120.0;
 
 /// A scene ready to render.
 #[derive(Clone)]
@@ -51,8 +52,10 @@ pub struct Simulation {
     receiver: Receiver,
     kernel: FractionalDelayKernel,
     cache: Arc<TraceCache>,
-    doppler: Option<pulse::DopplerPlan>,
+    doppler: Option<DopplerPlan>,
     short: Option<ShortChannel>,
+    /// Gain and STC on the compressed signal (neutral unless [`Simulation::with_gain_stc`]).
+    gain_stc: GainStc,
     /// Sea and rain clutter on (off in [`Simulation::targets_only`]).
     clutter: bool,
     /// The spokes a spoke-mode revolution renders (all when None; [`Simulation::only_spokes`]).
@@ -107,9 +110,8 @@ impl Simulation {
             compressor.pulse_len(),
         );
         let processing = scene.processing();
-        let doppler = (processing.mode() == ProcessingMode::Pulse).then(|| {
-            pulse::DopplerPlan::new(processing.doppler_pulses(), processing.doppler_window())
-        });
+        let doppler = (processing.mode() == ProcessingMode::Pulse)
+            .then(|| DopplerPlan::new(processing.doppler_pulses(), processing.doppler_window()));
         let short = scene.radar().short_pulse().map(|p| {
             let bins = scene.radar().join_bin().min(compressor.num_bins());
             let c = PulseCompressor::new(&p.chirp, p.window, bins);
@@ -124,6 +126,7 @@ impl Simulation {
                 compressor: c,
             }
         });
+        let range_bin_m = scene.radar().range_bin_m();
         Simulation {
             scene: Arc::new(scene),
             bvh: Arc::new(OnceLock::new()),
@@ -133,6 +136,12 @@ impl Simulation {
             cache: Arc::new(TraceCache::default()),
             doppler,
             short,
+            gain_stc: GainStc {
+                gain_db: 0.0,
+                stc_law: 0.0,
+                stc_reach_m: 0.0,
+                range_bin_m,
+            },
             clutter: true,
             spokes_rendered: None,
         }
@@ -180,71 +189,6 @@ impl Simulation {
             .as_ref()
             .map(|c| Box::new(c.compressor.scratch()));
         s
-    }
-
-    /// Combined pulse mode: hands the pulse's impulse response (`scratch.buffer`, before any
-    /// compression) to the short-pulse channel.
-    fn begin_short(&self, scratch: &mut crate::processing::SpokeScratch) {
-        let Some(ch) = &self.short else { return };
-        let record = ch.compressor.record_len();
-        // A scratch from PulseCompressor::scratch gets the channel's buffers on first use.
-        let short = scratch
-            .short
-            .get_or_insert_with(|| Box::new(ch.compressor.scratch()));
-        short.buffer[..record].copy_from_slice(&scratch.buffer[..record]);
-        short.buffer[record..].fill(Complex32::new(0.0, 0.0));
-    }
-
-    /// Combined pulse mode: adds `factor × echo` (an impulse response, at least the short
-    /// record long) to the short-pulse channel's input.
-    fn add_to_short(
-        &self,
-        short: Option<&mut crate::processing::SpokeScratch>,
-        echo: &[Complex32],
-        factor: Complex32,
-    ) {
-        let (Some(ch), Some(short)) = (&self.short, short) else {
-            return;
-        };
-        let record = ch.compressor.record_len();
-        for (b, x) in short.buffer[..record].iter_mut().zip(&echo[..record]) {
-            *b += x * factor;
-        }
-    }
-
-    /// Combined pulse mode: compresses the short pulse's record (its own noise stream and
-    /// blanking) and writes its bins, scaled to the long pulse's calibration, over the
-    /// first [`Radar::join_bin`] bins of the long output in `scratch.buffer`.
-    fn finish_short(
-        &self,
-        scratch: &mut crate::processing::SpokeScratch,
-        seed: u64,
-        frame: u64,
-        pulse: u64,
-        clutter: bool,
-        earliest: Option<usize>,
-    ) {
-        let Some(ch) = &self.short else { return };
-        // begin_short gave the scratch its short-pulse buffers.
-        let Some(short) = scratch.short.as_deref_mut() else {
-            return;
-        };
-        let record = ch.compressor.record_len();
-        let rx = &ch.receiver;
-        if rx.noise() {
-            rx.fill_noise(seed, frame, pulse, &mut short.noise[..record]);
-            short.noise[record..].fill(Complex32::new(0.0, 0.0));
-        }
-        ch.compressor.process(
-            short,
-            rx.noise(),
-            rx.blanking(),
-            rx.echo_in_blanking(clutter, earliest),
-        );
-        let join = ch.compressor.num_bins();
-        for (o, y) in scratch.buffer[..join].iter_mut().zip(&short.buffer[..join]) {
-            *o = y * ch.scale;
-        }
     }
 
     /// The scene.
@@ -305,119 +249,118 @@ impl Simulation {
         )
     }
 
-    /// Adds one pulse's band-limited impulse response (targets weighted by the azimuth pattern
-    /// for a beam at `beam_az_rad`, plus the clutter of spoke `spoke` with the pulse's speckle)
-    /// into `scratch.buffer[..record]` (noise-rms units); returns the earliest target sample
-    /// written.
-    fn impulse_response(
-        &self,
-        clutter: Option<&ClutterMap>,
-        groups: &EchoGroups,
-        spoke: usize,
-        beam_az_rad: f64,
-        speckle: RngKey,
-        scratch: &mut crate::processing::SpokeScratch,
-    ) -> Option<usize> {
-        let impulse_response = &mut scratch.buffer[..self.compressor.record_len()];
-        let earliest = groups.accumulate(
-            self.scene.radar().antenna(),
-            beam_az_rad,
-            MIN_GROUP_AMPLITUDE,
-            impulse_response,
-        );
-        if let Some(c) = clutter {
-            c.add_to_spoke(
-                spoke,
-                speckle,
-                &mut scratch.clutter_sea,
-                &mut scratch.clutter_rain,
-                impulse_response,
-            );
-        }
-        earliest
+    /// The same simulation with gain and STC `stage` on the compressed signal, before
+    /// detection (its range bins must be this radar's).
+    pub fn with_gain_stc(&self, stage: GainStc) -> Simulation {
+        let mut s = self.clone();
+        s.gain_stc = stage;
+        s
     }
 
-    /// Compressed output of one spoke at `beam_az_rad` into `scratch.buffer[..bins]`
-    /// (amplitude in noise-rms units): the pulse numbered `spoke` of a one-pulse-per-spoke
-    /// scan.
-    pub fn compress_spoke(
-        &self,
-        clutter: Option<&ClutterMap>,
-        groups: &EchoGroups,
-        beam_az_rad: f64,
-        seed: u64,
-        frame: u64,
-        spoke: u64,
-        scratch: &mut crate::processing::SpokeScratch,
-    ) {
-        let pulse = Pulse {
-            number: spoke,
-            time_s: 0.0,
-            azimuth_rad: beam_az_rad,
+    /// Renders one revolution of the scene's scan: trace, group, synthesise every spoke,
+    /// label. Shorthand for [`Simulation::run`] with `Request::new(seed)`.
+    pub fn render(&self, seed: u64) -> Frame {
+        self.run(&Request::new(seed))
+            .expect("the scene's own scan with no optional outputs is always runnable")
+    }
+
+    /// Runs a request: the schedule it names (the scene's scan of its frame by default), the
+    /// traced state that schedule sees (cached), its revolution's sea and rain clutter, every
+    /// dwell through the signal chain into the record and the optional outputs, and the
+    /// labels of that state. Refused: a schedule made for a radar with another number of
+    /// spokes, outputs this scene cannot give ([`Simulation::check_outputs`]).
+    pub fn run(&self, request: &Request) -> Result<Frame> {
+        let own;
+        let schedule = match request.schedule_given() {
+            Some(s) => s,
+            None => {
+                own = Schedule::for_mode(
+                    self.scene.radar(),
+                    self.scene.processing().mode(),
+                    request.frame_number(),
+                );
+                &own
+            }
         };
-        self.compress_pulse(
-            clutter,
-            groups,
-            spoke as usize,
-            &pulse,
-            seed,
-            frame,
-            scratch,
+        self.check_schedule(schedule)?;
+        let outputs = request.outputs_asked();
+        self.check_outputs(outputs)?;
+        let mut iq = if outputs.iq {
+            Some(iq::IqCapture::new(schedule, self.compressor.record_len())?)
+        } else {
+            None
+        };
+        let mut frame = self.run_checked(
+            schedule,
+            request.key(schedule),
+            outputs,
+            iq.as_mut(),
+            request.progress_or_none(),
         );
+        frame.iq = iq.map(|c| c.finish(schedule, self.scene.radar().sample_rate_hz()));
+        Ok(frame)
     }
 
-    /// Compressed output of one pulse into `scratch.buffer[..bins]` (amplitude in noise-rms
-    /// units): targets at the pulse's azimuth, the clutter cells of spoke `spoke`, the pulse's
-    /// own speckle and noise streams, blanking, matched filter.
+    /// The polar record (spokes × bins, dB over noise) of a request's schedule (the frozen
+    /// scan of its frame by default) from prepared echo groups and the revolution's clutter
+    /// map (`clutter_map(request.key(schedule))` or None): the spoke-mode chain — no moving echoes,
+    /// fresh speckle every pulse, each dwell's powers averaged into its spoke. For checks
+    /// and benchmarks of the chain alone.
+    pub fn synthesize(
+        &self,
+        groups: &EchoGroups,
+        clutter: Option<&ClutterMap>,
+        request: &Request,
+    ) -> Result<Vec<f32>> {
+        let own;
+        let schedule = match request.schedule_given() {
+            Some(s) => s,
+            None => {
+                own = Schedule::frozen_scan(self.scene.radar(), request.frame_number());
+                &own
+            }
+        };
+        self.check_schedule(schedule)?;
+        let bins = self.compressor.num_bins();
+        let mut polar = vec![0f32; self.scene.radar().spokes() * bins];
+        let sources = self.spoke_sources(groups, clutter);
+        self.run_dwells(
+            &sources,
+            schedule,
+            request.key(schedule),
+            &self.sink_plan(ProcessingMode::Spoke, Outputs::default()),
+            Self::rows(&mut polar, bins, None, None, None),
+            self.spokes_rendered.as_deref(),
+            request.progress_or_none(),
+        );
+        Ok(polar)
+    }
+
+    /// Compressed output of one spoke-mode pulse into `scratch.buffer[..bins]` (amplitude in
+    /// noise-rms units): targets at the pulse's azimuth, the clutter cells of spoke `spoke`,
+    /// the pulse's own speckle and noise streams, blanking, matched filter.
     pub fn compress_pulse(
         &self,
         clutter: Option<&ClutterMap>,
         groups: &EchoGroups,
         spoke: usize,
         pulse: &Pulse,
-        seed: u64,
-        frame: u64,
-        scratch: &mut crate::processing::SpokeScratch,
+        key: FrameKey,
+        scratch: &mut SpokeScratch,
     ) {
-        let record = self.compressor.record_len();
-        scratch.buffer.fill(Complex32::new(0.0, 0.0));
-        let earliest = self.impulse_response(
-            clutter,
-            groups,
+        let sources = self.spoke_sources(groups, clutter);
+        let at = PulseAt {
+            pulse,
             spoke,
-            pulse.azimuth_rad,
-            RngKey::new(seed, frame, pulse.number, Stream::ClutterSpeckle),
-            scratch,
-        );
-        if earliest.is_none() && clutter.is_none() && self.is_silent() && !scratch.capture_received
-        {
-            // Nothing in and no noise: the matched filter's output is zero (the buffer is).
-            return;
-        }
-        self.begin_short(scratch);
-        let rx = &self.receiver;
-        if rx.noise() {
-            rx.fill_noise(seed, frame, pulse.number, &mut scratch.noise[..record]);
-            scratch.noise[record..].fill(Complex32::new(0.0, 0.0));
-        }
-        self.compressor.process(
-            scratch,
-            rx.noise(),
-            rx.blanking(),
-            rx.echo_in_blanking(clutter.is_some(), earliest),
-        );
-        self.finish_short(
-            scratch,
-            seed,
-            frame,
-            pulse.number,
-            clutter.is_some(),
-            earliest,
-        );
+            index: 0,
+            key,
+        };
+        self.receive_pulse(&sources, &at, scratch);
     }
 
-    /// Raw I/Q of one pulse at `beam_az_rad`, formed explicitly in time (echo record, noise,
-    /// blanking, then the matched filter) — the same signals `compress_spoke` forms in the
+    /// Raw I/Q of spoke-mode pulse number `pulse` with the beam at `beam_az_rad` (the clutter
+    /// of spoke `pulse`), formed explicitly in time (echo record, noise, blanking, then the
+    /// matched filter) — the same signals [`Simulation::compress_pulse`] forms in the
     /// frequency domain (the long pulse's channel: in combined pulse mode the bins inside the
     /// join come from the short pulse instead), kept for figures and tests.
     pub fn raw_spoke(
@@ -425,30 +368,41 @@ impl Simulation {
         clutter: Option<&ClutterMap>,
         groups: &EchoGroups,
         beam_az_rad: f64,
-        seed: u64,
-        frame: u64,
-        spoke: u64,
+        key: FrameKey,
+        pulse: u64,
     ) -> RawSpoke {
+        use crate::signal::Source;
         let record = self.compressor.record_len();
         let mut scratch = self.compressor.scratch();
-        self.impulse_response(
-            clutter,
-            groups,
-            spoke as usize,
-            beam_az_rad,
-            RngKey::new(seed, frame, spoke, Stream::ClutterSpeckle),
-            &mut scratch,
-        );
+        let sources = self.spoke_sources(groups, clutter);
+        let p = Pulse {
+            number: pulse,
+            time_s: 0.0,
+            azimuth_rad: beam_az_rad,
+        };
+        let at = PulseAt {
+            pulse: &p,
+            spoke: pulse as usize,
+            index: 0,
+            key,
+        };
+        let samples = &mut scratch.buffer[..record];
+        sources
+            .fixed
+            .add_to_pulse(&at, &mut scratch.sources, samples);
+        if let Some(c) = &sources.clutter {
+            c.add_to_pulse(&at, &mut scratch.sources, samples);
+        }
         let mut echo = scratch.buffer.clone();
         self.compressor.synthesize_record(&mut echo, &mut scratch);
         echo[record..].fill(Complex32::new(0.0, 0.0));
         let mut received = echo.clone();
         if self.receiver.noise() {
-            self.receiver
-                .fill_noise(seed, frame, spoke, &mut scratch.noise[..record]);
-            for (r, n) in received.iter_mut().zip(&scratch.noise[..record]) {
-                *r += n;
-            }
+            self.receiver.thermal_noise().add_to_pulse(
+                &at,
+                &mut scratch.sources,
+                &mut received[..record],
+            );
         }
         self.receiver.blank(&mut received);
         let mut compressed = received.clone();
@@ -464,147 +418,137 @@ impl Simulation {
         }
     }
 
-    /// Polar output (spokes × bins, dB over noise) of one revolution from prepared groups.
-    pub fn synthesize(&self, groups: &EchoGroups, seed: u64, frame: u64) -> Vec<f32> {
-        let clutter = self.clutter_map(seed, frame);
-        self.synthesize_with(groups, clutter.as_ref(), seed, frame)
+    /// The sources of the spoke-mode chain: every echo group fixed, fresh speckle.
+    fn spoke_sources<'a>(
+        &'a self,
+        groups: &'a EchoGroups,
+        clutter: Option<&'a ClutterMap>,
+    ) -> RevolutionSources<'a> {
+        self.sources(groups, clutter, ClutterSpeckle::PerPulse, &[], &[])
     }
 
-    /// As [`Simulation::synthesize`] with the revolution's clutter map already made (it must
-    /// be `clutter_map(seed, frame)`).
-    pub fn synthesize_with(
-        &self,
-        groups: &EchoGroups,
-        clutter: Option<&ClutterMap>,
-        seed: u64,
-        frame: u64,
-    ) -> Vec<f32> {
-        self.synthesize_progress(groups, clutter, seed, frame, &|| {})
-    }
-
-    /// As [`Simulation::synthesize_with`], calling `spoke_done` after every spoke (from the
-    /// worker threads) so that a caller can show progress.
-    pub fn synthesize_progress(
-        &self,
-        groups: &EchoGroups,
-        clutter: Option<&ClutterMap>,
-        seed: u64,
-        frame: u64,
-        spoke_done: &(dyn Fn() + Sync),
-    ) -> Vec<f32> {
-        let schedule = Schedule::frozen_scan(self.scene.radar(), frame);
-        self.synthesize_checked(groups, clutter, seed, &schedule, spoke_done)
-    }
-
-    /// Polar output (spokes × bins, dB over noise) of a schedule from prepared groups and its
-    /// revolution's clutter map: every dwell's pulses compressed and their powers averaged into
-    /// its spoke. Dwells run in parallel, each worker with its own scratch; `dwell_done` is
-    /// called after every dwell. A schedule made for another number of spokes is refused.
-    pub fn synthesize_schedule(
-        &self,
-        groups: &EchoGroups,
-        clutter: Option<&ClutterMap>,
-        seed: u64,
-        schedule: &Schedule,
-        dwell_done: &(dyn Fn() + Sync),
-    ) -> Result<Vec<f32>> {
-        self.check_schedule(schedule)?;
-        Ok(self.synthesize_checked(groups, clutter, seed, schedule, dwell_done))
-    }
-
-    fn synthesize_checked(
-        &self,
-        groups: &EchoGroups,
-        clutter: Option<&ClutterMap>,
-        seed: u64,
-        schedule: &Schedule,
-        dwell_done: &(dyn Fn() + Sync),
-    ) -> Vec<f32> {
-        self.synthesize_capture(groups, clutter, seed, schedule, None, dwell_done)
-    }
-
-    /// [`Simulation::synthesize_checked`], keeping every pulse's received record in `iq`.
-    fn synthesize_capture(
-        &self,
-        groups: &EchoGroups,
-        clutter: Option<&ClutterMap>,
-        seed: u64,
-        schedule: &Schedule,
-        iq: Option<&mut iq::IqCapture>,
-        dwell_done: &(dyn Fn() + Sync),
-    ) -> Vec<f32> {
-        let spokes = self.scene.radar().spokes();
-        let bins = self.compressor.num_bins();
+    fn sources<'a>(
+        &'a self,
+        groups: &'a EchoGroups,
+        clutter: Option<&'a ClutterMap>,
+        speckle: ClutterSpeckle,
+        movers: &'a [Mover],
+        spectra: &'a [DopplerSpectra],
+    ) -> RevolutionSources<'a> {
+        let radar = self.scene.radar();
         let record = self.compressor.record_len();
-        // Schedule::new and frozen_scan guarantee one dwell per spoke.
-        let mut dwell_of_spoke = vec![0usize; spokes];
-        for (i, d) in schedule.dwells().iter().enumerate() {
-            dwell_of_spoke[d.spoke] = i;
-        }
-        let mut polar = vec![0f32; spokes * bins];
-        let mut iq_slabs = iq.map_or_else(|| (0..spokes).map(|_| None).collect(), |c| c.slabs());
-        polar
-            .par_chunks_mut(bins)
-            .zip(iq_slabs.par_iter_mut())
-            .enumerate()
-            .for_each_init(
-                || self.scratch(),
-                |scratch, (k, (row, iq_slab))| {
-                    let dwell = &schedule.dwells()[dwell_of_spoke[k]];
-                    if let Some(wanted) = &self.spokes_rendered {
-                        if !wanted.get(k).copied().unwrap_or(false) {
-                            row.fill(POLAR_FLOOR_DB);
-                            dwell_done();
-                            return;
-                        }
-                    }
-                    row.fill(0.0);
-                    scratch.capture_received = iq_slab.is_some();
-                    for (m, pulse) in dwell.pulses.iter().enumerate() {
-                        self.compress_pulse(
-                            clutter,
-                            groups,
-                            k,
-                            pulse,
-                            seed,
-                            schedule.frame(),
-                            scratch,
-                        );
-                        if let Some(slab) = iq_slab.as_deref_mut() {
-                            slab[m * record..(m + 1) * record].copy_from_slice(&scratch.received);
-                        }
-                        for (o, y) in row.iter_mut().zip(&scratch.buffer[..bins]) {
-                            *o += y.norm_sqr();
-                        }
-                    }
-                    // Non-coherent integration: the mean power of the dwell's pulses (exactly
-                    // the pulse's power for a one-pulse dwell).
-                    let inv_pulses = 1.0 / dwell.pulses.len() as f32;
-                    crate::special::power_db_in_place(row, inv_pulses, POLAR_FLOOR_DB);
-                    dwell_done();
+        RevolutionSources {
+            fixed: FixedEchoes::new(groups, *radar.antenna(), record, movers),
+            clutter: clutter.map(|c| SeaAndRainClutter::new(c, speckle, record)),
+            moving: MovingEchoes::new(
+                groups,
+                movers,
+                *radar.antenna(),
+                FilterReach {
+                    record_len: record,
+                    pulse_len: self.compressor.pulse_len(),
+                    peak_gain: self.compressor.peak_gain(),
                 },
-            );
-        polar
+                radar.scan().period_s(),
+                radar.sample_rate_hz(),
+                radar.wavelength_m(),
+            ),
+            spectra,
+        }
     }
 
-    /// Sea and rain clutter of frame `frame` (None when the scene has neither), seen from
-    /// the antenna's position at the start of the run.
-    pub fn clutter_map(&self, seed: u64, frame: u64) -> Option<ClutterMap> {
-        self.clutter_map_from(self.scene.radar(), seed, frame)
+    /// The sinks of a revolution in `mode` with `outputs`: the integrator (always
+    /// non-coherent in spoke mode), the CPI collector, the pulse pair and raw I/Q.
+    fn sink_plan(&self, mode: ProcessingMode, outputs: Outputs) -> SinkPlan<'_> {
+        let radar = self.scene.radar();
+        let bins = self.compressor.num_bins();
+        let pulse = mode == ProcessingMode::Pulse;
+        let (join_bin, short_noise_db) = radar
+            .short_pulse_noise_db()
+            .map_or((0, 0.0), |d| (radar.join_bin().min(bins), d as f32));
+        SinkPlan {
+            integration: if pulse {
+                self.scene.processing().integration()
+            } else {
+                Integration::Noncoherent
+            },
+            bins,
+            doppler: self
+                .doppler
+                .as_ref()
+                .filter(|_| pulse && outputs.doppler_cube),
+            pulse_pair: (pulse && outputs.radial_velocity).then_some((
+                radar.wavelength_m(),
+                join_bin,
+                short_noise_db,
+            )),
+            iq_record: outputs.iq.then_some(self.compressor.record_len()),
+        }
     }
 
-    /// Sea and rain clutter of frame `frame` seen by `radar` (this scene's radar, carried to
-    /// where the own ship has taken it).
-    fn clutter_map_from(&self, radar: &Radar, seed: u64, frame: u64) -> Option<ClutterMap> {
+    /// Each spoke's rows of the products.
+    fn rows<'a>(
+        polar: &'a mut [f32],
+        bins: usize,
+        cube: Option<(&'a mut [f32], usize)>,
+        velocity: Option<VelocityRows<'a>>,
+        iq: Option<&'a mut iq::IqCapture>,
+    ) -> Vec<SpokeRows<'a>> {
+        let mut rows: Vec<SpokeRows> = polar
+            .chunks_mut(bins)
+            .map(|p| SpokeRows {
+                polar_db: p,
+                doppler_db: None,
+                velocity: None,
+                iq: None,
+            })
+            .collect();
+        if let Some((values, slab_len)) = cube {
+            for (r, slab) in rows.iter_mut().zip(values.chunks_mut(slab_len)) {
+                r.doppler_db = Some(slab);
+            }
+        }
+        if let Some((v, e, p)) = velocity {
+            let cells = v
+                .chunks_mut(bins)
+                .zip(e.chunks_mut(bins))
+                .zip(p.chunks_mut(bins));
+            for (r, ((v, e), p)) in rows.iter_mut().zip(cells) {
+                r.velocity = Some((v, e, p));
+            }
+        }
+        if let Some(capture) = iq {
+            for (r, slab) in rows.iter_mut().zip(capture.slabs()) {
+                r.iq = slab;
+            }
+        }
+        rows
+    }
+
+    /// Sea and rain clutter of revolution `key` (None when the scene has neither, or in
+    /// [`Simulation::targets_only`]), seen from the antenna's position at the start of the
+    /// run.
+    pub fn clutter_map(&self, key: FrameKey) -> Option<ClutterMap> {
+        self.clutter_map_from(self.scene.radar(), key, &[])
+    }
+
+    /// Sea and rain clutter of revolution `key` seen by `radar` (this scene's radar, carried
+    /// to where the own ship has taken it), spoke k's beam raised by `beam_tilt_rad[k]`.
+    fn clutter_map_from(
+        &self,
+        radar: &Radar,
+        key: FrameKey,
+        beam_tilt_rad: &[f64],
+    ) -> Option<ClutterMap> {
         if !self.clutter {
             return None;
         }
-        ClutterMap::new(
+        ClutterMap::with_beam_tilts(
             radar,
             self.scene.environment(),
-            seed,
-            frame,
+            key,
             self.compressor.record_len(),
+            beam_tilt_rad,
         )
     }
 
@@ -614,45 +558,6 @@ impl Simulation {
     /// [`crate::products::ppi::PpiGeometry::label`].
     pub fn truth(&self, set: &ScatterSet) -> Vec<ObjectTruth> {
         object_truth(&Revolution::of(&self.scene, 0.0), set, self.bvh())
-    }
-
-    /// Renders one revolution: trace, group, synthesise every spoke, label.
-    pub fn render(&self, seed: u64) -> Frame {
-        self.render_frame(seed, 0)
-    }
-
-    /// Renders revolution number `frame` (the clutter texture has drifted for `frame` antenna
-    /// periods; noise and speckle are new each frame).
-    pub fn render_frame(&self, seed: u64, frame: u64) -> Frame {
-        self.render_frame_progress(seed, frame, &|| {})
-    }
-
-    /// As [`Simulation::render_frame`], calling `spoke_done` after every spoke.
-    pub fn render_frame_progress(
-        &self,
-        seed: u64,
-        frame: u64,
-        spoke_done: &(dyn Fn() + Sync),
-    ) -> Frame {
-        let schedule =
-            Schedule::for_mode(self.scene.radar(), self.scene.processing().mode(), frame);
-        self.run_checked(&schedule, seed, Outputs::default(), None, spoke_done)
-    }
-
-    /// Renders revolution `frame` with the scan of `[processing] mode` and the optional
-    /// `outputs` ([`Simulation::check_outputs`] says which this scene can give; a Doppler
-    /// cube and radial velocities need pulse mode), calling `spoke_done` after every spoke.
-    pub fn render_frame_outputs(
-        &self,
-        seed: u64,
-        frame: u64,
-        outputs: Outputs,
-        spoke_done: &(dyn Fn() + Sync),
-    ) -> Result<Frame> {
-        self.check_outputs(outputs)?;
-        let schedule =
-            Schedule::for_mode(self.scene.radar(), self.scene.processing().mode(), frame);
-        self.run_with(&schedule, seed, outputs, spoke_done)
     }
 
     /// Whether this scene can give `outputs`: a Doppler cube and radial velocities need
@@ -730,39 +635,6 @@ impl Simulation {
         })
     }
 
-    /// Runs a schedule: the traced state it sees (cached), its revolution's clutter map,
-    /// every dwell synthesised and integrated, and the labels of that state. `dwell_done` is
-    /// called after every dwell (from the worker threads). A schedule made for a radar with
-    /// another number of spokes is refused.
-    pub fn run(
-        &self,
-        schedule: &Schedule,
-        seed: u64,
-        dwell_done: &(dyn Fn() + Sync),
-    ) -> Result<Frame> {
-        self.run_with(schedule, seed, Outputs::default(), dwell_done)
-    }
-
-    /// [`Simulation::run`] with optional outputs (raw I/Q for any schedule; the Doppler cube
-    /// in pulse mode).
-    pub fn run_with(
-        &self,
-        schedule: &Schedule,
-        seed: u64,
-        outputs: Outputs,
-        dwell_done: &(dyn Fn() + Sync),
-    ) -> Result<Frame> {
-        self.check_schedule(schedule)?;
-        let mut iq = if outputs.iq {
-            Some(iq::IqCapture::new(schedule, self.compressor.record_len())?)
-        } else {
-            None
-        };
-        let mut frame = self.run_checked(schedule, seed, outputs, iq.as_mut(), dwell_done);
-        frame.iq = iq.map(|c| c.finish(schedule, self.scene.radar().sample_rate_hz()));
-        Ok(frame)
-    }
-
     fn check_schedule(&self, schedule: &Schedule) -> Result<()> {
         let spokes = self.scene.radar().spokes();
         if schedule.spokes() != spokes {
@@ -779,10 +651,31 @@ impl Simulation {
         Ok(())
     }
 
+    /// The clutter map of a revolution: each spoke's beam tilted by the deck's roll and pitch
+    /// when the antenna passes it.
+    fn revolution_clutter(&self, revolution: &Revolution, key: FrameKey) -> Option<ClutterMap> {
+        if !self.clutter {
+            return None;
+        }
+        let tilts: Vec<f64> = if revolution.deck_moves() {
+            let scan = *self.scene.radar().scan();
+            (0..scan.spokes())
+                .map(|k| {
+                    let t = revolution.start_time_s()
+                        + k as f64 / scan.spokes() as f64 * scan.period_s();
+                    revolution.beam_tilt_rad(t, scan.spoke_azimuth_rad(k))
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        self.clutter_map_from(revolution.scene().radar(), key, &tilts)
+    }
+
     fn run_checked(
         &self,
         schedule: &Schedule,
-        seed: u64,
+        key: FrameKey,
         outputs: Outputs,
         iq: Option<&mut iq::IqCapture>,
         dwell_done: &(dyn Fn() + Sync),
@@ -808,56 +701,34 @@ impl Simulation {
         } else {
             &traced.revolution
         };
-        let clutter = if !self.clutter {
-            None
-        } else if revolution.deck_moves() {
-            // Each spoke's beam tilted by the deck's roll and pitch when the antenna passes it.
-            let scan = *self.scene.radar().scan();
-            let tilts: Vec<f64> = (0..scan.spokes())
-                .map(|k| {
-                    let t = revolution.start_time_s()
-                        + k as f64 / scan.spokes() as f64 * scan.period_s();
-                    revolution.beam_tilt_rad(t, scan.spoke_azimuth_rad(k))
-                })
-                .collect();
-            ClutterMap::with_beam_tilts(
-                revolution.scene().radar(),
-                self.scene.environment(),
-                seed,
-                schedule.frame(),
-                self.compressor.record_len(),
-                &tilts,
-            )
-        } else {
-            self.clutter_map_from(revolution.scene().radar(), seed, schedule.frame())
-        };
-        let (polar_db, doppler_cube, radial_velocity) = match self.scene.processing().mode() {
-            ProcessingMode::Spoke => (
-                self.synthesize_capture(
-                    &traced.groups,
-                    clutter.as_ref(),
-                    seed,
-                    schedule,
-                    iq,
-                    dwell_done,
+        let clutter = self.revolution_clutter(revolution, key);
+        let mode = self.scene.processing().mode();
+        let (movers, speckle) = match mode {
+            ProcessingMode::Spoke => (Vec::new(), ClutterSpeckle::PerPulse),
+            ProcessingMode::Pulse => (
+                Mover::of_revolution(revolution),
+                SeaAndRainClutter::doppler_speckle(
+                    self.scene.radar(),
+                    *self.scene.environment().clutter_doppler(),
+                    revolution
+                        .own_ship()
+                        .map_or(glam::DVec3::ZERO, |s| s.velocity_mps),
                 ),
-                None,
-                None,
-            ),
-            ProcessingMode::Pulse => self.synthesize_pulses(
-                &traced.groups,
-                clutter.as_ref(),
-                revolution
-                    .own_ship()
-                    .map_or(glam::DVec3::ZERO, |s| s.velocity_mps),
-                &self.movers(revolution),
-                seed,
-                schedule,
-                outputs,
-                iq,
-                dwell_done,
             ),
         };
+        let fs = revolution.scene().radar().sample_rate_hz();
+        let spectra: Vec<DopplerSpectra> = movers
+            .iter()
+            .map(|m| self.compressor.doppler_spectra(m.doppler_hz, fs))
+            .collect();
+        let sources = self.sources(&traced.groups, clutter.as_ref(), speckle, &movers, &spectra);
+        let skip = match mode {
+            ProcessingMode::Spoke => self.spokes_rendered.as_deref(),
+            // Pulse mode renders every spoke.
+            ProcessingMode::Pulse => None,
+        };
+        let products =
+            self.run_products(&sources, schedule, key, mode, outputs, iq, skip, dwell_done);
         let synthesis_s = t1.elapsed().as_secs_f64();
         let truth = object_truth(revolution, &traced.set, &traced.bvh);
         let radar = self.scene.radar();
@@ -868,10 +739,10 @@ impl Simulation {
             spokes: radar.spokes(),
             range_bins: self.compressor.num_bins(),
             range_bin_m: radar.range_bin_m(),
-            polar_db,
-            doppler_cube,
+            polar_db: products.0,
+            doppler_cube: products.1,
             iq: None,
-            radial_velocity,
+            radial_velocity: products.2,
             truth,
             stats: FrameStats {
                 rays_cast: traced.set.rays_cast,
@@ -881,5 +752,57 @@ impl Simulation {
                 synthesis_s,
             },
         }
+    }
+
+    /// Every dwell through the chain: the polar record, the range-Doppler cube and the
+    /// radial velocities (the last two when `outputs` ask, in pulse mode).
+    #[allow(clippy::too_many_arguments)]
+    fn run_products(
+        &self,
+        sources: &RevolutionSources,
+        schedule: &Schedule,
+        key: FrameKey,
+        mode: ProcessingMode,
+        outputs: Outputs,
+        iq: Option<&mut iq::IqCapture>,
+        skip: Option<&[bool]>,
+        dwell_done: &(dyn Fn() + Sync),
+    ) -> (Vec<f32>, Option<DopplerCube>, Option<RadialVelocity>) {
+        let radar = self.scene.radar();
+        let spokes = radar.spokes();
+        let bins = self.compressor.num_bins();
+        let sinks = self.sink_plan(mode, outputs);
+        let cpi_len = sinks.doppler.map_or(0, |p| p.pulses());
+        let pairs = sinks.pulse_pair.is_some();
+        let mut polar = vec![0f32; spokes * bins];
+        let mut cube_values = vec![0f32; spokes * cpi_len * bins];
+        let cells = if pairs { spokes * bins } else { 0 };
+        let mut velocity = vec![0f32; cells];
+        let mut estimated = vec![false; cells];
+        let mut power = vec![0f32; cells];
+        let rows = Self::rows(
+            &mut polar,
+            bins,
+            (cpi_len > 0).then_some((&mut cube_values[..], cpi_len * bins)),
+            pairs.then_some((&mut velocity[..], &mut estimated[..], &mut power[..])),
+            iq,
+        );
+        self.run_dwells(sources, schedule, key, &sinks, rows, skip, dwell_done);
+        let cube = (cpi_len > 0).then(|| DopplerCube {
+            spokes,
+            doppler_bins: cpi_len,
+            range_bins: bins,
+            doppler_bin_hz: radar.prf_hz() / cpi_len as f64,
+            values_db: cube_values,
+        });
+        let radial_velocity = pairs.then(|| RadialVelocity {
+            spokes,
+            range_bins: bins,
+            velocity_mps: velocity,
+            estimated,
+            power_db: power,
+            unambiguous_mps: radar.wavelength_m() * radar.prf_hz() / 4.0,
+        });
+        (polar, cube, radial_velocity)
     }
 }

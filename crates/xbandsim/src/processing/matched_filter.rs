@@ -94,11 +94,8 @@ pub struct SpokeScratch {
     pub received: Vec<Complex32>,
     /// The short-pulse channel's buffers (combined pulse mode; set by the engine).
     pub short: Option<Box<SpokeScratch>>,
-    /// Beam-weighted sea and rain clutter power of the spoke being formed
-    /// (`ClutterMap::add_to_spoke`), reused from spoke to spoke.
-    pub clutter_sea: Vec<f32>,
-    /// See `clutter_sea`.
-    pub clutter_rain: Vec<f32>,
+    /// The signal sources' buffers (`crate::signal`).
+    pub sources: crate::signal::SourceScratch,
 }
 
 impl SpokeScratch {
@@ -111,8 +108,7 @@ impl SpokeScratch {
         self.moving_spectrum.fill(value);
         self.fft_scratch.fill(value);
         self.received.fill(value);
-        self.clutter_sea.fill(value.re);
-        self.clutter_rain.fill(value.re);
+        self.sources.fill(value);
         if let Some(short) = &mut self.short {
             short.fill(value);
         }
@@ -299,8 +295,7 @@ impl PulseCompressor {
             capture_received: false,
             received: Vec::new(),
             short: None,
-            clutter_sea: Vec::new(),
-            clutter_rain: Vec::new(),
+            sources: Default::default(),
         }
     }
 

@@ -6,3 +6,4 @@ mod matched_filter;
 pub use matched_filter::{
     direct_correlation, fast_fft_len, DopplerSpectra, PulseCompressor, SpokeScratch,
 };
+pub mod sinks;

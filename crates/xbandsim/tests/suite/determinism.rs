@@ -1,6 +1,7 @@
 //! Same seed, same output, whatever the thread count; another seed, other noise.
 
 use super::common::*;
+use xbandsim::engine::Request;
 use xbandsim::engine::Simulation;
 
 const SCENE: &str = include_str!("../../../../scenes/paper.toml");
@@ -38,15 +39,12 @@ fn pulse_mode_is_deterministic_across_thread_counts() {
             .unwrap();
         pool.install(|| {
             let f = Simulation::new(scene(text))
-                .render_frame_outputs(
-                    5,
-                    1,
-                    xbandsim::engine::Outputs {
+                .run(
+                    &Request::new(5).frame(1).outputs(xbandsim::engine::Outputs {
                         doppler_cube: true,
                         iq: true,
                         ..Default::default()
-                    },
-                    &|| {},
+                    }),
                 )
                 .expect("pulse mode gives a cube");
             (

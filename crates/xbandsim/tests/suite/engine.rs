@@ -2,6 +2,7 @@
 
 use crate::common::scene;
 use std::sync::Arc;
+use xbandsim::engine::Request;
 use xbandsim::engine::{Dwell, Pulse, Schedule, Simulation};
 use xbandsim::Problem;
 
@@ -17,13 +18,15 @@ const NOISE_ONLY: &str = "[radar]\nspokes = 64\nmax_range_m = 1200.0\n\
 fn trace_cache_traces_once_and_changes_nothing() {
     let text = PAPER.replace("scenes/", "");
     let cached = Simulation::new(scene(&text));
-    let f0 = cached.render_frame(3, 0);
-    let f1 = cached.render_frame(3, 1);
+    let f0 = cached.run(&Request::new(3)).unwrap();
+    let f1 = cached.run(&Request::new(3).frame(1)).unwrap();
     assert!(f0.stats.rays_cast > 0);
     assert_eq!(f1.stats.trace_s, 0.0, "frame 1 must come from the cache");
     assert_eq!(f1.stats.rays_cast, f0.stats.rays_cast);
     assert!(Arc::ptr_eq(&cached.traced(0.0), &cached.traced(17.5)));
-    let fresh = Simulation::new(scene(&text)).render_frame(3, 1);
+    let fresh = Simulation::new(scene(&text))
+        .run(&Request::new(3).frame(1))
+        .unwrap();
     assert_eq!(fresh.polar_db, f1.polar_db);
     assert_eq!(fresh.truth, f1.truth);
 }
@@ -41,8 +44,8 @@ fn only_spokes_renders_those_spokes_bit_for_bit() {
         wanted[k] = true;
     }
     for sim in [sim.clone(), sim.targets_only()] {
-        let full = sim.render_frame(5, 0);
-        let part = sim.only_spokes(&wanted).render_frame(5, 0);
+        let full = sim.run(&Request::new(5)).unwrap();
+        let part = sim.only_spokes(&wanted).run(&Request::new(5)).unwrap();
         let bins = full.range_bins;
         assert_eq!(part.truth, full.truth);
         for k in 0..spokes {
@@ -89,10 +92,13 @@ fn frozen_scan_is_a_schedule_like_any_other() {
         frozen.dwells().iter().rev().cloned().collect(),
     )
     .unwrap();
-    let a = sim.run(&frozen, 9, &|| {}).unwrap();
-    let b = sim.run(&by_hand, 9, &|| {}).unwrap();
+    let a = sim.run(&Request::new(9).schedule(&frozen)).unwrap();
+    let b = sim.run(&Request::new(9).schedule(&by_hand)).unwrap();
     assert_eq!(a.polar_db, b.polar_db);
-    assert_eq!(a.polar_db, sim.render_frame(9, 2).polar_db);
+    assert_eq!(
+        a.polar_db,
+        sim.run(&Request::new(9).frame(2)).unwrap().polar_db
+    );
 }
 
 /// Schedules that cannot be run are refused with the field and the reason.
@@ -161,7 +167,7 @@ fn noncoherent_integration_averages_independent_pulses() {
             })
             .collect();
         let schedule = Schedule::new(radar, 0, 0.0, dwells).unwrap();
-        let frame = sim.run(&schedule, 5, &|| {}).unwrap();
+        let frame = sim.run(&Request::new(5).schedule(&schedule)).unwrap();
         let powers: Vec<f64> = frame
             .polar_db
             .chunks(frame.range_bins)

@@ -2,6 +2,7 @@
 //! the code `xbandsim validate` prints) and their qualitative behaviour.
 
 use super::common::*;
+use xbandsim::engine::Request;
 use xbandsim::environment::clutter::{git_sigma0_db, nrl_sigma0_db, wind_direction_factor};
 use xbandsim::products::labels::Visibility;
 use xbandsim_validate::{
@@ -147,16 +148,16 @@ fn horizon_hides_targets_and_truth_says_so() {
 fn clutter_drifts_and_is_deterministic() {
     let text = "[environment]\nnoise = false\nmultipath = false\nsea_state = 4.0\nclutter_correlation_m = 60.0\n[radar]\nposition_m = [0.0, 0.0, 10.0]\nspokes = 256\nmax_range_m = 800.0\n";
     let sim = xbandsim::engine::Simulation::new(scene(text));
-    let a = sim.render_frame(9, 0).polar_db;
-    let b = sim.render_frame(9, 0).polar_db;
+    let a = sim.run(&Request::new(9)).unwrap().polar_db;
+    let b = sim.run(&Request::new(9)).unwrap().polar_db;
     assert!(a == b);
-    let c = sim.render_frame(9, 1).polar_db;
+    let c = sim.run(&Request::new(9).frame(1)).unwrap().polar_db;
     assert!(a != c);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
         .unwrap();
-    let d = pool.install(|| sim.render_frame(9, 0).polar_db);
+    let d = pool.install(|| sim.run(&Request::new(9)).unwrap().polar_db);
     assert!(a == d, "clutter depends on the thread count");
 }
 

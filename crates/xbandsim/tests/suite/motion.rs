@@ -5,6 +5,7 @@ use crate::common::{radar_block_no_noise, scene};
 use glam::DVec3;
 use std::f64::consts::TAU;
 use std::sync::Arc;
+use xbandsim::engine::Request;
 use xbandsim::model::motion::KNOT_M_PER_S;
 use xbandsim::model::revolution::beam_crossing_time_s;
 use xbandsim::products::labels::{RadialMotion, RADIAL_CLASS_THRESHOLD_MPS};
@@ -154,7 +155,7 @@ fn truth_carries_the_motion() {
         radar_block_no_noise("spokes = 90\nmax_range_m = 1500.0")
     );
     let sim = Simulation::new(scene(&text));
-    let frame = sim.render_frame(1, 2);
+    let frame = sim.run(&Request::new(1).frame(2)).unwrap();
     let lambda = sim.scene().radar().wavelength_m();
     let own = frame.own_ship.expect("own ship state");
     assert!((own.antenna_position_m.y - 10.0 * KNOT_M_PER_S * 5.0).abs() < 1e-9);
@@ -195,8 +196,8 @@ fn still_objects_are_labelled_still() {
     assert!(s.is_still());
     let sim = Simulation::new(s);
     // Frame 0 first: frame 3 reuses its trace but has its own beam times.
-    assert!((sim.render_frame(0, 0).truth[0].beam_time_s - 0.25 * 2.5).abs() < 1e-12);
-    let frame = sim.render_frame(0, 3);
+    assert!((sim.run(&Request::new(0)).unwrap().truth[0].beam_time_s - 0.25 * 2.5).abs() < 1e-12);
+    let frame = sim.run(&Request::new(0).frame(3)).unwrap();
     let o = &frame.truth[0];
     assert_eq!(o.velocity_mps, [0.0; 3]);
     assert_eq!(o.speed_kn, 0.0);
@@ -222,11 +223,11 @@ fn moving_frames_are_traced_per_revolution_and_deterministic() {
     let b = sim.traced(2.5);
     assert!(!Arc::ptr_eq(&a, &b));
     assert!(Arc::ptr_eq(&a, &sim.traced(0.0)));
-    let f2 = sim.render_frame(7, 2);
-    let f0 = sim.render_frame(7, 0);
+    let f2 = sim.run(&Request::new(7).frame(2)).unwrap();
+    let f0 = sim.run(&Request::new(7)).unwrap();
     let fresh = Simulation::new(scene(&text));
-    assert_eq!(fresh.render_frame(7, 0).polar_db, f0.polar_db);
-    let again = fresh.render_frame(7, 2);
+    assert_eq!(fresh.run(&Request::new(7)).unwrap().polar_db, f0.polar_db);
+    let again = fresh.run(&Request::new(7).frame(2)).unwrap();
     assert_eq!(again.polar_db, f2.polar_db);
     assert_eq!(again.truth, f2.truth);
     assert_ne!(f0.truth[0].position_m, f2.truth[0].position_m);
@@ -303,7 +304,7 @@ fn head_up_and_course_up_turn_the_picture() {
     let settings = spec.ppi_settings().unwrap();
     assert_eq!(settings.orientation, Orientation::HeadUp);
     let sim = Simulation::new(spec.build().unwrap());
-    let frame = sim.render_frame(0, 0);
+    let frame = sim.run(&Request::new(0)).unwrap();
     let up = settings.up_azimuth_rad(frame.own_ship.as_ref());
     assert!((up.to_degrees() - 90.0).abs() < 1e-9);
     let conv = settings.oriented_scan_converter(sim.scene().radar(), up);
@@ -448,20 +449,18 @@ fn tilted_clutter_matches_a_tilted_radar() {
         let level = crate::common::scene(&text(0.0, sea, rain));
         let tilted = crate::common::scene(&text(delta_deg, sea, rain));
         let tilts = vec![sign * delta_deg.to_radians(); 36];
-        let via_spokes = xbandsim::environment::clutter_map::ClutterMap::with_beam_tilts(
+        let via_spokes = xbandsim::signal::clutter_map::ClutterMap::with_beam_tilts(
             level.radar(),
             level.environment(),
-            1,
-            0,
+            xbandsim::rng::FrameKey::new(1, 0),
             samples,
             &tilts,
         )
         .unwrap();
-        let via_radar = xbandsim::environment::clutter_map::ClutterMap::new(
+        let via_radar = xbandsim::signal::clutter_map::ClutterMap::new(
             tilted.radar(),
             tilted.environment(),
-            1,
-            0,
+            xbandsim::rng::FrameKey::new(1, 0),
             samples,
         )
         .unwrap();
@@ -514,7 +513,7 @@ fn true_motion_keeps_the_ground_still() {
     let dir = tempfile::tempdir().unwrap();
     let (mut boxes, mut peaks, mut relative_boxes) = (vec![], vec![], vec![]);
     for k in 0..3u64 {
-        let frame = sim.render_frame(0, k);
+        let frame = sim.run(&Request::new(0).frame(k)).unwrap();
         let own = frame.own_ship.as_ref();
         let g = settings.frame_geometry(radar, own);
         let (x, y) = g.radar_px();
@@ -575,7 +574,7 @@ fn true_motion_keeps_the_ground_still() {
         orientation: xbandsim::products::ppi::Orientation::HeadUp,
         ..settings.clone()
     };
-    let frame = sim.render_frame(0, 2);
+    let frame = sim.run(&Request::new(0).frame(2)).unwrap();
     let own = frame.own_ship.as_ref();
     let g = head_up.frame_geometry(radar, own);
     let (x, y) = g.radar_px();

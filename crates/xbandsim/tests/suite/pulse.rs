@@ -4,6 +4,7 @@
 
 use crate::common::scene;
 use num_complex::Complex32;
+use xbandsim::engine::Request;
 use xbandsim::engine::{Outputs, Schedule, Simulation};
 use xbandsim::model::Scene;
 
@@ -18,7 +19,7 @@ const MOVING: &str = "[radar]\nspokes = 360\nmax_range_m = 900.0\nprf_hz = 1200.
 #[test]
 fn moving_echo_matches_a_per_pulse_trace() {
     let sim = Simulation::new(scene(MOVING));
-    let frame = sim.render_frame(3, 0);
+    let frame = sim.run(&Request::new(3)).unwrap();
     let truth = &frame.truth[0];
     let radar = sim.scene().radar();
     let bins = frame.range_bins;
@@ -46,7 +47,14 @@ fn moving_echo_matches_a_per_pulse_trace() {
             let reference = Simulation::new(posed);
             let traced = reference.traced(0.0);
             let mut scratch = reference.compressor().scratch();
-            reference.compress_pulse(None, &traced.groups, k, pulse, 3, 0, &mut scratch);
+            reference.compress_pulse(
+                None,
+                &traced.groups,
+                k,
+                pulse,
+                xbandsim::rng::FrameKey::new(3, 0),
+                &mut scratch,
+            );
             for (s, y) in sum.iter_mut().zip(&scratch.buffer[..bins]) {
                 *s += y;
             }
@@ -90,15 +98,10 @@ fn doppler_cube_axes_and_noise_calibration() {
         .replace("integration = \"coherent\"\n", "doppler_pulses = 8\n");
     let sim = Simulation::new(scene(&text));
     let frame = sim
-        .render_frame_outputs(
-            1,
-            0,
-            Outputs {
-                doppler_cube: true,
-                ..Default::default()
-            },
-            &|| {},
-        )
+        .run(&Request::new(1).outputs(Outputs {
+            doppler_cube: true,
+            ..Default::default()
+        }))
         .expect("pulse mode gives a cube");
     let cube = frame.doppler_cube.as_ref().unwrap();
     assert_eq!(
@@ -197,7 +200,7 @@ fn spoke_zero_is_continuous_across_north() {
         );
     }
     assert!(d0.pulses[0].time_s < 3.0 * 2.5 && d0.pulses.last().unwrap().time_s > 3.0 * 2.5);
-    let frame = sim.render_frame(1, 0);
+    let frame = sim.run(&Request::new(1)).unwrap();
     let t = &frame.truth[0];
     assert!(t.beam_time_s < 0.0, "seen before north: {}", t.beam_time_s);
     assert!(t.azimuth_deg > 359.0, "bearing {}", t.azimuth_deg);
@@ -235,7 +238,7 @@ fn doppler_colour_marks_approaching_echoes() {
         ..Default::default()
     };
     let frame = sim
-        .render_frame_outputs(5, 0, outputs, &|| {})
+        .run(&Request::new(5).outputs(outputs))
         .expect("pulse mode gives radial velocities");
     let v = frame.radial_velocity.as_ref().unwrap();
     let bins = frame.range_bins;

@@ -5,6 +5,7 @@
 
 use crate::common::scene;
 use num_complex::{Complex32, Complex64};
+use xbandsim::engine::Request;
 use xbandsim::engine::{Outputs, Simulation};
 use xbandsim::model::Scene;
 use xbandsim::processing::direct_correlation;
@@ -16,15 +17,10 @@ const IQ_PULSE: &str = "[radar]\nspokes = 90\nmax_range_m = 600.0\nprf_hz = 1200
 
 fn iq(outputs_sim: &Simulation) -> xbandsim::Frame {
     outputs_sim
-        .render_frame_outputs(
-            2,
-            0,
-            Outputs {
-                iq: true,
-                ..Default::default()
-            },
-            &|| {},
-        )
+        .run(&Request::new(2).outputs(Outputs {
+            iq: true,
+            ..Default::default()
+        }))
         .expect("raw I/Q of a small scene")
 }
 
@@ -67,7 +63,7 @@ fn raw_iq_compresses_to_the_polar_record() {
         assert!(worst < 1e-3, "spoke {k}: {worst}");
     }
     // Capturing changes nothing in the record beyond float32 rounding.
-    let plain = sim.render_frame(2, 0);
+    let plain = sim.run(&Request::new(2)).unwrap();
     let worst = plain
         .polar_db
         .iter()
@@ -251,15 +247,10 @@ fn combined_mode_sees_inside_the_eclipse() {
 fn combined_mode_noise_is_not_coloured() {
     let sim = Simulation::new(scene("[radar]\nspokes = 90\nmax_range_m = 300.0\nprf_hz = 1200.0\npulse_mode = \"combined\"\n[environment]\nclutter = false\nmultipath = false\n[processing]\nmode = \"pulse\"\n"));
     let frame = sim
-        .render_frame_outputs(
-            4,
-            0,
-            Outputs {
-                radial_velocity: true,
-                ..Default::default()
-            },
-            &|| {},
-        )
+        .run(&Request::new(4).outputs(Outputs {
+            radial_velocity: true,
+            ..Default::default()
+        }))
         .unwrap();
     let v = frame.radial_velocity.as_ref().unwrap();
     let join = sim.scene().radar().join_bin();

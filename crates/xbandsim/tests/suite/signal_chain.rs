@@ -6,6 +6,7 @@ use num_complex::{Complex32, Complex64};
 use xbandsim::constants::linear_to_db;
 use xbandsim::echo::{EchoGroups, FractionalDelayKernel};
 use xbandsim::processing::{direct_correlation, PulseCompressor};
+use xbandsim::rng::FrameKey;
 use xbandsim::waveform::{LfmChirp, Window};
 
 /// Point target in bin 2R/c·fs (±0.5 bin) at several off-grid ranges (Richards 2014, §4.3).
@@ -328,9 +329,16 @@ fn raw_spoke_matches_fast_path() {
         );
         let sim = xbandsim::engine::Simulation::new(scene(&text));
         let groups = sim.echo_groups(&sim.trace());
-        let raw = sim.raw_spoke(None, &groups, 0.0, 5, 0, 0);
+        let raw = sim.raw_spoke(None, &groups, 0.0, FrameKey::new(5, 0), 0);
         let mut scratch = sim.compressor().scratch();
-        sim.compress_spoke(None, &groups, 0.0, 5, 0, 0, &mut scratch);
+        sim.compress_pulse(
+            None,
+            &groups,
+            0,
+            &pulse(0, 0.0),
+            FrameKey::new(5, 0),
+            &mut scratch,
+        );
         let peak = raw.compressed.iter().map(|c| c.norm()).fold(0.0, f32::max);
         for (j, (a, b)) in raw.compressed.iter().zip(&scratch.buffer).enumerate() {
             assert!((a - b).norm() < 1e-3 * peak, "bin {j}: {a} vs {b}");
@@ -354,9 +362,16 @@ fn dirty_scratch_does_not_change_the_output() {
         );
         let sim = xbandsim::engine::Simulation::new(scene(&text));
         let groups = sim.echo_groups(&sim.trace());
-        let clutter = sim.clutter_map(9, 0);
+        let clutter = sim.clutter_map(FrameKey::new(9, 0));
         let run = |scratch: &mut xbandsim::processing::SpokeScratch, spoke: u64| {
-            sim.compress_spoke(clutter.as_ref(), &groups, 0.1, 9, 0, spoke, scratch);
+            sim.compress_pulse(
+                clutter.as_ref(),
+                &groups,
+                spoke as usize,
+                &pulse(spoke, 0.1),
+                FrameKey::new(9, 0),
+                scratch,
+            );
             let bins = sim.compressor().num_bins();
             scratch.buffer[..bins].to_vec()
         };
@@ -366,8 +381,8 @@ fn dirty_scratch_does_not_change_the_output() {
         poisoned.fill(Complex32::new(f32::NAN, f32::INFINITY));
         if extra.starts_with("clutter = true") {
             assert!(
-                poisoned.clutter_sea.iter().all(|x| x.is_nan())
-                    && !poisoned.clutter_rain.is_empty(),
+                poisoned.sources.clutter_sea.iter().all(|x| x.is_nan())
+                    && !poisoned.sources.clutter_rain.is_empty(),
                 "the clutter rows should be grown and poisoned"
             );
         }
@@ -393,4 +408,13 @@ fn dirty_scratch_does_not_change_the_output() {
 fn point_north_line() -> String {
     "[[object]]\nname = \"p\"\nshape = \"point\"\nrcs_m2 = 10.0\nposition_m = [0.0, 500.0, 4.0]\n"
         .to_string()
+}
+
+/// Spoke-mode pulse number `number` with the beam at `azimuth_rad`.
+fn pulse(number: u64, azimuth_rad: f64) -> xbandsim::engine::Pulse {
+    xbandsim::engine::Pulse {
+        number,
+        time_s: 0.0,
+        azimuth_rad,
+    }
 }

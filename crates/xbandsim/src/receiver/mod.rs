@@ -1,21 +1,28 @@
-//! Stage: receiver. Thermal noise, and blanking while transmitting.
+//! Stage: receiver — what the set does to the signal between the antenna and the display
+//! (docs/architecture.md, "Signal chain"), in the order a receiver applies it:
 //!
-//! Noise: complex white Gaussian with power `N = k·T0·F·fs` per complex sample (W across 1 Ω;
-//! Skolnik, *Radar Handbook*, 3rd ed., §2.3), i.e. `N/2` in each of I and Q. The pipeline
-//! works in units of the noise rms voltage `√N`, so the generated samples have unit variance.
+//! 1. blanking while transmitting ([`stages::Blanking`]; the thermal noise it switches off is
+//!    the source [`crate::signal::noise::ThermalNoise`]);
+//! 2. the matched filter (`crate::processing`);
+//! 3. gain and sensitivity time control on the compressed signal ([`stages::GainStc`]);
+//! 4. the detector ([`stages::Detector`]: linear power);
+//! 5. the fast time constant ([`stages::Ftc`]);
+//!
+//! and the operator's display controls on a spoke of video ([`video`]).
 //!
 //! Blanking: a real receiver is switched off while its own pulse goes out, so the first
 //! `N_T` samples of the record are zero (docs/physics.md, "Eclipsing"). The fused matched
 //! filter (`crate::processing`) forms the record in the frequency domain and needs the
 //! exact, blanked record only when something arrives inside the blanked interval:
 //! [`Receiver::echo_in_blanking`] decides that.
-//!
-//! Determinism: the noise of pulse p of frame f comes from the stream
-//! `RngKey { seed, frame: f, pulse: p, stream: ReceiverNoise }` (`crate::rng`).
 
-use crate::rng::{RngKey, Stream};
+pub mod stages;
+pub mod video;
+
+use crate::rng::{FrameKey, Stream};
+pub use crate::signal::noise::fill_unit_noise;
+use crate::signal::noise::ThermalNoise;
 use num_complex::Complex32;
-use rand_pcg::Pcg64Mcg;
 
 /// The receiver of a radar: whether it adds thermal noise and whether it is blanked while
 /// transmitting a pulse of `pulse_len` samples.
@@ -72,11 +79,15 @@ impl Receiver {
         clutter || earliest_sample.is_some_and(|e| e < self.pulse_len)
     }
 
-    /// Fills `out` with pulse `pulse`'s unit-power noise of frame `frame` (stream
-    /// `ReceiverNoise` unless [`Receiver::with_noise_stream`] chose another).
-    pub fn fill_noise(&self, seed: u64, frame: u64, pulse: u64, out: &mut [Complex32]) {
-        let mut rng = RngKey::new(seed, frame, pulse, self.noise_stream).rng();
-        fill_unit_noise(&mut rng, out);
+    /// Its thermal noise (stream `ReceiverNoise` unless [`Receiver::with_noise_stream`]
+    /// chose another).
+    pub fn thermal_noise(&self) -> ThermalNoise {
+        ThermalNoise::new(self.noise_stream)
+    }
+
+    /// Fills `out` with pulse `pulse`'s unit-power noise of the revolution `key`.
+    pub fn fill_noise(&self, key: FrameKey, pulse: u64, out: &mut [Complex32]) {
+        self.thermal_noise().fill(key, pulse, out);
     }
 
     /// Blanks `record` while transmitting (zeroes its first `pulse_len` samples), if this
@@ -86,14 +97,5 @@ impl Receiver {
             let n = self.pulse_len.min(record.len());
             record[..n].fill(Complex32::new(0.0, 0.0));
         }
-    }
-}
-
-/// Fills `out` with complex Gaussian noise of unit power (variance ½ in I and in Q).
-pub fn fill_unit_noise(rng: &mut Pcg64Mcg, out: &mut [Complex32]) {
-    let sigma = std::f32::consts::FRAC_1_SQRT_2;
-    for v in out.iter_mut() {
-        let (re, im) = crate::rng::normal_pair(rng);
-        *v = Complex32::new(re * sigma, im * sigma);
     }
 }

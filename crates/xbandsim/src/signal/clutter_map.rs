@@ -28,16 +28,16 @@
 //! Grazing angle over the 4/3 earth: `sin ψ = h/R − R/(2a_e)`; patches with ψ ≤ 0 are beyond
 //! the horizon and return nothing.
 
-use super::clutter::{
+use crate::antenna::SINC_BEAMWIDTH_FACTOR;
+use crate::cache::KeptLast;
+use crate::environment::clutter::{
     git_sigma0_db, k_shape_log10, lognormal_texture, nrl_sigma0_db, weibull_texture_quantile,
     ClutterDistribution, GammaQuantile, GaussianField, Sigma0Model,
 };
-use super::rain::volume_reflectivity_m2_per_m3;
-use crate::antenna::SINC_BEAMWIDTH_FACTOR;
-use crate::cache::KeptLast;
+use crate::environment::rain::volume_reflectivity_m2_per_m3;
 use crate::model::{Environment, Polarisation, Radar};
 use crate::propagation::sin_grazing;
-use crate::rng::{normal_pair, RngKey, Stream};
+use crate::rng::{normal_pair, FrameKey, RngKey, Stream};
 use crate::special::bessel_i0;
 use glam::DVec2;
 use num_complex::Complex32;
@@ -142,7 +142,7 @@ pub(crate) fn texture_field(seed: u64, extent_m: f64, correlation_m: f64) -> Arc
     TEXTURE_FIELDS.get_or_make(
         (seed, extent_m.to_bits(), correlation_m.to_bits()),
         || {
-            let mut rng = RngKey::new(seed, 0, 0, Stream::ClutterTexture).rng();
+            let mut rng = FrameKey::new(seed, 0).texture().rng();
             Arc::new(GaussianField::new(&mut rng, extent_m, correlation_m))
         },
         |f| f.bytes(),
@@ -163,16 +163,15 @@ const FIELD_CACHE_LEN: usize = 8;
 const FIELD_CACHE_BYTES: usize = 64 << 20;
 
 impl ClutterMap {
-    /// The clutter of frame `frame` (the texture drifts with time `frame × rotation period`)
+    /// The clutter of revolution `key` (the texture drifts with time `frame × rotation period`)
     /// for records of `samples` samples; None when there is neither sea clutter nor rain.
     pub fn new(
         radar: &Radar,
         env: &Environment,
-        seed: u64,
-        frame: u64,
+        key: FrameKey,
         samples: usize,
     ) -> Option<ClutterMap> {
-        ClutterMap::with_beam_tilts(radar, env, seed, frame, samples, &[])
+        ClutterMap::with_beam_tilts(radar, env, key, samples, &[])
     }
 
     /// As [`ClutterMap::new`], with spoke k's beam axis raised by `beam_tilt_rad[k]` (the own
@@ -183,11 +182,11 @@ impl ClutterMap {
     pub fn with_beam_tilts(
         radar: &Radar,
         env: &Environment,
-        seed: u64,
-        frame: u64,
+        key: FrameKey,
         samples: usize,
         beam_tilt_rad: &[f64],
     ) -> Option<ClutterMap> {
+        let FrameKey { seed, frame } = key;
         if env.clutter().is_none() && env.rain().is_none() {
             return None;
         }

@@ -1,0 +1,100 @@
+//! Stage: signal sources — what reaches the receiver in one pulse (docs/architecture.md,
+//! "Signal chain"; docs/physics.md, "Pipeline"). Each source adds its contribution to the
+//! pulse's record (noise-rms units, `record_len` samples from the start of transmission)
+//! given the pulse's time and azimuth ([`PulseAt`]) and the revolution's random streams
+//! ([`FrameKey`]):
+//!
+//! - [`targets::FixedEchoes`]: the traced objects' echo groups weighted by the antenna
+//!   pattern at the pulse's azimuth (docs/physics.md §3–§5);
+//! - [`clutter::SeaAndRainClutter`]: the revolution's clutter map ([`clutter_map`]: cell
+//!   geometry, σ0, texture, speckle), fresh speckle every pulse or Doppler-coloured over a
+//!   dwell (docs/physics.md, "Sea clutter", "Rain", §10);
+//! - [`targets::MovingEchoes`]: each moving object's echo advanced to the pulse's time —
+//!   delay walk, carrier phase, bearing and intra-pulse Doppler (docs/physics.md §10);
+//! - [`noise::ThermalNoise`]: the receiver's noise, in its own channel (the fused matched
+//!   filter takes echoes and noise apart).
+//!
+//! The engine's per-dwell loop (`crate::engine`) adds them in that order — the order fixes
+//! the float sums of every output byte, nothing physical — then hands the record to the
+//! receiver and the matched filter.
+
+pub mod clutter;
+pub mod clutter_map;
+pub mod noise;
+pub mod targets;
+
+use crate::rng::FrameKey;
+use crate::schedule::{Dwell, Pulse};
+use clutter_map::DwellClutterScratch;
+use num_complex::Complex32;
+
+/// One pulse as the sources see it.
+#[derive(Debug, Clone, Copy)]
+pub struct PulseAt<'a> {
+    /// The pulse: number (keys its streams), time, antenna azimuth.
+    pub pulse: &'a Pulse,
+    /// The spoke its dwell fills (places the clutter cells the beam sees).
+    pub spoke: usize,
+    /// Its place in the dwell (0 for the first pulse).
+    pub index: usize,
+    /// The revolution's random streams.
+    pub key: FrameKey,
+}
+
+/// A source of received signal: adds its contribution to a pulse's record.
+pub trait Source: Sync {
+    /// Prepares the dwell `dwell` (filling the spoke `dwell.spoke`) before its first pulse: a
+    /// source whose pulses are correlated over the dwell draws them here. Nothing by default.
+    fn begin_dwell(&self, _dwell: &Dwell, _key: FrameKey, _scratch: &mut SourceScratch) {}
+
+    /// Adds this source's signal of pulse `at` into `samples` (the record, noise-rms units),
+    /// with `scratch` for its buffers. Returns the earliest sample it wrote (`Some(0)` for
+    /// returns that start at the radar, such as clutter), which decides whether blanking cuts
+    /// an echo; None when it wrote nothing.
+    fn add_to_pulse(
+        &self,
+        at: &PulseAt,
+        scratch: &mut SourceScratch,
+        samples: &mut [Complex32],
+    ) -> Option<usize>;
+}
+
+/// The sources' buffers of one worker, reused from pulse to pulse (what they held before
+/// never changes an output: tested with NaN).
+#[derive(Debug, Default)]
+pub struct SourceScratch {
+    /// Beam-weighted sea clutter power of the spoke being formed
+    /// ([`clutter_map::ClutterMap::add_to_spoke`]).
+    pub clutter_sea: Vec<f32>,
+    /// Beam-weighted rain power of the spoke being formed.
+    pub clutter_rain: Vec<f32>,
+    /// The dwell's Doppler-coloured clutter, pulse after pulse (pulse mode).
+    pub dwell_clutter: Vec<Complex32>,
+    /// The dwell's pulse times, s.
+    pub dwell_times: Vec<f64>,
+    /// Buffers of [`clutter_map::ClutterMap::add_dwell`].
+    pub dwell_scratch: DwellClutterScratch,
+    /// One mover's impulse response (record length).
+    pub mover: Vec<Complex32>,
+}
+
+impl SourceScratch {
+    /// Fills every buffer with `value` (its real part for real buffers).
+    pub fn fill(&mut self, value: Complex32) {
+        self.clutter_sea.fill(value.re);
+        self.clutter_rain.fill(value.re);
+        self.dwell_clutter.fill(value);
+        self.dwell_times.fill(f64::from(value.re));
+        self.mover.fill(value);
+    }
+}
+
+/// The earlier of two earliest samples.
+#[inline]
+pub(crate) fn earlier(a: Option<usize>, b: Option<usize>) -> Option<usize> {
+    match (a, b) {
+        (Some(x), Some(y)) => Some(x.min(y)),
+        (x, None) => x,
+        (None, y) => y,
+    }
+}
