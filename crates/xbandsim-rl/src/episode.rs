@@ -315,7 +315,8 @@ impl Episode {
         Ok(outcome)
     }
 
-    /// The simulation of a pulse choice (made on first use in the episode).
+    /// The simulation of a pulse choice (made on first use in the episode, sharing the
+    /// episode's traced world).
     fn simulation(&mut self, pulse: crate::action::PulseChoice) -> Result<&Simulation> {
         let i = crate::action::PulseChoice::ALL
             .iter()
@@ -328,7 +329,13 @@ impl Episode {
             }
             let spec = LoadedSpec::from_toml(&self.scene.toml, "episode scene", Path::new("."))?
                 .with_overrides(&settings)?;
-            self.sims[i] = Some(Simulation::new(spec.build()?));
+            let scene = spec.build()?;
+            // Every pulse choice sees the same world: the first simulation made traces it,
+            // the others share its traces and rebuild only their receive chain.
+            self.sims[i] = Some(match self.sims.iter().flatten().next() {
+                Some(traced) => traced.with_scene(scene)?,
+                None => Simulation::new(scene),
+            });
         }
         Ok(self.sims[i].as_ref().expect("made above"))
     }

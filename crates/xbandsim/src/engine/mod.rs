@@ -11,13 +11,15 @@ mod chain;
 mod iq;
 mod request;
 mod trace_cache;
+mod world;
 
 pub use crate::processing::sinks::POLAR_FLOOR_DB;
 pub use crate::schedule::{Dwell, Pulse, Schedule};
 pub use crate::signal::targets::{Mover, MIN_GROUP_AMPLITUDE, MOVING_ECHO_FOLD_ERROR};
 pub use iq::MAX_IQ_BYTES;
 pub use request::Request;
-pub use trace_cache::{TraceCache, Traced};
+pub use trace_cache::{TraceCache, Traced, TracedWorld};
+pub use world::World;
 
 use crate::echo::{EchoGroups, FractionalDelayKernel};
 use crate::error::{Error, Problem, Result};
@@ -31,27 +33,29 @@ use crate::products::{DopplerCube, Frame, FrameStats, RadialVelocity};
 use crate::receiver::stages::GainStc;
 use crate::receiver::Receiver;
 use crate::rng::{FrameKey, Stream};
-use crate::scattering::{build_scene_bvh, trace_scene, ScatterSet};
+use crate::scattering::{trace_scene, ScatterSet};
 use crate::signal::clutter::{ClutterSpeckle, SeaAndRainClutter};
 use crate::signal::clutter_map::ClutterMap;
 use crate::signal::targets::{FilterReach, FixedEchoes, MovingEchoes};
 use crate::signal::PulseAt;
 use chain::{RevolutionSources, SinkPlan};
 use num_complex::Complex32;
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 use std::time::Instant;
 
 /// A scene ready to render.
 #[derive(Clone)]
 pub struct Simulation {
+    /// The scene this simulation renders (its waveform and receiver are this chain's).
     scene: Arc<Scene>,
-    /// The BVH of the scene as written, built on first use: a moving scene's revolutions
-    /// build their own (so a dataset sample with moving targets builds one BVH, not two).
-    bvh: Arc<OnceLock<Arc<Bvh>>>,
+    /// The traced world: the scene's BVH and traces, shared by every simulation made from it
+    /// with [`Simulation::with_scene`].
+    world: Arc<World>,
+    /// This receive chain's traced states: the world's traces and their echo groups.
+    cache: Arc<TraceCache>,
     compressor: PulseCompressor,
     receiver: Receiver,
     kernel: FractionalDelayKernel,
-    cache: Arc<TraceCache>,
     doppler: Option<DopplerPlan>,
     short: Option<ShortChannel>,
     /// Gain and STC on the compressed signal (neutral unless [`Simulation::with_gain_stc`]).
@@ -127,9 +131,10 @@ impl Simulation {
             }
         });
         let range_bin_m = scene.radar().range_bin_m();
+        let scene = Arc::new(scene);
         Simulation {
-            scene: Arc::new(scene),
-            bvh: Arc::new(OnceLock::new()),
+            world: Arc::new(World::new(Arc::clone(&scene))),
+            scene,
             compressor,
             receiver,
             kernel: FractionalDelayKernel::new(),
@@ -198,12 +203,31 @@ impl Simulation {
 
     /// The BVH of the scene as written (every object at its t = 0 pose).
     pub fn bvh(&self) -> &Bvh {
-        self.bvh_shared()
+        self.world.bvh()
     }
 
-    fn bvh_shared(&self) -> &Arc<Bvh> {
-        self.bvh
-            .get_or_init(|| Arc::new(build_scene_bvh(self.scene.objects())))
+    /// The traced world it renders (shared by [`Simulation::with_scene`]).
+    pub fn world(&self) -> &Arc<World> {
+        &self.world
+    }
+
+    /// A simulation of `scene` sharing this one's traced world (BVH and traces): `scene` may
+    /// differ from this one's only in its waveform and receiver (`radar.pulse_width_us`,
+    /// `bandwidth_mhz`, `window`, `pulse_mode`, the short pulse, `receiver_blanking`), which
+    /// are what the receive chain is built from; anything else would change the traces, and
+    /// is refused.
+    pub fn with_scene(&self, scene: Scene) -> Result<Simulation> {
+        if !self.world.scene().same_world_as(&scene) {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                "radar",
+                "a scene with another world",
+                "only the waveform and the receiver (pulse width, bandwidth, window, pulse mode, short pulse, blanking) may differ from the traced world's scene; make a new Simulation for another scene",
+            ));
+        }
+        let mut s = Simulation::new(scene);
+        s.world = Arc::clone(&self.world);
+        Ok(s)
     }
 
     /// The receiver (noise, blanking).
@@ -608,31 +632,29 @@ impl Simulation {
     fn traced_now(&self, start_time_s: f64) -> (Arc<Traced>, bool) {
         let still = self.scene.is_still();
         let lead_s = self.revolution_lead_s();
-        self.cache.get_or_trace(start_time_s, still, || {
+        let mut fresh_world = false;
+        let (traced, fresh) = self.cache.get_or_trace(start_time_s, still, || {
+            let (world, fresh) = self.world.traced(start_time_s, lead_s);
+            fresh_world = fresh;
             let revolution = Revolution::with_lead(&self.scene, start_time_s, lead_s);
-            let bvh = if still {
-                Arc::clone(self.bvh_shared())
-            } else {
-                Arc::new(build_scene_bvh(revolution.scene().objects()))
-            };
-            let set = trace_scene(revolution.scene(), &bvh);
             let groups = if revolution.deck_moves() {
                 let tilts: Vec<f64> = revolution
                     .objects()
                     .iter()
                     .map(|o| o.beam_tilt_rad)
                     .collect();
-                self.echo_groups_tilted(&set, &tilts)
+                self.echo_groups_tilted(&world.set, &tilts)
             } else {
-                self.echo_groups(&set)
+                self.echo_groups(&world.set)
             };
             Traced {
                 revolution,
-                bvh,
-                set,
+                bvh: Arc::clone(&world.bvh),
+                set: Arc::clone(&world.set),
                 groups,
             }
-        })
+        });
+        (traced, fresh && fresh_world)
     }
 
     fn check_schedule(&self, schedule: &Schedule) -> Result<()> {

@@ -1,5 +1,6 @@
-//! The trace cache: the traced contributions and their echo groups of a revolution's scene
-//! state, kept so that pulses and revolutions that see the same state do not trace it again.
+//! The trace caches: a revolution's scene state traced (the traced world's, shared by every
+//! receive chain made from it) and its echo groups (one receive chain's), kept so that pulses
+//! and revolutions that see the same state do not trace or group it again.
 //!
 //! When is a state the same? A still scene (nothing moves: [`crate::model::Scene::is_still`])
 //! is the same at every time and is traced once per [`crate::engine::Simulation`], on first
@@ -13,6 +14,15 @@ use crate::model::Revolution;
 use crate::scattering::ScatterSet;
 use std::sync::{Arc, Mutex};
 
+/// A revolution's scene state traced: what depends on the world and the carrier alone.
+#[derive(Debug)]
+pub struct TracedWorld {
+    /// The BVH of the revolution's scene.
+    pub bvh: Arc<Bvh>,
+    /// Every contribution, with the ray count.
+    pub set: Arc<ScatterSet>,
+}
+
 /// How many revolutions of a moving scene the cache keeps.
 pub const MOVING_STATES_KEPT: usize = 2;
 
@@ -22,22 +32,31 @@ pub struct Traced {
     /// The revolution traced: its still scene and every object's state (for a still scene,
     /// the first revolution asked for; the scene is the same in all).
     pub revolution: Revolution,
-    /// The BVH of the revolution's scene.
+    /// The BVH of the revolution's scene (the traced world's).
     pub bvh: Arc<Bvh>,
-    /// Every contribution, with the ray count.
-    pub set: ScatterSet,
-    /// The contributions grouped into band-limited impulse responses.
+    /// Every contribution, with the ray count (the traced world's).
+    pub set: Arc<ScatterSet>,
+    /// The contributions grouped into band-limited impulse responses for this receive chain.
     pub groups: EchoGroups,
 }
 
-/// The cache (safe to share between threads).
-#[derive(Debug, Default)]
-pub struct TraceCache {
+/// A cache of revolution states (safe to share between threads): traced worlds
+/// ([`TracedWorld`]) or one receive chain's [`Traced`] states.
+#[derive(Debug)]
+pub struct TraceCache<T = Traced> {
     /// (start time's bits, state), newest last; one entry with key 0 for a still scene.
-    states: Mutex<Vec<(u64, Arc<Traced>)>>,
+    states: Mutex<Vec<(u64, Arc<T>)>>,
 }
 
-impl TraceCache {
+impl<T> Default for TraceCache<T> {
+    fn default() -> Self {
+        TraceCache {
+            states: Mutex::new(Vec::new()),
+        }
+    }
+}
+
+impl<T> TraceCache<T> {
     /// The traced state of the revolution starting at `start_time_s`, from the cache or made
     /// by `trace`; `still` says the scene is the same at every time (one state for all). The
     /// `bool` says whether it was traced now.
@@ -45,15 +64,15 @@ impl TraceCache {
         &self,
         start_time_s: f64,
         still: bool,
-        trace: impl FnOnce() -> Traced,
-    ) -> (Arc<Traced>, bool) {
+        trace: impl FnOnce() -> T,
+    ) -> (Arc<T>, bool) {
         let key = if still { 0 } else { start_time_s.to_bits() };
         let slot = || {
             self.states
                 .lock()
                 .unwrap_or_else(|poisoned| poisoned.into_inner())
         };
-        let find = |states: &[(u64, Arc<Traced>)]| {
+        let find = |states: &[(u64, Arc<T>)]| {
             states
                 .iter()
                 .find(|(k, _)| *k == key)

@@ -105,6 +105,16 @@ fn check_trace_memory(
 }
 
 impl Scene {
+    /// Whether `other` is this scene but for its radar's waveform and receiver
+    /// ([`Radar::with_waveform_of`]): the same objects, environment, scattering, own ship,
+    /// processing, and the same radar position, carrier, power, antenna and scan — so that
+    /// both trace alike.
+    pub fn same_world_as(&self, other: &Scene) -> bool {
+        let mut mine = self.clone();
+        mine.radar = self.radar.with_waveform_of(&other.radar);
+        mine == *other
+    }
+
     /// Assembles a scene from validated parts, checking what involves more than one of them:
     /// object names are unique, every object reaches above the sea surface and none sits on
     /// the radar.

@@ -248,6 +248,18 @@ impl Scan {
 }
 
 impl Radar {
+    /// This radar with `other`'s waveform and receiver: its chirp (pulse width, bandwidth,
+    /// sample rate), window, short pulse and blanking. What stays is what a trace depends on.
+    pub fn with_waveform_of(&self, other: &Radar) -> Radar {
+        Radar {
+            chirp: other.chirp,
+            window: other.window,
+            short_pulse: other.short_pulse,
+            receiver_blanking: other.receiver_blanking,
+            ..self.clone()
+        }
+    }
+
     /// The scan (PRF, rotation, spokes, range).
     pub fn scan(&self) -> &Scan {
         &self.scan

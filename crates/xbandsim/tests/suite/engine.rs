@@ -31,6 +31,44 @@ fn trace_cache_traces_once_and_changes_nothing() {
     assert_eq!(fresh.truth, f1.truth);
 }
 
+/// A simulation made by `with_scene` for another pulse shares the traced world: it traces
+/// nothing (for a still and for a moving scene), and its frames have the bytes of a fresh
+/// simulation of that scene. A scene with another world is refused, naming the radar.
+#[test]
+fn another_pulse_shares_the_traced_world_and_changes_nothing() {
+    let moving = "[[object]]\nname = \"boat\"\nshape = \"sphere\"\nradius_m = 2.0\n\
+        position_m = [0.0, 600.0, 2.0]\nspeed_kn = 12.0\ncourse_deg = 90.0\n";
+    for text in [
+        PAPER.replace("scenes/", ""),
+        format!("[radar]\nspokes = 90\nmax_range_m = 1200.0\n{moving}"),
+    ] {
+        let long = Simulation::new(scene(&text));
+        let first = long.run(&Request::new(4)).unwrap();
+        assert!(first.stats.rays_cast > 0);
+        let with = |set: &str| {
+            xbandsim::LoadedSpec::from_toml(&text, "test", std::path::Path::new("."))
+                .and_then(|l| l.with_overrides(&[set.to_string()]))
+                .and_then(|l| l.build())
+                .unwrap()
+        };
+        let shared = long.with_scene(with("radar.pulse_width_us=0.2")).unwrap();
+        assert!(Arc::ptr_eq(shared.world(), long.world()));
+        let frame = shared.run(&Request::new(4)).unwrap();
+        assert_eq!(frame.stats.trace_s, 0.0, "the world was traced already");
+        let fresh = Simulation::new(with("radar.pulse_width_us=0.2"))
+            .run(&Request::new(4))
+            .unwrap();
+        assert_ne!(fresh.polar_db, first.polar_db, "the pulse must matter");
+        assert_eq!(fresh.polar_db, frame.polar_db);
+        assert_eq!(fresh.truth, frame.truth);
+        let Err(e) = long.with_scene(with("radar.position_m=[0.0, 0.0, 20.0]")) else {
+            panic!("a radar moved elsewhere sees another world");
+        };
+        assert_eq!(e.problem(), Some(Problem::Conflict), "{e}");
+        assert!(e.to_string().contains("radar"), "{e}");
+    }
+}
+
 /// A render of some spokes (`only_spokes`, what the dataset's masks read) has those spokes'
 /// bytes from the full frame and the floor everywhere else, with clutter and noise on and in
 /// the target-only render (including a slice shorter than the revolution).

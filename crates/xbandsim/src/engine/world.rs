@@ -1,0 +1,61 @@
+//! Stage: engine, the traced world — what depends on the world and the carrier alone: the
+//! scene's objects and environment, their BVH and every revolution's trace (docs/architecture.md,
+//! "Traced world and receive chain"). The waveform, the matched filter and the receiver are
+//! cheap to rebuild and are not here: every [`crate::engine::Simulation`] made from a world by
+//! [`crate::engine::Simulation::with_scene`] shares it, so an RL environment that changes the
+//! pulse at any step traces each revolution once, not once per pulse choice.
+
+use super::trace_cache::{TraceCache, TracedWorld};
+use crate::geometry::Bvh;
+use crate::model::{Revolution, Scene};
+use crate::scattering::{build_scene_bvh, trace_scene};
+use std::sync::{Arc, OnceLock};
+
+/// A scene's traced world (safe to share between threads).
+#[derive(Debug)]
+pub struct World {
+    scene: Arc<Scene>,
+    /// The BVH of the scene as written, built on first use: a moving scene's revolutions
+    /// build their own (so a dataset sample with moving targets builds one BVH, not two).
+    bvh: OnceLock<Arc<Bvh>>,
+    states: TraceCache<TracedWorld>,
+}
+
+impl World {
+    /// The world of `scene` (nothing traced yet).
+    pub fn new(scene: Arc<Scene>) -> World {
+        World {
+            scene,
+            bvh: OnceLock::new(),
+            states: TraceCache::default(),
+        }
+    }
+
+    /// The scene its traces are of.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The BVH of the scene as written (every object at its t = 0 pose).
+    pub fn bvh(&self) -> &Arc<Bvh> {
+        self.bvh
+            .get_or_init(|| Arc::new(build_scene_bvh(self.scene.objects())))
+    }
+
+    /// The traced state of the revolution starting at `start_time_s` whose beam crossings are
+    /// sought from `lead_s` before it, from the cache or traced now (the `bool`); a still
+    /// scene is traced once for all times.
+    pub fn traced(&self, start_time_s: f64, lead_s: f64) -> (Arc<TracedWorld>, bool) {
+        let still = self.scene.is_still();
+        self.states.get_or_trace(start_time_s, still, || {
+            let revolution = Revolution::with_lead(&self.scene, start_time_s, lead_s);
+            let bvh = if still {
+                Arc::clone(self.bvh())
+            } else {
+                Arc::new(build_scene_bvh(revolution.scene().objects()))
+            };
+            let set = Arc::new(trace_scene(revolution.scene(), &bvh));
+            TracedWorld { bvh, set }
+        })
+    }
+}
