@@ -18,7 +18,10 @@
 //! cannot link), named `<index>.png` or `<index>_<frame>.png`.
 
 use crate::error::{at, invalid_data, Result};
-use crate::generate::{frame_subdir, sample_dir, Format};
+use crate::layout::{
+    coco_image_id, frame_of, frame_subdir, is_label_member, parse_member_name, sample_dir,
+    shard_count, shard_path, shard_rel, Format, CARD,
+};
 use crate::spec::DatasetSpec;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -304,7 +307,7 @@ pub fn assemble(
     let categories = spec.categories();
     // README.md, the dataset card, is the mark of a finished assembly: removed first, written
     // last (a run stopped in between leaves it missing, and the next run assembles again).
-    let card_path = out.join("README.md");
+    let card_path = out.join(CARD);
     // Two runs may assemble at once (shard runs finishing together): every temporary name is
     // the process's own, what one removes the other may already have removed, and both
     // write the same bytes.
@@ -347,26 +350,21 @@ pub fn assemble(
     match format {
         Format::Dir => assemble_dirs(spec, out, count, seed, &categories, &mut w)?,
         Format::WebDataset { samples_per_shard } => {
-            for t in 0..crate::webdataset::shard_count(count, samples_per_shard) {
-                let shard = crate::webdataset::shard_path(out, t);
-                let shard_name = format!("shards/shard-{t:06}.tar");
+            for t in 0..shard_count(count, samples_per_shard) {
+                let shard = shard_path(out, t);
+                let shard_name = shard_rel(t);
                 crate::webdataset::for_each_member(
                     &shard,
-                    &|n| n.ends_with(".coco.json") || n.ends_with(".targets.jsonl"),
+                    &is_label_member,
                     &mut |name, bytes| {
                         // <index>[.frame_KKKK].coco.json
-                        let mut parts = name.split('.');
-                        let index: u64 = parts.next().and_then(|p| p.parse().ok()).unwrap_or(0);
-                        let frame: u64 = parts
-                            .next()
-                            .and_then(|p| p.strip_prefix("frame_"))
-                            .and_then(|k| k.parse().ok())
-                            .unwrap_or(0);
+                        let (index, rel) = parse_member_name(&name).unwrap_or_default();
+                        let frame = frame_of(&rel).unwrap_or(0);
                         if name.ends_with(".coco.json") {
                             w.add_coco(
                                 &shard,
                                 &bytes,
-                                index * spec.frames + frame + 1,
+                                coco_image_id(index, spec.frames, frame),
                                 Some(("shard", shard_name.clone().into())),
                             )
                         } else {
@@ -378,7 +376,7 @@ pub fn assemble(
         }
     }
     let summary = w.finish()?;
-    let mut card = AtomicFile::create(&out.join("README.md"))?;
+    let mut card = AtomicFile::create(&out.join(CARD))?;
     card.write(dataset_card(spec, count, seed, &summary, format).as_bytes())?;
     card.finish()?;
     Ok(summary)
@@ -440,7 +438,7 @@ fn assemble_dirs(
             let frame_dir = sample_dir(out, i).join(frame_subdir(spec.frames, k));
             let coco_path = frame_dir.join("coco.json");
             let bytes = at(&coco_path, std::fs::read(&coco_path))?;
-            w.add_coco(&coco_path, &bytes, i * spec.frames + k + 1, None)?;
+            w.add_coco(&coco_path, &bytes, coco_image_id(i, spec.frames, k), None)?;
             let rows_path = frame_dir.join("targets.jsonl");
             let rows = at(&rows_path, std::fs::read(&rows_path))?;
             w.add_rows(&rows)?;
@@ -553,12 +551,7 @@ fn dataset_card(
     s: &Assembled,
     format: Format,
 ) -> String {
-    let format_args = match format {
-        Format::Dir => String::new(),
-        Format::WebDataset { samples_per_shard } => {
-            format!(" --format webdataset --shard-samples {samples_per_shard}")
-        }
-    };
+    let format_args = format.cli_args();
     let storage = match format {
         Format::Dir => "a folder per sample under `samples/`; YOLO trees `yolo/` and `yolo_obb/`".to_string(),
         Format::WebDataset { samples_per_shard } => format!(

@@ -1,6 +1,7 @@
 //! Generating a dataset into a directory (docs/formats.md, "Dataset directory"), as sample
 //! folders ([`Format::Dir`]) or WebDataset tar shards ([`Format::WebDataset`],
-//! [`crate::webdataset`]):
+//! [`crate::webdataset`]); the names and paths are [`crate::layout`]'s, a sample's files
+//! [`crate::render`]'s:
 //!
 //! ```text
 //! DIR/dataset.json                       the spec, seed, count and software version
@@ -17,18 +18,20 @@
 //! bytes depend only on (spec, seed, i), so shards, job counts and order do not change them.
 
 use crate::error::{DatasetError, Result};
-use crate::labels::{frame_labels, mask_spokes, object_masks, FrameContext};
+use crate::layout::{
+    missing_samples, record_bytes, sample_manifest, shard_count, shard_samples, RECORD,
+};
 use crate::spec::DatasetSpec;
 use rayon::prelude::*;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use xbandsim::engine::Outputs;
-use xbandsim::engine::Request as RenderRequest;
-use xbandsim::products::frame_files::encode_frame_files;
-use xbandsim::Simulation;
 
-/// Samples per group folder under `samples/`.
-pub const SAMPLES_PER_GROUP: u64 = 1000;
+// Names a run's callers reach through this module: the layout's ([`crate::layout`]) and a
+// sample's rendering ([`crate::render`]), both modules below this one.
+pub use crate::layout::{
+    frame_subdir, hex, sample_dir, sha256_hex, Format, MANIFEST, SAMPLES_PER_GROUP,
+};
+pub use crate::render::{render_sample, SampleFiles};
 
 /// Which samples a run makes: those with `index % count == index_of_shard`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -153,54 +156,23 @@ impl Request {
         }
     }
 
+    /// The tar shards this run's shard makes (tar shard t belongs to run `t mod K`), in order.
+    pub fn tar_shards(&self, samples_per_shard: u64) -> Vec<u64> {
+        (0..shard_count(self.count, samples_per_shard))
+            .filter(|&t| self.shard.holds(t))
+            .collect()
+    }
+
     /// Samples this run's shard holds: samples `i mod K = I` in folders, the samples of tar
     /// shards `t mod K = I` in WebDataset shards.
     pub fn samples_in_shard(&self) -> u64 {
         match self.format {
             Format::Dir => (0..self.count).filter(|&i| self.shard.holds(i)).count() as u64,
-            Format::WebDataset { samples_per_shard } => {
-                (0..crate::webdataset::shard_count(self.count, samples_per_shard))
-                    .filter(|&t| self.shard.holds(t))
-                    .map(|t| {
-                        crate::webdataset::shard_samples(t, samples_per_shard, self.count).count()
-                            as u64
-                    })
-                    .sum()
-            }
-        }
-    }
-}
-
-/// How a dataset's samples are stored.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Format {
-    /// A folder per sample under `samples/`.
-    Dir,
-    /// WebDataset tar shards of `samples_per_shard` consecutive samples under `shards/`.
-    WebDataset {
-        /// Samples per tar shard.
-        samples_per_shard: u64,
-    },
-}
-
-impl Format {
-    /// Where sample `index`'s image of frame `frame` is, as its labels name it: a path
-    /// relative to the dataset folder, or a tar member's name.
-    pub fn image_name(&self, index: u64, frames: u64, frame: u64, file: &str) -> String {
-        let sub = frame_subdir(frames, frame);
-        match self {
-            Format::Dir => {
-                let rel = sample_dir(Path::new(""), index).join(&sub).join(file);
-                rel.to_string_lossy().replace('\\', "/")
-            }
-            Format::WebDataset { .. } => crate::webdataset::member_name(
-                index,
-                &if sub.is_empty() {
-                    file.to_string()
-                } else {
-                    format!("{sub}/{file}")
-                },
-            ),
+            Format::WebDataset { samples_per_shard } => self
+                .tar_shards(samples_per_shard)
+                .into_iter()
+                .map(|t| shard_samples(t, samples_per_shard, self.count).count() as u64)
+                .sum(),
         }
     }
 }
@@ -219,46 +191,6 @@ pub struct Summary {
     pub missing: u64,
     /// The index files, when the dataset is complete and they were (re)written.
     pub assembled: Option<crate::assemble::Assembled>,
-}
-
-/// Folder of sample `index` under `out`.
-pub fn sample_dir(out: &Path, index: u64) -> PathBuf {
-    out.join("samples")
-        .join(format!("{:06}", index / SAMPLES_PER_GROUP))
-        .join(format!("{index:09}"))
-}
-
-/// The record of what the dataset is, `dataset.json`: the same spec, seed and count give the
-/// same bytes, so separate shard runs into one folder agree.
-fn dataset_record(spec: &DatasetSpec, request: &Request) -> Result<Vec<u8>> {
-    let (format, layout, per_shard) = match request.format {
-        Format::Dir => (
-            "dir",
-            "samples/<index / 1000 as 6 digits>/<index as 9 digits>/".to_string(),
-            None,
-        ),
-        Format::WebDataset { samples_per_shard } => (
-            "webdataset",
-            "shards/shard-<shard as 6 digits>.tar with <shard>.manifest.json; members <index as 9 digits>.<file>".to_string(),
-            Some(samples_per_shard),
-        ),
-    };
-    let record = serde_json::json!({
-        "generator": format!("xbandsim {}", env!("CARGO_PKG_VERSION")),
-        "count": request.count,
-        "seed": request.seed,
-        "frames_per_sample": spec.frames,
-        "format": format,
-        "samples_per_shard": per_shard,
-        "layout": layout,
-        "spec": spec.text,
-    });
-    serde_json::to_vec_pretty(&record)
-        .map(|mut v| {
-            v.push(b'\n');
-            v
-        })
-        .map_err(|e| DatasetError::spec("(record)", e.to_string()))
 }
 
 fn write_new(path: &Path, bytes: &[u8]) -> Result<()> {
@@ -312,8 +244,14 @@ pub fn generate_until(
     std::fs::create_dir_all(out).map_err(|e| DatasetError::io(out, e))?;
     // While this run lives its temporaries are its own (crate::owner).
     let _owner = crate::owner::Owner::claim(out)?;
-    let record = dataset_record(spec, request)?;
-    let record_path = out.join("dataset.json");
+    let record = record_bytes(
+        &spec.text,
+        spec.frames,
+        request.count,
+        request.seed,
+        request.format,
+    )?;
+    let record_path = out.join(RECORD);
     match std::fs::read(&record_path) {
         Ok(existing) if existing != record => {
             return Err(DatasetError::Mismatch {
@@ -334,16 +272,35 @@ pub fn generate_until(
     // Every scene this run will draw is checked before the first is rendered.
     let pending = match request.format {
         Format::Dir => pending_dir_samples(out, request),
-        Format::WebDataset { samples_per_shard } => {
-            crate::webdataset::pending_samples(out, request, samples_per_shard)
-        }
+        Format::WebDataset { samples_per_shard } => crate::webdataset::pending_samples(
+            out,
+            request.count,
+            samples_per_shard,
+            &request.tar_shards(samples_per_shard),
+        ),
     };
     pool.install(|| crate::check::check_samples(spec, request.seed, &pending, stop))?;
     let mut summary = match request.format {
         Format::Dir => pool.install(|| make_dir_samples(spec, out, request, sample_done, stop))?,
-        Format::WebDataset { samples_per_shard } => pool.install(|| {
-            crate::webdataset::make_shards(spec, out, request, samples_per_shard, sample_done, stop)
-        })?,
+        Format::WebDataset { samples_per_shard } => {
+            let shards = request.tar_shards(samples_per_shard);
+            let made = pool.install(|| {
+                crate::webdataset::make_shards(
+                    spec,
+                    out,
+                    (request.seed, request.count, samples_per_shard),
+                    &shards,
+                    sample_done,
+                    stop,
+                )
+            })?;
+            Summary {
+                in_shard: made.in_shards,
+                skipped: made.skipped,
+                made: made.made,
+                ..Default::default()
+            }
+        }
     };
     if !request.assemble {
         summary.missing = summary.in_shard - summary.skipped - summary.made;
@@ -358,7 +315,7 @@ pub fn generate_until(
             .filter(|&i| !sample_dir(out, i).is_dir())
             .count() as u64,
         Format::WebDataset { samples_per_shard } => {
-            crate::webdataset::missing_samples(out, request.count, samples_per_shard)
+            missing_samples(out, request.count, samples_per_shard)
         }
     };
     // README.md is written last by the assembly (crate::assemble): without it the index
@@ -418,127 +375,6 @@ fn make_dir_samples(
     })
 }
 
-/// The folder of frame `frame` inside a sample's folder (the sample's folder itself when
-/// samples are single frames).
-pub fn frame_subdir(frames: u64, frame: u64) -> String {
-    if frames == 1 {
-        String::new()
-    } else {
-        format!("frame_{frame:04}")
-    }
-}
-
-/// A sample's files: relative names and bytes, in storage order.
-pub type SampleFiles = Vec<(String, Vec<u8>)>;
-
-/// Renders sample `index` of the dataset made with `seed` into its files, in the order they
-/// are stored (relative names, `frame_KKKK/` for sequences): per frame the polar record, the
-/// PPI image(s), truth.json and the labels (coco.json, yolo.txt, yolo_obb.txt,
-/// targets.jsonl; [`crate::labels`]); then scene.toml. The labels name the image as
-/// `format` stores it.
-pub fn render_sample(
-    spec: &DatasetSpec,
-    seed: u64,
-    index: u64,
-    format: Format,
-) -> Result<SampleFiles> {
-    let sample = spec.sample(seed, index)?;
-    let scene_err = |error| DatasetError::Scene { index, error };
-    let loaded = xbandsim::LoadedSpec::from_toml(&sample.scene_toml, "scene.toml", &spec.base_dir)
-        .map_err(scene_err)?;
-    let scene = loaded.build().map_err(scene_err)?;
-    let display = loaded.ppi_settings().map_err(scene_err)?;
-    let sim = Simulation::new(scene);
-    let quiet = sim.targets_only();
-    let outputs = Outputs {
-        doppler_cube: spec.datacube,
-        radial_velocity: display.doppler_colour,
-        ..Default::default()
-    };
-    let name = format!("sample {index}");
-    let categories = spec.categories();
-    let mut written: Vec<(String, Vec<u8>)> = Vec::new();
-    for k in 0..spec.frames {
-        let frame = sim
-            .run(
-                &RenderRequest::new(sample.render_seed)
-                    .frame(k)
-                    .outputs(outputs),
-            )
-            .map_err(scene_err)?;
-        let sub = frame_subdir(spec.frames, k);
-        let encoded = encode_frame_files(
-            sim.scene().radar(),
-            &display,
-            &frame,
-            Path::new(&sub),
-            &name,
-            sample.render_seed,
-            spec.image.images(),
-        )
-        .map_err(scene_err)?;
-        let targets_only = quiet
-            .only_spokes(&mask_spokes(&encoded.objects, frame.spokes))
-            .run(&RenderRequest::new(sample.render_seed).frame(k))
-            .map_err(scene_err)?;
-        let masks = object_masks(
-            &encoded.objects,
-            &targets_only.polar_db,
-            frame.spokes,
-            frame.range_bins,
-            &encoded.converter,
-            spec.mask_threshold_db as f32,
-            sim.scene()
-                .radar()
-                .short_pulse_noise_db()
-                .map(|n| (sim.scene().radar().join_bin(), n as f32)),
-        );
-        let image = format.image_name(index, spec.frames, k, spec.image.labelled_file());
-        let labels = frame_labels(
-            &FrameContext {
-                sample: index,
-                frame: k,
-                frame_start_time_s: frame.start_time_s,
-                image: &image,
-                size_px: encoded.converter.size_px() as usize,
-                range_scale_m: encoded.converter.display_range_m(),
-                azimuth_beamwidth_rad: sim.scene().radar().antenna().az_beamwidth_rad,
-                range_resolution_m: sim.scene().radar().range_resolution_m(),
-                categories: &categories,
-            },
-            &encoded.objects,
-            &masks,
-        );
-        let mut files = encoded.files;
-        files.push(("coco.json", json_line(&labels.coco)));
-        files.push(("yolo.txt", labels.yolo.into_bytes()));
-        files.push(("yolo_obb.txt", labels.yolo_obb.into_bytes()));
-        files.push(("targets.jsonl", labels.targets_jsonl.into_bytes()));
-        for (file, bytes) in files {
-            let rel = if sub.is_empty() {
-                file.to_string()
-            } else {
-                format!("{sub}/{file}")
-            };
-            written.push((rel, bytes));
-        }
-    }
-    let header = format!(
-        "# xbandsim dataset sample {index}: re-render with\n#   xbandsim render scene.toml --seed {}{}\n",
-        sample.render_seed,
-        if spec.frames > 1 {
-            format!(" --frames {}", spec.frames)
-        } else {
-            String::new()
-        }
-    );
-    written.push((
-        "scene.toml".into(),
-        format!("{header}{}", sample.scene_toml).into_bytes(),
-    ));
-    Ok(written)
-}
-
 /// Renders sample `index` ([`render_sample`]) into `out/.partial/<index>-<tag>/` with its
 /// files.sha256 (the sha256 of every other file, in `sha256sum -c` form, written last) and
 /// renames it into place.
@@ -575,9 +411,7 @@ pub fn make_sample(spec: &DatasetSpec, out: &Path, seed: u64, index: u64) -> Res
 /// Writes a sample's files and its manifest into the new folder `partial`.
 fn fill_partial(partial: &Path, written: &SampleFiles) -> Result<()> {
     std::fs::create_dir_all(partial).map_err(|e| DatasetError::io(partial, e))?;
-    let mut manifest = String::new();
     for (rel, bytes) in written {
-        manifest.push_str(&format!("{}  {rel}\n", sha256_hex(bytes)));
         let path = partial.join(rel);
         if let Some(parent) = path.parent() {
             std::fs::create_dir_all(parent).map_err(|e| DatasetError::io(parent, e))?;
@@ -585,25 +419,6 @@ fn fill_partial(partial: &Path, written: &SampleFiles) -> Result<()> {
         std::fs::write(&path, bytes).map_err(|e| DatasetError::io(&path, e))?;
     }
     let manifest_path = partial.join(MANIFEST);
-    std::fs::write(&manifest_path, manifest).map_err(|e| DatasetError::io(&manifest_path, e))
-}
-
-/// Each sample's list of its files' sha256, written last.
-pub const MANIFEST: &str = "files.sha256";
-
-/// Lower-case hex sha256 of `bytes`.
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    use sha2::Digest;
-    hex(&sha2::Sha256::digest(bytes))
-}
-
-/// Lower-case hex of a digest.
-pub fn hex(digest: &[u8]) -> String {
-    digest.iter().map(|b| format!("{b:02x}")).collect()
-}
-
-fn json_line(v: &serde_json::Value) -> Vec<u8> {
-    let mut bytes = v.to_string().into_bytes();
-    bytes.push(b'\n');
-    bytes
+    std::fs::write(&manifest_path, sample_manifest(written))
+        .map_err(|e| DatasetError::io(&manifest_path, e))
 }

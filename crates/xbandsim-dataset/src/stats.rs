@@ -3,7 +3,10 @@
 //! contact sheet of random samples with their boxes drawn.
 
 use crate::error::{invalid_data, DatasetError, Result};
-use crate::generate::{frame_subdir, sample_dir, Format};
+use crate::layout::{
+    frame_file, manifest_path, member_name, missing_samples, read_record, sample_dir, shard_count,
+    shard_path, shard_samples, Format, CARD,
+};
 use rand::seq::SliceRandom;
 use rand::SeedableRng;
 use std::collections::BTreeMap;
@@ -106,28 +109,16 @@ impl Stats {
     }
 }
 
-/// The sample count and frames per sample of the dataset in `out`, from its dataset.json.
+/// The sample count and frames per sample of the dataset in `out`, from its dataset.json
+/// ([`read_record`]).
 pub fn record(out: &Path) -> Result<(u64, u64)> {
     record_format(out).map(|(c, f, _)| (c, f))
 }
 
-/// The sample count, frames per sample and storage format of the dataset in `out`.
+/// The sample count, frames per sample and storage format of the dataset in `out`
+/// ([`read_record`]).
 pub fn record_format(out: &Path) -> Result<(u64, u64, Format)> {
-    let path = out.join("dataset.json");
-    let bytes = std::fs::read(&path).map_err(|e| DatasetError::io(&path, e))?;
-    let v: serde_json::Value =
-        serde_json::from_slice(&bytes).map_err(|e| invalid_data(&path, e.to_string()))?;
-    let format = match (v["format"].as_str(), v["samples_per_shard"].as_u64()) {
-        (Some("webdataset"), Some(0)) => return Err(invalid_data(&path, "samples_per_shard is 0")),
-        (Some("webdataset"), Some(n)) => Format::WebDataset {
-            samples_per_shard: n,
-        },
-        _ => Format::Dir,
-    };
-    match (v["count"].as_u64(), v["frames_per_sample"].as_u64()) {
-        (Some(c), Some(f)) => Ok((c, f, format)),
-        _ => Err(invalid_data(&path, "not an xbandsim dataset record")),
-    }
+    read_record(out).map(|r| (r.count, r.frames, r.format))
 }
 
 impl Stats {
@@ -168,7 +159,7 @@ pub fn stats(out: &Path) -> Result<Stats> {
     let frames = frames_per_sample;
     let mut s = Stats {
         count,
-        indexed: out.join("README.md").is_file(),
+        indexed: out.join(CARD).is_file(),
         ..Stats::default()
     };
     let add_frame = |s: &mut Stats, path: &Path, text: &str| -> Result<()> {
@@ -181,8 +172,7 @@ pub fn stats(out: &Path) -> Result<Stats> {
     match format {
         // A finished dataset's table holds every row: read it, not the shards.
         Format::WebDataset { samples_per_shard }
-            if s.indexed
-                && crate::webdataset::missing_samples(out, count, samples_per_shard) == 0 =>
+            if s.indexed && missing_samples(out, count, samples_per_shard) == 0 =>
         {
             let path = out.join("targets.jsonl");
             let text = std::fs::read_to_string(&path).map_err(|e| DatasetError::io(&path, e))?;
@@ -207,14 +197,13 @@ pub fn stats(out: &Path) -> Result<Stats> {
             }
         }
         Format::WebDataset { samples_per_shard } => {
-            let shards = crate::webdataset::shard_count(count, samples_per_shard);
+            let shards = shard_count(count, samples_per_shard);
             for t in 0..shards {
-                if !crate::webdataset::manifest_path(out, t).is_file() {
+                if !manifest_path(out, t).is_file() {
                     continue;
                 }
-                let path = crate::webdataset::shard_path(out, t);
-                s.samples +=
-                    crate::webdataset::shard_samples(t, samples_per_shard, count).count() as u64;
+                let path = shard_path(out, t);
+                s.samples += shard_samples(t, samples_per_shard, count).count() as u64;
                 crate::webdataset::for_each_member(
                     &path,
                     &|name| name.ends_with("targets.jsonl"),
@@ -233,7 +222,7 @@ pub fn stats(out: &Path) -> Result<Stats> {
                 }
                 s.samples += 1;
                 for k in 0..frames {
-                    let path = dir.join(frame_subdir(frames, k)).join("targets.jsonl");
+                    let path = dir.join(frame_file(frames, k, "targets.jsonl"));
                     let text =
                         std::fs::read_to_string(&path).map_err(|e| DatasetError::io(&path, e))?;
                     add_frame(&mut s, &path, &text)?;
@@ -299,21 +288,14 @@ pub fn contact_sheet(
             .filter(|&i| sample_dir(out, i).is_dir())
             .collect(),
         Format::WebDataset { samples_per_shard } => (0..count)
-            .filter(|&i| crate::webdataset::manifest_path(out, i / samples_per_shard).is_file())
+            .filter(|&i| manifest_path(out, i / samples_per_shard).is_file())
             .collect(),
     };
     present.shuffle(&mut rand_pcg::Pcg64Mcg::seed_from_u64(seed));
     present.truncate(n.max(1));
     present.sort_unstable();
     // Each chosen sample's first frame: its coco.json fragment and image bytes.
-    let first = frame_subdir(frames, 0);
-    let rel = |f: &str| {
-        if first.is_empty() {
-            f.to_string()
-        } else {
-            format!("{first}/{f}")
-        }
-    };
+    let rel = |f: &str| frame_file(frames, 0, f);
     let mut inputs: Vec<(u64, Vec<u8>, Option<Vec<u8>>)> = Vec::new();
     match format {
         Format::Dir => {
@@ -331,10 +313,10 @@ pub fn contact_sheet(
             for (t, list) in by_shard {
                 let names: Vec<String> = list
                     .iter()
-                    .map(|&i| crate::webdataset::member_name(i, &rel("coco.json")))
+                    .map(|&i| member_name(i, &rel("coco.json")))
                     .collect();
                 let mut cocos: BTreeMap<String, Vec<u8>> = BTreeMap::new();
-                let shard = crate::webdataset::shard_path(out, t);
+                let shard = shard_path(out, t);
                 crate::webdataset::for_each_member(
                     &shard,
                     &|m| names.iter().any(|n| n == m),

@@ -4,7 +4,10 @@
 //! directory").
 
 use crate::error::Result;
-use crate::generate::{frame_subdir, sample_dir, sha256_hex, MANIFEST};
+use crate::layout::{
+    frame_file, manifest_line, manifest_path, read_record, sample_dir, sha256_hex, shard_count,
+    shard_samples, Format, MANIFEST,
+};
 use rayon::prelude::*;
 use std::path::Path;
 
@@ -34,24 +37,8 @@ impl VerifyReport {
     }
 }
 
-/// The files each frame of a sample must have (besides one PPI image).
-pub const FRAME_FILES: [&str; 6] = [
-    "polar.npy",
-    "truth.json",
-    "coco.json",
-    "yolo.txt",
-    "yolo_obb.txt",
-    "targets.jsonl",
-];
-
-/// The index files of a complete dataset.
-pub const INDEX_FILES: [&str; 5] = [
-    "annotations.json",
-    "targets.jsonl",
-    "yolo/data.yaml",
-    "yolo_obb/data.yaml",
-    "README.md",
-];
+// Names this module's users reach through it ([`crate::layout`] defines them).
+pub use crate::layout::{FRAME_FILES, INDEX_FILES};
 
 /// What is wrong with sample `index` in `out`, if anything (`Ok(None)`: whole).
 pub fn check_sample(out: &Path, index: u64, frames: u64) -> Option<String> {
@@ -62,7 +49,7 @@ pub fn check_sample(out: &Path, index: u64, frames: u64) -> Option<String> {
     };
     let mut listed = Vec::new();
     for line in manifest.lines() {
-        let Some((hash, file)) = line.split_once("  ") else {
+        let Some((hash, file)) = manifest_line(line) else {
             return Some(format!("{MANIFEST}: malformed line {line:?}"));
         };
         match std::fs::read(dir.join(file)) {
@@ -75,14 +62,7 @@ pub fn check_sample(out: &Path, index: u64, frames: u64) -> Option<String> {
         return Some("scene.toml is not in the sample".into());
     }
     for k in 0..frames {
-        let sub = frame_subdir(frames, k);
-        let name = |f: &str| {
-            if sub.is_empty() {
-                f.to_string()
-            } else {
-                format!("{sub}/{f}")
-            }
-        };
+        let name = |f: &str| frame_file(frames, k, f);
         for f in FRAME_FILES {
             if !listed.contains(&name(f)) {
                 return Some(format!("{} is not in the sample", name(f)));
@@ -98,12 +78,13 @@ pub fn check_sample(out: &Path, index: u64, frames: u64) -> Option<String> {
 /// Checks every sample of the dataset in `out` (in parallel), calling `sample_done` after
 /// each.
 pub fn verify(out: &Path, sample_done: &(dyn Fn() + Sync)) -> Result<VerifyReport> {
-    let (count, frames, format) = crate::stats::record_format(out)?;
-    if let crate::generate::Format::WebDataset {
+    let record = read_record(out)?;
+    let (count, frames, format) = (record.count, record.frames, record.format);
+    if let Format::WebDataset {
         samples_per_shard: per_shard,
     } = format
     {
-        let shards = crate::webdataset::shard_count(count, per_shard);
+        let shards = shard_count(count, per_shard);
         let mut report = VerifyReport {
             count,
             shards,
@@ -113,10 +94,10 @@ pub fn verify(out: &Path, sample_done: &(dyn Fn() + Sync)) -> Result<VerifyRepor
         let results: Vec<(u64, Option<Option<String>>)> = (0..shards)
             .into_par_iter()
             .map(|t| {
-                let r = crate::webdataset::manifest_path(out, t)
+                let r = manifest_path(out, t)
                     .is_file()
                     .then(|| crate::webdataset::check_shard(out, t));
-                for _ in crate::webdataset::shard_samples(t, per_shard, count) {
+                for _ in shard_samples(t, per_shard, count) {
                     sample_done();
                 }
                 (t, r)
@@ -129,7 +110,8 @@ pub fn verify(out: &Path, sample_done: &(dyn Fn() + Sync)) -> Result<VerifyRepor
                 Some(None) => {}
             }
         }
-        report.missing_index_files = ["annotations.json", "targets.jsonl", "README.md"]
+        report.missing_index_files = format
+            .index_files()
             .iter()
             .filter(|f| !out.join(f).is_file())
             .map(|f| f.to_string())
@@ -160,7 +142,8 @@ pub fn verify(out: &Path, sample_done: &(dyn Fn() + Sync)) -> Result<VerifyRepor
             Some(None) => {}
         }
     }
-    report.missing_index_files = INDEX_FILES
+    report.missing_index_files = format
+        .index_files()
         .iter()
         .filter(|f| !out.join(f).is_file())
         .map(|f| f.to_string())

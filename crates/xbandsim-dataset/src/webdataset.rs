@@ -11,47 +11,19 @@
 //! when its manifest is there. A run stopped at any moment redoes only unfinished shards.
 
 use crate::error::{at, DatasetError, Result};
-use crate::generate::{render_sample, Format, Request, SampleFiles, Summary};
+use crate::layout::{hex, sha256_hex, Format, ManifestMember, ShardManifest};
+use crate::render::{render_sample, SampleFiles};
 use crate::spec::DatasetSpec;
 use rayon::prelude::*;
 use sha2::Digest;
 use std::io::{Read, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-/// A sample file's member name in its shard.
-pub fn member_name(index: u64, rel: &str) -> String {
-    format!("{index:09}.{}", rel.replace('/', "."))
-}
-
-/// Shards of a dataset of `count` samples, `per_shard` to a shard.
-pub fn shard_count(count: u64, per_shard: u64) -> u64 {
-    count.div_ceil(per_shard.max(1))
-}
-
-/// Shard t's tar file.
-pub fn shard_path(out: &Path, t: u64) -> PathBuf {
-    out.join("shards").join(format!("shard-{t:06}.tar"))
-}
-
-/// Shard t's manifest.
-pub fn manifest_path(out: &Path, t: u64) -> PathBuf {
-    out.join("shards")
-        .join(format!("shard-{t:06}.manifest.json"))
-}
-
-/// The samples of shard t.
-pub fn shard_samples(t: u64, per_shard: u64, count: u64) -> std::ops::Range<u64> {
-    t * per_shard..((t + 1) * per_shard).min(count)
-}
-
-/// Samples in shards not finished yet.
-pub fn missing_samples(out: &Path, count: u64, per_shard: u64) -> u64 {
-    (0..shard_count(count, per_shard))
-        .filter(|&t| !manifest_path(out, t).is_file())
-        .map(|t| shard_samples(t, per_shard, count).count() as u64)
-        .sum()
-}
+// Names this module's users reach through it ([`crate::layout`] defines them).
+pub use crate::layout::{
+    manifest_path, member_name, missing_samples, shard_count, shard_path, shard_samples,
+};
 
 /// A writer that hashes and counts what passes through.
 struct Hashing<W: Write> {
@@ -73,31 +45,39 @@ impl<W: Write> Write for Hashing<W> {
     }
 }
 
-/// Makes the shards of `request.shard` (shard t belongs to run `t mod K`) that are not done.
+/// What [`make_shards`] did, in samples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ShardsMade {
+    /// Samples of the tar shards asked for.
+    pub in_shards: u64,
+    /// Those in shards already done (skipped).
+    pub skipped: u64,
+    /// Those in shards made now.
+    pub made: u64,
+}
+
+/// Makes the tar shards `shards` (in order) of the dataset of `count` samples made with
+/// `seed`, `per_shard` to a shard, that are not done yet.
 pub fn make_shards(
     spec: &DatasetSpec,
     out: &Path,
-    request: &Request,
-    per_shard: u64,
+    (seed, count, per_shard): (u64, u64, u64),
+    shards: &[u64],
     sample_done: &(dyn Fn() + Sync),
     stop: &AtomicBool,
-) -> Result<Summary> {
+) -> Result<ShardsMade> {
     if per_shard == 0 {
         return Err(DatasetError::argument(
             "--shard-samples",
             "0: a shard needs at least one sample".into(),
         ));
     }
-    let count = request.count;
-    let mine: Vec<u64> = (0..shard_count(count, per_shard))
-        .filter(|&t| request.shard.holds(t))
-        .collect();
     let samples = |t: &u64| shard_samples(*t, per_shard, count).count() as u64;
-    let mut summary = Summary {
-        in_shard: mine.iter().map(samples).sum(),
+    let mut summary = ShardsMade {
+        in_shards: shards.iter().map(samples).sum(),
         ..Default::default()
     };
-    for t in mine {
+    for &t in shards {
         if manifest_path(out, t).is_file() {
             summary.skipped += samples(&t);
             continue;
@@ -105,16 +85,7 @@ pub fn make_shards(
         if stop.load(Ordering::Relaxed) {
             return Err(DatasetError::Interrupted { made: summary.made });
         }
-        let written = write_shard(
-            spec,
-            out,
-            request.seed,
-            t,
-            per_shard,
-            count,
-            sample_done,
-            stop,
-        );
+        let written = write_shard(spec, out, seed, t, per_shard, count, sample_done, stop);
         if let Err(DatasetError::Interrupted { .. }) = written {
             return Err(DatasetError::Interrupted { made: summary.made });
         }
@@ -124,14 +95,15 @@ pub fn make_shards(
     Ok(summary)
 }
 
-/// The samples of the run's tar shards that are not done yet (no manifest), in order.
-pub fn pending_samples(out: &Path, request: &Request, per_shard: u64) -> Vec<u64> {
+/// The samples of the tar shards `shards` that are not done yet (no manifest), in order.
+pub fn pending_samples(out: &Path, count: u64, per_shard: u64, shards: &[u64]) -> Vec<u64> {
     if per_shard == 0 {
         return Vec::new();
     }
-    (0..shard_count(request.count, per_shard))
-        .filter(|&t| request.shard.holds(t) && !manifest_path(out, t).is_file())
-        .flat_map(|t| shard_samples(t, per_shard, request.count))
+    shards
+        .iter()
+        .filter(|&&t| !manifest_path(out, t).is_file())
+        .flat_map(|&t| shard_samples(t, per_shard, count))
         .collect()
 }
 
@@ -216,28 +188,24 @@ fn fill_shard(
                 header.set_entry_type(tar::EntryType::Regular);
                 header.set_cksum();
                 at(tmp, builder.append(&header, bytes.as_slice()))?;
-                members.push(serde_json::json!({
-                    "name": name,
-                    "size": bytes.len(),
-                    "sha256": crate::generate::sha256_hex(&bytes),
-                }));
+                members.push(ManifestMember {
+                    sha256: sha256_hex(&bytes),
+                    size: bytes.len() as u64,
+                    name,
+                });
             }
         }
     }
     let mut hashing = at(tmp, builder.into_inner())?;
     at(tmp, hashing.flush())?;
-    let tar_sha = crate::generate::hex(&hashing.hasher.finalize());
-    let manifest = serde_json::json!({
-        "shard": t,
-        "file": path.file_name().map(|f| f.to_string_lossy().to_string()),
-        "samples": [indices.first(), indices.last()],
-        "tar_bytes": hashing.bytes,
-        "tar_sha256": tar_sha,
-        "members": members,
-    });
-    let mut text = serde_json::to_vec_pretty(&manifest)
-        .map_err(|e| DatasetError::spec("(manifest)", e.to_string()))?;
-    text.push(b'\n');
+    let tar_sha = hex(&hashing.hasher.finalize());
+    let text = ShardManifest::bytes(
+        t,
+        shard_samples(t, per_shard, count),
+        &members,
+        hashing.bytes,
+        &tar_sha,
+    )?;
     at(manifest_tmp, std::fs::write(manifest_tmp, text))?;
     at(path, std::fs::rename(tmp, path))?;
     at(manifest_file, std::fs::rename(manifest_tmp, manifest_file))
@@ -283,9 +251,9 @@ impl<R: Read> Read for HashingReader<R> {
 /// What is wrong with shard t, if anything: its tar and manifest present, every member's
 /// sha256 and the tar's own as the manifest says, no member more or less (read as a stream).
 pub fn check_shard(out: &Path, t: u64) -> Option<String> {
-    let manifest: serde_json::Value = match std::fs::read(manifest_path(out, t))
+    let manifest = match std::fs::read(manifest_path(out, t))
         .map_err(|e| e.to_string())
-        .and_then(|b| serde_json::from_slice(&b).map_err(|e| e.to_string()))
+        .and_then(|b| ShardManifest::parse(&b))
     {
         Ok(m) => m,
         Err(e) => return Some(format!("manifest: {e}")),
@@ -299,7 +267,7 @@ pub fn check_shard(out: &Path, t: u64) -> Option<String> {
         inner: std::io::BufReader::new(file),
         hasher: sha2::Sha256::new(),
     };
-    let listed = manifest["members"].as_array().cloned().unwrap_or_default();
+    let listed = &manifest.members;
     let mut k = 0;
     {
         let mut archive = tar::Archive::new(&mut reader);
@@ -323,10 +291,8 @@ pub fn check_shard(out: &Path, t: u64) -> Option<String> {
             let Some(m) = listed.get(k) else {
                 return Some(format!("{name}: not in the manifest"));
             };
-            if m["name"].as_str() != Some(name.as_str())
-                || m["sha256"].as_str() != Some(crate::generate::sha256_hex(&data).as_str())
-            {
-                return Some(format!("{name}: differs from the manifest"));
+            if let Some(problem) = ShardManifest::member_problem(m, &name, &data) {
+                return Some(problem);
             }
             k += 1;
         }
@@ -338,7 +304,7 @@ pub fn check_shard(out: &Path, t: u64) -> Option<String> {
     if let Err(e) = std::io::copy(&mut reader, &mut std::io::sink()) {
         return Some(format!("{}: {e}", path.display()));
     }
-    let sha = crate::generate::hex(&reader.hasher.finalize());
-    (Some(sha.as_str()) != manifest["tar_sha256"].as_str())
+    let sha = hex(&reader.hasher.finalize());
+    (sha != manifest.tar_sha256)
         .then(|| format!("{}: sha256 differs from the manifest", path.display()))
 }

@@ -23,7 +23,6 @@ returns.
 
 import json
 import os
-import re
 import tarfile
 import warnings
 from typing import Any, Callable, Dict, List, Optional, Tuple, Union
@@ -31,11 +30,9 @@ from typing import Any, Callable, Dict, List, Optional, Tuple, Union
 import numpy as np
 
 from . import _args, _xbandsim
-from .errors import ArgumentTypeError, IncompleteDatasetWarning
+from .errors import ArgumentTypeError, IncompleteDatasetWarning, XbandsimError
 
 PathLike = Union[str, "os.PathLike[str]"]
-
-_MEMBER = re.compile(r"^(\d{9})\.(.+)$")
 
 
 class _Files:
@@ -68,13 +65,15 @@ def _warn_if_unfinished(folder: str, found: int) -> None:
     the assembly; annotations.json before it): a run stopped part-way, shard runs not all
     done, or runs with ``assemble=False`` (``--no-assemble``) whose assembly is still to come."""
     try:
-        with open(os.path.join(folder, "dataset.json"), "rb") as fh:
-            record = json.load(fh)
-        count = int(record["count"])
-    except (OSError, ValueError, KeyError, TypeError):
+        record = _xbandsim.read_record(folder)
+    except XbandsimError:
         return  # not a dataset this version wrote: nothing to compare with
+    count, seed, per = record["count"], record["seed"] or 0, record["shard_samples"]
     missing = max(0, count - found)
-    absent = [f for f in ("annotations.json", "README.md") if not os.path.isfile(os.path.join(folder, f))]
+    absent = [
+        f for f in ("annotations.json", _xbandsim.CARD_FILE)
+        if not os.path.isfile(os.path.join(folder, f))
+    ]
     if not missing and not absent:
         return
     what = []
@@ -82,11 +81,10 @@ def _warn_if_unfinished(folder: str, found: int) -> None:
         what.append(f"{missing} of its {count} samples are missing")
     if absent:
         what.append(f"its index files are not written ({', '.join(absent)} absent)")
-    command = f"xbandsim dataset SPEC --out {folder} --count {count} --seed {record.get('seed', 0)}"
-    call = f"xbandsim.dataset.generate(SPEC, {folder!r}, {count}, {record.get('seed', 0)}"
-    if record.get("format") == "webdataset":
-        per = record.get("samples_per_shard")
-        command += f" --format webdataset --shard-samples {per}"
+    command = f"xbandsim dataset SPEC --out {folder} --count {count} --seed {seed}"
+    command += record["cli_args"]
+    call = f"xbandsim.dataset.generate(SPEC, {folder!r}, {count}, {seed}"
+    if per is not None:
         call += f", shard_samples={per}"
     warnings.warn(
         f"{folder}: unfinished dataset: {' and '.join(what)}; {found} samples are read. "
@@ -159,7 +157,7 @@ class RadarDataset:
             self._spec, self._seed = source, seed
             self._samples = [(i, self._render_closure(i)) for i in range(count)]
         elif os.path.isdir(os.path.join(source, "samples")):
-            self._samples = self._scan_folders(os.path.join(source, "samples"))
+            self._samples = self._scan_folders(source)
             _warn_if_unfinished(source, len(self._samples))
         elif os.path.isdir(os.path.join(source, "shards")):
             self._samples = self._scan_shards(os.path.join(source, "shards"))
@@ -188,32 +186,32 @@ class RadarDataset:
         return load
 
     @staticmethod
-    def _scan_folders(root: str) -> List[Tuple[int, Callable[[], _Files]]]:
+    def _scan_folders(source: str) -> List[Tuple[int, Callable[[], _Files]]]:
+        # The sample folders where the generator puts them (samples/<group>/<index>).
         out = []
-        for group in sorted(os.listdir(root)):
-            gdir = os.path.join(root, group)
-            if not os.path.isdir(gdir):
-                continue
-            for name in sorted(os.listdir(gdir)):
-                folder = os.path.join(gdir, name)
-                if name.isdigit() and os.path.isdir(folder):
-                    out.append((int(name), (lambda f=folder: _folder_sample(f))))
-        return sorted(out, key=lambda s: s[0])
+        for i in _xbandsim.sample_indices(source):
+            folder = os.path.join(source, _xbandsim.sample_dir(i))
+            out.append((i, (lambda f=folder: _folder_sample(f))))
+        return out
 
     @staticmethod
     def _scan_shards(root: str) -> List[Tuple[int, Callable[[], _Files]]]:
         # Index every member's byte range once; items read their bytes with one seek each.
         members: Dict[int, Dict[str, Tuple[str, int, int]]] = {}
-        for shard in sorted(f for f in os.listdir(root) if f.endswith(".tar")):
+        shards = sorted(
+            (t, f) for f in os.listdir(root)
+            if (t := _xbandsim.parse_shard_file_name(f)) is not None
+        )
+        for _, shard in shards:
             path = os.path.join(root, shard)
             with tarfile.open(path) as tar:
                 for m in tar.getmembers():
-                    hit = _MEMBER.match(m.name)
-                    if m.isfile() and hit:
-                        # A sequence's frame folder is joined to the file by a dot in a tar
-                        # (000000042.frame_0003.ppi_gray.png): the folder's name again.
-                        name = re.sub(r"^(frame_\d+)\.", r"\1/", hit.group(2))
-                        members.setdefault(int(hit.group(1)), {})[name] = (
+                    # A sequence's frame folder is joined to the file by a dot in a tar
+                    # (000000042.frame_0003.ppi_gray.png): its (sample, file) from Rust.
+                    hit = _xbandsim.parse_member_name(m.name) if m.isfile() else None
+                    if hit is not None:
+                        index, name = hit
+                        members.setdefault(index, {})[name] = (
                             path,
                             m.offset_data,
                             m.size,
@@ -232,8 +230,11 @@ class RadarDataset:
 
     @staticmethod
     def _frame_prefixes(files: _Files) -> List[str]:
-        frames = sorted({n.split("/")[0] + "/" for n in files.names if n.startswith("frame_")})
-        return frames or [""]
+        # A sequence's files are in frame folders (frame_KKKK/), a single frame's are not.
+        frames = sorted({k for k in map(_xbandsim.frame_of, files.names) if k is not None})
+        if not frames:
+            return [""]
+        return [_xbandsim.frame_file(len(frames), k, "") for k in frames]
 
     def __len__(self) -> int:
         return len(self._samples) * len(self._frames)
@@ -272,7 +273,7 @@ class RadarDataset:
             # The COCO image id annotations.json gives this frame (the assembler's numbering:
             # sample index x frames per sample + frame + 1), also for a count= subset and on
             # the fly, so predictions score against the dataset's own annotations.
-            "image_id": sample * len(self._frames) + f + 1,
+            "image_id": _xbandsim.coco_image_id(sample, len(self._frames), f),
             "sample": sample,
             "frame": f,
         }

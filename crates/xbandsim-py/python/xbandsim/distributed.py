@@ -24,9 +24,7 @@ dependencies of xbandsim itself).
 
 from __future__ import annotations
 
-import hashlib
 import io
-import json
 import os
 import shutil
 import sys
@@ -69,20 +67,20 @@ def _fsspec(url: str) -> Tuple[Any, str]:
 
 
 def _shard_sizes(count: int, shard_samples: int) -> List[int]:
-    """Samples in each tar shard (the last may hold fewer)."""
-    return [min(shard_samples, count - start) for start in range(0, count, shard_samples)]
-
-
-def _shard_name(t: int) -> str:
-    return f"shards/shard-{t:06d}"
+    """Samples in each tar shard (the last may hold fewer), as the generator has them."""
+    sizes = []
+    for t in range(_xbandsim.shard_count(count, shard_samples)):
+        first, end = _xbandsim.shard_samples(t, shard_samples, count)
+        sizes.append(end - first)
+    return sizes
 
 
 def _fetch_record(fs: Any, root: str, folder: str) -> None:
     """Copies the URL's dataset.json (if any) into a local folder, so that the generator run
     there checks it (a URL holding another spec, seed or count is refused before rendering)."""
-    remote = f"{root}/dataset.json"
+    remote = f"{root}/{_xbandsim.RECORD_FILE}"
     if fs.exists(remote):
-        fs.get_file(remote, os.path.join(folder, "dataset.json"))
+        fs.get_file(remote, os.path.join(folder, _xbandsim.RECORD_FILE))
 
 
 def _check_record(fs: Any, root: str, url: str, spec: str, count: int, seed: int,
@@ -100,8 +98,9 @@ def _check_record(fs: Any, root: str, url: str, spec: str, count: int, seed: int
             raise type(e)(f"out {url!r}: {e}".replace(local, url)) from None
         # Object stores have no folders (a no-op there); local and network file systems do.
         fs.makedirs(f"{root}/shards", exist_ok=True)
-        if not fs.exists(f"{root}/dataset.json"):
-            fs.put_file(os.path.join(local, "dataset.json"), f"{root}/dataset.json")
+        record = _xbandsim.RECORD_FILE
+        if not fs.exists(f"{root}/{record}"):
+            fs.put_file(os.path.join(local, record), f"{root}/{record}")
 
 
 def make_block_at_url(
@@ -124,8 +123,8 @@ def make_block_at_url(
     for t in range(block, shards, blocks):
         n = sizes[t]
         summary["in_shard"] += n
-        name = _shard_name(t)
-        if fs.exists(f"{root}/{name}.manifest.json"):
+        tar, manifest = _xbandsim.shard_file(t), _xbandsim.shard_manifest_file(t)
+        if fs.exists(f"{root}/{manifest}"):
             summary["skipped"] += n
             continue
         stage = tempfile.mkdtemp(prefix="xbandsim-shard-")
@@ -133,9 +132,8 @@ def make_block_at_url(
             _fetch_record(fs, root, stage)
             _dataset.generate(spec, stage, count, seed, shard=f"{t}/{shards}", jobs=jobs,
                               shard_samples=shard_samples, assemble=False)
-            fs.put_file(os.path.join(stage, name + ".tar"), f"{root}/{name}.tar")
-            fs.put_file(os.path.join(stage, name + ".manifest.json"),
-                        f"{root}/{name}.manifest.json")
+            fs.put_file(os.path.join(stage, tar), f"{root}/{tar}")
+            fs.put_file(os.path.join(stage, manifest), f"{root}/{manifest}")
         finally:
             shutil.rmtree(stage, ignore_errors=True)
         summary["made"] += n
@@ -145,15 +143,16 @@ def make_block_at_url(
 def _assemble_at_url(fs: Any, root: str, url: str, spec: str, count: int, seed: int,
                      shard_samples: int) -> int:
     """Writes the index files of the dataset at ``url`` once every shard's manifest is there:
-    the label members each shard's COCO and table rows come from are read by byte range (a
-    ustar member is a 512-byte header and its data padded to 512 bytes; each is checked
-    against the manifest's sha256) into a local mirror of label-only tars, the generator
+    the label members each shard's COCO and table rows come from are read by byte range
+    (where the generator's layout puts them, from the manifest; each is checked against the
+    manifest's sha256, in Rust) into a local mirror of label-only tars, the generator
     assembles the mirror, and annotations.json, targets.jsonl and README.md (last) are
     uploaded. Returns the samples still missing (then nothing is written)."""
     sizes = _shard_sizes(count, shard_samples)
     shards = len(sizes)
     missing = sum(
-        n for t, n in enumerate(sizes) if not fs.exists(f"{root}/{_shard_name(t)}.manifest.json")
+        n for t, n in enumerate(sizes)
+        if not fs.exists(f"{root}/{_xbandsim.shard_manifest_file(t)}")
     )
     if missing:
         return missing
@@ -162,39 +161,37 @@ def _assemble_at_url(fs: Any, root: str, url: str, spec: str, count: int, seed: 
         os.makedirs(os.path.join(mirror, "shards"))
         _fetch_record(fs, root, mirror)
         for t in range(shards):
-            name = _shard_name(t)
-            local_manifest = os.path.join(mirror, name + ".manifest.json")
-            fs.get_file(f"{root}/{name}.manifest.json", local_manifest)
-            with open(local_manifest, "rb") as f:
-                manifest = json.load(f)
-            wanted, starts, ends, offset = [], [], [], 0
-            for member in manifest["members"]:
-                size = int(member["size"])
-                if member["name"].endswith((".coco.json", ".targets.jsonl")):
-                    wanted.append(member)
-                    starts.append(offset + 512)
-                    ends.append(offset + 512 + size)
-                offset += 512 + -(-size // 512) * 512
-            paths = [f"{root}/{name}.tar"] * len(wanted)
-            datas = fs.cat_ranges(paths, starts, ends) if wanted else []
-            with tarfile.open(os.path.join(mirror, name + ".tar"), "w",
+            tar_name, manifest = _xbandsim.shard_file(t), _xbandsim.shard_manifest_file(t)
+            local_manifest = os.path.join(mirror, manifest)
+            fs.get_file(f"{root}/{manifest}", local_manifest)
+            wanted = _xbandsim.shard_label_ranges(local_manifest)
+            names = [name for name, _, _ in wanted]
+            paths = [f"{root}/{tar_name}"] * len(wanted)
+            datas = (
+                fs.cat_ranges(paths, [s for _, s, _ in wanted], [e for _, _, e in wanted])
+                if wanted else []
+            )
+            problem = _xbandsim.check_shard_members(local_manifest, list(zip(names, datas)))
+            if problem is not None:
+                raise XbandsimIOError(
+                    f"{url}/{tar_name}: {problem} (xbandsim dataset verify on a mounted copy "
+                    "says more)"
+                )
+            with tarfile.open(os.path.join(mirror, tar_name), "w",
                               format=tarfile.USTAR_FORMAT) as tar:
-                for member, data in zip(wanted, datas):
-                    if hashlib.sha256(data).hexdigest() != member["sha256"]:
-                        raise XbandsimIOError(
-                            f"{url}/{name}.tar: member {member['name']} differs from "
-                            "its manifest (xbandsim dataset verify on a mounted copy says more)"
-                        )
-                    info = tarfile.TarInfo(member["name"])
+                for name, data in zip(names, datas):
+                    info = tarfile.TarInfo(name)
                     info.size = len(data)
                     tar.addfile(info, io.BytesIO(data))
-        if fs.exists(f"{root}/README.md"):
-            fs.rm_file(f"{root}/README.md")  # the card marks a finished assembly: gone first
+        card = _xbandsim.CARD_FILE
+        if fs.exists(f"{root}/{card}"):
+            fs.rm_file(f"{root}/{card}")  # the card marks a finished assembly: gone first
         final = _dataset.generate(spec, mirror, count, seed, jobs=1,
                                   shard_samples=shard_samples)
         if final["missing"]:
             return int(final["missing"])
-        for index_file in ("annotations.json", "targets.jsonl", "README.md"):
+        # The card comes last in the list, as it is written last.
+        for index_file in _xbandsim.index_files(shard_samples):
             fs.put_file(os.path.join(mirror, index_file), f"{root}/{index_file}")
         return 0
     finally:
@@ -279,7 +276,7 @@ def generate(
             "(docs/distributed.md)",
             "conflict",
         )
-    units = count if shard_samples is None else -(-count // shard_samples)
+    units = count if shard_samples is None else _xbandsim.shard_count(count, shard_samples)
     if blocks is not None and blocks > units:
         raise _args.error(
             "blocks",
@@ -346,10 +343,10 @@ def generate(
             ]
         )
         # README.md (the card) is the index files' last.
-        card = os.path.isfile(os.path.join(out, "README.md"))
+        card = os.path.isfile(os.path.join(out, _xbandsim.CARD_FILE))
     else:
         missing = _assemble_at_url(fs, root, url, spec, count, seed, int(shard_samples))
-        card = fs.exists(f"{root}/README.md")
+        card = fs.exists(f"{root}/{_xbandsim.CARD_FILE}")
     made = sum(r["made"] for r in results)
     in_blocks = sum(r["in_shard"] for r in results)
     return {
@@ -388,9 +385,9 @@ def samples(spec: PathLike, count: int, seed: int = 0, *, cpus_per_task: float =
 
 
 def _webdataset_row(row: Dict[str, Any]) -> Dict[str, Any]:
-    flat: Dict[str, Any] = {"__key__": f"{int(row['index']):09d}"}
+    flat: Dict[str, Any] = {"__key__": _xbandsim.sample_key(int(row["index"]))}
     for name, data in row["files"].items():
-        flat[name.replace("/", ".")] = bytes(data)
+        flat[_xbandsim.member_extension(name)] = bytes(data)
     return flat
 
 
