@@ -1,0 +1,184 @@
+//! Clutter map, stages σ0 and rain along one spoke. Each sea patch's mean power is
+//! `σ0(ψ, wind)·A·Pt·G0²·λ²·Gn_el(−ψ)²/((4π)³·R⁴·L·N)` (its radar-equation factor from the
+//! cell geometry, σ0 from the NRL or GIT model at the spoke's angle to the wind), each rain
+//! patch's `η·V` with the rain rate where the patch lies; both times the two-way rain loss
+//! along the slant path to them (docs/physics.md, "Sea clutter", "Rain", §2.7). A deck that
+//! rolls and pitches raises the spoke's beam: the elevation gain and the rain's elevation
+//! integral are then taken on the tilted pattern.
+
+use super::geometry::{CellGeometry, MapGeometry};
+use crate::environment::clutter::{git_sigma0_db, Sigma0Model};
+use crate::environment::rain::volume_reflectivity_m2_per_m3;
+use crate::model::{Environment, Radar};
+use crate::propagation::rain_attenuation::RainAttenuator;
+use glam::DVec2;
+
+/// Two-way power loss `10^(−2·A/10)` of a one-way rain attenuation `A` (dB).
+#[inline]
+fn two_way_rain_loss(one_way_db: f64) -> f64 {
+    (-2.0 * one_way_db / 10.0 * std::f64::consts::LN_10).exp()
+}
+
+/// What every spoke of a map shares for its σ0 and rain rows.
+pub(super) struct SpokeStage<'a> {
+    geometry: &'a MapGeometry,
+    cells: &'a [Option<CellGeometry>],
+    env: &'a Environment,
+    radar: &'a Radar,
+    attenuator: Option<RainAttenuator<'a>>,
+    /// Two-way rain loss of each row along a spoke that crosses no rain cell (the uniform
+    /// rain alone: the same for every such spoke), so once per map, not once per spoke.
+    uniform_rain_loss: Vec<f64>,
+    /// How far the texture field has drifted downwind, m.
+    drift: DVec2,
+    beam_tilt_rad: &'a [f64],
+}
+
+impl<'a> SpokeStage<'a> {
+    /// The stage of a map of revolution `frame` (the texture drifts for `frame` rotation
+    /// periods), spoke k's beam raised by `beam_tilt_rad[k]`.
+    pub(super) fn new(
+        radar: &'a Radar,
+        env: &'a Environment,
+        geometry: &'a MapGeometry,
+        cells: &'a [Option<CellGeometry>],
+        frame: u64,
+        beam_tilt_rad: &'a [f64],
+    ) -> SpokeStage<'a> {
+        let t_s = frame as f64 * 60.0 / radar.rotation_rpm();
+        let drift = env.clutter().map_or(DVec2::ZERO, |c| {
+            // Downwind is opposite to where the wind comes from.
+            let to = c.wind_from_rad() + std::f64::consts::PI;
+            DVec2::new(to.sin(), to.cos()) * c.drift_m_per_s() * t_s
+        });
+        let attenuator = env
+            .rain()
+            .as_ref()
+            .map(|r| r.attenuator(geometry.freq_ghz, geometry.horizontal));
+        let uniform_rain_loss: Vec<f64> = attenuator.as_ref().map_or_else(Vec::new, |a| {
+            cells
+                .iter()
+                .map(|r| {
+                    r.as_ref().map_or(1.0, |r| {
+                        two_way_rain_loss(a.one_way_db_path_along(
+                            &[],
+                            r.ground_m,
+                            r.slant_m,
+                            geometry.h,
+                            0.0,
+                        ))
+                    })
+                })
+                .collect()
+        });
+        SpokeStage {
+            geometry,
+            cells,
+            env,
+            radar,
+            attenuator,
+            uniform_rain_loss,
+            drift,
+            beam_tilt_rad,
+        }
+    }
+
+    /// Spoke k's texture-free sea and rain power per patch (noise units, the rain row empty
+    /// without rain) into `sea_row` and `rain_row`; when `textured`, the sea cells' sample
+    /// index and drifted field coordinates into `textured_cells`.
+    pub(super) fn fill_rows(
+        &self,
+        k: usize,
+        textured: bool,
+        textured_cells: &mut Vec<(usize, f64, f64)>,
+        sea_row: &mut [f32],
+        rain_row: &mut [f32],
+    ) {
+        let g = self.geometry;
+        let (h, lambda, delta, ant) = (g.h, g.lambda, g.delta, &g.ant);
+        let clutter = self.env.clutter();
+        let has_rain = self.env.rain().is_some();
+        let radar_xy = self.radar.position_m().truncate();
+        let az = self.radar.spoke_azimuth_rad(k);
+        let dir = DVec2::new(az.sin(), az.cos());
+        // Rain attenuation intervals along this spoke (one-way dB as a function of ground
+        // range).
+        let chords = self
+            .attenuator
+            .as_ref()
+            .map(|a| a.chords(radar_xy, dir))
+            .unwrap_or_default();
+        let rain_db = |g: f64, r: f64| {
+            self.attenuator
+                .as_ref()
+                .map_or(0.0, |a| a.one_way_db_path_along(&chords, g, r, h, 0.0))
+        };
+        let wind_rel = clutter.map_or(0.0, |c| az - c.wind_from_rad());
+        let cos_rel = wind_rel.cos();
+        let tilt = self.beam_tilt_rad.get(k).copied().unwrap_or(0.0);
+        let tilted = ant.tilted_by(tilt);
+        // ∫_{x−δ}^{x} Gn²(e) de on the level antenna's pattern (8-point midpoint rule).
+        let edge = |x: f64| {
+            let steps = 8;
+            (0..steps)
+                .map(|i| x - tilt + tilt * (i as f64 + 0.5) / steps as f64)
+                .map(|e| ant.elevation_pattern(e).powi(2))
+                .sum::<f64>()
+                * tilt
+                / steps as f64
+        };
+        let mut last_rain = (f64::NAN, 0.0);
+        for (n, row) in self.cells.iter().enumerate() {
+            let Some(row) = row else { continue };
+            let (sea_factor, rain_volume_factor) = if tilt == 0.0 {
+                (row.sea_factor, row.rain_volume_factor)
+            } else {
+                let (lo, hi) = row.rain_limits;
+                let level = row.rain_volume_factor / row.rain_per_integral;
+                (
+                    row.sea_factor_per_gain * tilted.elevation_pattern(row.depression).powi(2),
+                    row.rain_per_integral * (level + edge(lo) - edge(hi)).max(0.0),
+                )
+            };
+            let p = radar_xy + dir * row.ground_m;
+            let rain_loss = if has_rain {
+                if chords.is_empty() {
+                    self.uniform_rain_loss[n]
+                } else {
+                    two_way_rain_loss(rain_db(row.ground_m, row.slant_m))
+                }
+            } else {
+                1.0
+            };
+            if let Some(c) = clutter {
+                let sigma0 = match c.model() {
+                    // exp(b·cos φ)/I0(b): wind_direction_factor with per-row constants.
+                    Sigma0Model::Nrl => row.sigma0_nrl * (row.dir_b * cos_rel).exp() * row.dir_norm,
+                    Sigma0Model::Git => 10f64.powf(
+                        git_sigma0_db(
+                            g.freq_ghz,
+                            c.sea_state(),
+                            g.horizontal,
+                            row.grazing_rad,
+                            wind_rel,
+                        ) / 10.0,
+                    ),
+                };
+                let mean = sigma0 * sea_factor;
+                sea_row[n] = (mean * rain_loss * delta) as f32;
+                if textured {
+                    let x = p - self.drift;
+                    textured_cells.push((n, x.x, x.y));
+                }
+            }
+            if let Some(rain) = &self.env.rain() {
+                // η changes only at cell edges along a spoke: recomputed when the rate does.
+                let rate = rain.rate_at(p);
+                if rate.to_bits() != last_rain.0.to_bits() {
+                    last_rain = (rate, volume_reflectivity_m2_per_m3(rate, lambda));
+                }
+                rain_row[n] = (last_rain.1 * rain_volume_factor * rain_loss * delta) as f32;
+            }
+        }
+    }
+}
