@@ -4,6 +4,7 @@
 use crate::harness::*;
 use crate::{check, Checks, Tolerance};
 use serde::Serialize;
+use xbandsim::antenna::Pattern;
 use xbandsim::constants::{linear_to_db, SPEED_OF_LIGHT_M_PER_S};
 use xbandsim::engine::Request;
 use xbandsim::engine::Simulation;
@@ -38,9 +39,7 @@ pub fn clutter_mean_power_db(sea_state: f64, range_m: f64) -> (f64, f64) {
         );
         let ground = (r * r - h * h).sqrt();
         let area = ground
-            * xbandsim::signal::clutter_map::two_way_beam_integral_rad(
-                radar.antenna().az_beamwidth_rad,
-            )
+            * two_way_beam_integral_rad(radar.antenna().az_beamwidth_rad)
             * SPEED_OF_LIGHT_M_PER_S
             / (2.0 * radar.chirp().bandwidth_hz)
             / psi.cos();
@@ -219,7 +218,7 @@ pub fn rain_clutter_power_db(rate_mm_per_h: f64, bin: usize) -> (f64, f64) {
     let (sim, frame) = render_text(&text, 3);
     let radar = sim.scene().radar();
     let ant = &radar.antenna();
-    let beam = |bw: f64| xbandsim::signal::clutter_map::two_way_beam_integral_rad(bw);
+    let beam = |bw: f64| two_way_beam_integral_rad(bw);
     let eta = xbandsim::environment::rain::volume_reflectivity_m2_per_m3(
         rate_mm_per_h,
         radar.wavelength_m(),
@@ -384,4 +383,9 @@ pub(crate) fn checks(out: &mut Checks) {
         Tolerance::Relative(0.002),
         "Skolnik 2001, §8.2",
     ));
+}
+
+/// The two-way azimuth integral `∫Gn²(θ)dθ` of the sinc² pattern of beamwidth `bw`, rad.
+fn two_way_beam_integral_rad(bw: f64) -> f64 {
+    Pattern::sinc2(bw).two_way_integral_rad()
 }

@@ -488,11 +488,11 @@ const ENVELOPE_MARGIN: f64 = 1.0 + 1e-6;
 /// sidelobes of most beams, and their sines are not computed.
 #[inline]
 fn surely_below(g: &EchoGroup, antenna: &Antenna, beam_az_rad: f64, min_amplitude: f32) -> bool {
-    let u_tx = antenna.azimuth_pattern_abs_u(g.az_tx_rad - beam_az_rad);
+    let u_tx = antenna.azimuth_inverse_envelope(g.az_tx_rad - beam_az_rad);
     let u_rx = if g.az_rx_rad.to_bits() == g.az_tx_rad.to_bits() {
         u_tx
     } else {
-        antenna.azimuth_pattern_abs_u(g.az_rx_rad - beam_az_rad)
+        antenna.azimuth_inverse_envelope(g.az_rx_rad - beam_az_rad)
     };
     f64::from(g.peak) * ENVELOPE_MARGIN < f64::from(min_amplitude) * (u_tx * u_rx)
 }
@@ -735,8 +735,8 @@ mod tests {
                     offset: 0,
                     peak,
                 };
-                let u_tx = antenna.azimuth_pattern_abs_u(az_tx - beam);
-                let u_rx = antenna.azimuth_pattern_abs_u(az_tx + apart - beam);
+                let u_tx = antenna.azimuth_inverse_envelope(az_tx - beam);
+                let u_rx = antenna.azimuth_inverse_envelope(az_tx + apart - beam);
                 let threshold = f64::from(min) * u_tx * u_rx;
                 for scale in [0.5, 0.999_998, 0.999_999_5, 1.0, 1.000_001, 2.0] {
                     let g = group((threshold * scale) as f32);

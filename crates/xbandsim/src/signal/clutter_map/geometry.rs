@@ -7,16 +7,11 @@
 //! two-way azimuth weights that spread each patch over the neighbouring spokes
 //! (docs/physics.md, "Sea clutter", "Rain").
 
-use crate::antenna::{Antenna, SINC_BEAMWIDTH_FACTOR};
+use crate::antenna::Antenna;
 use crate::environment::clutter::{k_shape_log10, nrl_sigma0_db};
 use crate::model::{Environment, Polarisation, Radar};
 use crate::propagation::sin_grazing;
 use crate::special::bessel_i0;
-
-/// Two-way azimuth beam integral `∫Gn²(θ)dθ` of the sinc² pattern, rad.
-pub fn two_way_beam_integral_rad(beamwidth_3db_rad: f64) -> f64 {
-    (2.0 * std::f64::consts::PI / 3.0) * beamwidth_3db_rad / SINC_BEAMWIDTH_FACTOR
-}
 
 /// The radar's side of a map: what every cell's geometry uses.
 pub(super) struct MapGeometry {
@@ -77,12 +72,13 @@ impl MapGeometry {
         }
     }
 
-    /// Azimuth weights Gn²(jδ) over ±2 first nulls, scaled so that Σ w_j·δ = the two-way
-    /// beam integral (w carries Gn², the patch carries δ).
+    /// Azimuth weights Gn²(jδ) over ±2 first nulls of the antenna's azimuth [`crate::antenna::Pattern`],
+    /// scaled so that Σ w_j·δ = its two-way integral (w carries Gn², the patch carries δ).
     pub(super) fn azimuth_weights(&self) -> Vec<f32> {
         let (ant, delta, spokes) = (&self.ant, self.delta, self.spokes);
-        let beam_integral = two_way_beam_integral_rad(ant.az_beamwidth_rad);
-        let null = std::f64::consts::PI * ant.az_beamwidth_rad / SINC_BEAMWIDTH_FACTOR;
+        let pattern = ant.azimuth();
+        let beam_integral = pattern.two_way_integral_rad();
+        let null = pattern.first_null_rad();
         let half = ((2.0 * null / delta).ceil() as usize).min(spokes / 2);
         let raw: Vec<f64> = (-(half as isize)..=half as isize)
             .map(|j| ant.azimuth_pattern(j as f64 * delta).powi(2))

@@ -36,7 +36,6 @@ mod speckle;
 mod spoke;
 mod texture;
 
-pub use geometry::two_way_beam_integral_rad;
 pub use speckle::{doppler_lines, DwellClutterScratch, GaussianDoppler, MAX_DOPPLER_LINES};
 #[cfg(test)]
 pub(crate) use texture::{texture_field, TEXTURE_FIELDS};
