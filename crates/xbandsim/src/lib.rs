@@ -26,6 +26,7 @@
 
 pub mod antenna;
 pub mod cache;
+pub mod choice;
 pub mod constants;
 pub mod echo;
 pub mod engine;

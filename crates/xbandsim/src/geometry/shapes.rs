@@ -16,7 +16,7 @@
 use super::mesh::TriangleMesh;
 use super::procedural::{buoy_primitives, vessel_primitives, BuoyParams, VesselParams};
 use super::{Aabb, Primitive, PrimitiveKind};
-use crate::scene::ShapeName;
+use crate::choice::ShapeName;
 use glam::{DMat3, DVec3};
 use std::sync::Arc;
 

@@ -8,52 +8,9 @@ use crate::error::{Error, Problem, Result};
 use crate::scene::{ProcessingSpec, WindowName};
 use crate::waveform::Window;
 
-/// How a revolution's pulses are fired.
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Default,
-    serde::Deserialize,
-    serde::Serialize,
-    schemars::JsonSchema,
-)]
-#[serde(rename_all = "lowercase")]
-pub enum ProcessingMode {
-    /// One pulse per spoke, one scene state per revolution (each object where the beam
-    /// crosses it): the fast path.
-    #[default]
-    Spoke,
-    /// Every pulse at the PRF while the antenna turns; each pulse sees the scene at its own
-    /// time (moving echoes advance in phase and delay from pulse to pulse).
-    Pulse,
-}
+pub use crate::choice::ProcessingMode;
 
-/// How the pulses of a spoke are combined into its row of the record.
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Default,
-    serde::Deserialize,
-    serde::Serialize,
-    schemars::JsonSchema,
-)]
-#[serde(rename_all = "lowercase")]
-pub enum Integration {
-    /// Mean power of the spoke's pulses.
-    #[default]
-    Noncoherent,
-    /// Power of the coherent sum over the number of pulses, `|Σ y_m|²/M` (zero-Doppler
-    /// filter: +10·log10 M on a still target, noise stays at 0 dB).
-    Coherent,
-    /// The one pulse nearest the spoke's azimuth, alone.
-    None,
-}
+pub use crate::choice::Integration;
 
 /// Validated processing settings.
 #[derive(Debug, Clone, PartialEq)]

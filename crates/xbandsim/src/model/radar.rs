@@ -372,19 +372,7 @@ impl Radar {
     }
 }
 
-/// Linear polarisation used for both transmit and receive: "HH" or "VV" in a scene file
-/// (any case; "H" and "V" also read).
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize, serde::Serialize, schemars::JsonSchema,
-)]
-pub enum Polarisation {
-    /// Horizontal transmit, horizontal receive.
-    #[serde(rename = "HH", alias = "hh", alias = "Hh", alias = "H", alias = "h")]
-    Hh,
-    /// Vertical transmit, vertical receive.
-    #[serde(rename = "VV", alias = "vv", alias = "Vv", alias = "V", alias = "v")]
-    Vv,
-}
+pub use crate::choice::Polarisation;
 
 impl std::fmt::Display for Polarisation {
     /// "HH" or "VV".

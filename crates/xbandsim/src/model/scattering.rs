@@ -5,18 +5,7 @@ use super::checks::positive;
 use crate::error::{Error, Problem, Result};
 use crate::scene::ScatteringSpec;
 
-/// Which scattering amplitude model turns ray hits into echoes.
-#[derive(
-    Debug, Clone, Copy, PartialEq, serde::Deserialize, serde::Serialize, schemars::JsonSchema,
-)]
-#[serde(rename_all = "lowercase")]
-pub enum ScatteringModel {
-    /// Physical-optics ray tubes calibrated to the radar equation.
-    #[serde(rename = "po")]
-    PhysicalOptics,
-    /// The seed paper's law `A = 1/(1 + ℓ²/1000)` on a uniform scan grid (uncalibrated).
-    Paper,
-}
+pub use crate::choice::ScatteringModel;
 
 /// Memory one PO ray tube may take while a scene is traced: its return and the
 /// contribution made from it, with room for the echo groups' per-contribution data (a

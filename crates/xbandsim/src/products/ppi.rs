@@ -402,42 +402,9 @@ pub fn colour_image_marked(
     rgb
 }
 
-/// `display.orientation`: which true bearing the PPI shows straight up.
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Default,
-    serde::Deserialize,
-    serde::Serialize,
-    schemars::JsonSchema,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum Orientation {
-    /// North at the top.
-    #[default]
-    NorthUp,
-    /// The own ship's heading at the top (needs `[own_ship]`).
-    HeadUp,
-    /// The own ship's course over ground at the top (its heading while it stands still;
-    /// needs `[own_ship]`).
-    CourseUp,
-}
+pub use crate::choice::Orientation;
 
-/// `display.motion`: what the PPI keeps fixed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, schemars::JsonSchema)]
-#[serde(rename_all = "kebab-case")]
-pub enum Motion {
-    /// Relative motion: the own ship (the antenna) at the image centre; the picture moves
-    /// past it.
-    #[default]
-    Relative,
-    /// True motion: the picture fixed to the ground, centred on the antenna's position at
-    /// t = 0; the own ship moves across it.
-    True,
-}
+pub use crate::choice::Motion;
 
 /// Reads `"relative"` or `"true"`, and also the TOML booleans `true` and `false` (what
 /// `--set display.motion=true` writes), so that "true motion" reads as it is said.
@@ -464,20 +431,7 @@ impl<'de> serde::Deserialize<'de> for Motion {
     }
 }
 
-/// Colour map for `ppi.png`.
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize, serde::Serialize, schemars::JsonSchema,
-)]
-#[serde(rename_all = "lowercase")]
-pub enum Colormap {
-    /// Perceptually uniform blue–green–yellow.
-    Viridis,
-    /// Black to green, like a phosphor display.
-    Green,
-    /// Black to white ("grey" also reads).
-    #[serde(alias = "grey")]
-    Gray,
-}
+pub use crate::choice::Colormap;
 
 /// PPI drawing settings.
 #[derive(Debug, Clone, PartialEq)]

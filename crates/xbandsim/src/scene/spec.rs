@@ -2,10 +2,10 @@
 //! field's name. `docs/formats.md` documents every field; `xbandsim schema` prints the JSON
 //! Schema generated from these types.
 
+use crate::choice::{Colormap, Motion, Orientation};
+use crate::choice::{Integration, Polarisation, ProcessingMode, ScatteringModel};
 use crate::environment::clutter::Sigma0Model;
 use crate::geometry::MeshUnit;
-use crate::model::{Integration, Polarisation, ProcessingMode, ScatteringModel};
-use crate::products::ppi::{Colormap, Motion, Orientation};
 use crate::propagation::SeaRoughness;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -61,32 +61,7 @@ pub enum ClutterDistributionName {
     Rayleigh,
 }
 
-/// `object.shape`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
-#[serde(rename_all = "lowercase")]
-pub enum ShapeName {
-    /// A point of given RCS (`rcs_m2`); no geometry.
-    Point,
-    /// A sphere (`radius_m`).
-    Sphere,
-    /// A flat rectangular plate (`width_m`, `height_m`).
-    Plate,
-    /// A triangular trihedral corner reflector (`edge_m`).
-    Trihedral,
-    /// A dihedral corner (`width_m`, `height_m`).
-    Dihedral,
-    /// A vertical cylinder (`radius_m`, `height_m`).
-    Cylinder,
-    /// A box (`size_m`).
-    Box,
-    /// A triangle mesh from a file (`mesh_file`, `mesh_units`, `mesh_scale`).
-    Mesh,
-    /// A procedural vessel (`length_m`; `beam_m`, `freeboard_m`, `superstructure`,
-    /// `superstructure_height_m`, `mast_height_m`).
-    Vessel,
-    /// A procedural buoy (`radius_m`, `height_m`; `mast_height_m`, `reflector_edge_m`).
-    Buoy,
-}
+pub use crate::choice::ShapeName;
 
 impl ShapeName {
     /// Every shape, in the order the documentation lists them.

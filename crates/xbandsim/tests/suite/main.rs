@@ -10,6 +10,7 @@ mod engine;
 mod environment;
 mod geometry;
 mod labels;
+mod layering;
 mod meshes;
 mod motion;
 mod multipath;
