@@ -1,0 +1,415 @@
+//! The radar from its scene-file description: presets, defaults, every field checked with
+//! its located error (docs/scene-format.md), the pulse train's stagger and the combined
+//! mode's short pulse.
+
+use super::*;
+use crate::antenna::{uniform_aperture_gain, Antenna};
+use crate::constants::*;
+use crate::error::{Error, Problem, Result};
+use crate::model::checks::{finite, finite_vec, fmt_vec, positive};
+use crate::scene::{PulseModeName, RadarPreset, RadarSpec, WindowName};
+use crate::waveform::{LfmChirp, Window};
+
+/// Validates the `[radar]` table; `environment_polarisation` is the older place a scene file
+/// may give the polarisation (`environment.polarisation`), which must agree with
+/// `radar.polarisation` when both are given.
+pub(in crate::model) fn build_radar(
+    s: &RadarSpec,
+    environment_polarisation: Option<Polarisation>,
+) -> Result<Radar> {
+    let RadarPreset::Drs4dNxt = s.preset.unwrap_or_default();
+    // drs4d-nxt: Furuno DRS4D-NXT-like figures from the seed paper (f0, B, beamwidths, Pt,
+    // fs); PRF, noise figure, mast height, range and rotation are typical values, assumed.
+    let position_m = finite_vec("radar.position_m", s.position_m.unwrap_or([0.0, 0.0, 4.0]))?;
+    if position_m.z <= 0.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.position_m",
+            fmt_vec(position_m),
+            "the antenna must be above the sea surface (z > 0; the sea is the plane z = 0)",
+        ));
+    }
+    let frequency_ghz = positive("radar.frequency_ghz", s.frequency_ghz.unwrap_or(9.41))?;
+    let bandwidth_mhz = positive("radar.bandwidth_mhz", s.bandwidth_mhz.unwrap_or(50.0))?;
+    let pulse_width_us = positive("radar.pulse_width_us", s.pulse_width_us.unwrap_or(1.0))?;
+    let sample_rate_mhz = positive("radar.sample_rate_mhz", s.sample_rate_mhz.unwrap_or(100.0))?;
+    let peak_power_w = positive("radar.peak_power_w", s.peak_power_w.unwrap_or(25.0))?;
+    let noise_figure_db = finite("radar.noise_figure_db", s.noise_figure_db.unwrap_or(5.0))?;
+    if noise_figure_db < 0.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.noise_figure_db",
+            noise_figure_db,
+            "a noise figure cannot be below 0 dB",
+        ));
+    }
+    let system_loss_db = finite("radar.system_loss_db", s.system_loss_db.unwrap_or(0.0))?;
+    if system_loss_db < 0.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.system_loss_db",
+            system_loss_db,
+            "a loss must be 0 dB or more",
+        ));
+    }
+    let az_bw_deg = positive(
+        "radar.azimuth_beamwidth_deg",
+        s.azimuth_beamwidth_deg.unwrap_or(3.9),
+    )?;
+    let el_bw_deg = positive(
+        "radar.elevation_beamwidth_deg",
+        s.elevation_beamwidth_deg.unwrap_or(25.0),
+    )?;
+    if az_bw_deg >= 180.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.azimuth_beamwidth_deg",
+            az_bw_deg,
+            "must be less than 180",
+        ));
+    }
+    if el_bw_deg >= 180.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.elevation_beamwidth_deg",
+            el_bw_deg,
+            "must be less than 180",
+        ));
+    }
+    let tilt_deg = finite("radar.tilt_deg", s.tilt_deg.unwrap_or(0.0))?;
+    if tilt_deg.abs() > 90.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.tilt_deg",
+            tilt_deg,
+            "must be within -90..90",
+        ));
+    }
+    let az_bw = az_bw_deg.to_radians();
+    let el_bw = el_bw_deg.to_radians();
+    // A lossless aperture with these beamwidths cannot exceed 4π/(θaz·θel) (Balanis,
+    // Antenna Theory, §2.6, with Kraus's approximation; the uniform aperture reaches 0.78 of it).
+    let max_gain_dbi = 10.0 * (4.0 * std::f64::consts::PI / (az_bw * el_bw)).log10();
+    let peak_gain_linear = match s.gain_dbi {
+        Some(g) => {
+            let g = finite("radar.gain_dbi", g)?;
+            if !(0.0..=max_gain_dbi + 1.0).contains(&g) {
+                return Err(Error::invalid(
+                Problem::Conflict,
+                    "radar.gain_dbi",
+                    g,
+                    format!(
+                        "implausible for beamwidths {az_bw_deg}° × {el_bw_deg}°: an antenna with them has at most 4π/(θaz·θel) = {max_gain_dbi:.1} dBi (and a radar antenna has gain above 0 dBi); change the gain or the beamwidths"
+                    ),
+                ));
+            }
+            db_to_linear(g)
+        }
+        None => uniform_aperture_gain(az_bw, el_bw),
+    };
+    let prf_hz = positive("radar.prf_hz", s.prf_hz.unwrap_or(1200.0))?;
+    let rotation_rpm = positive("radar.rotation_rpm", s.rotation_rpm.unwrap_or(24.0))?;
+    let max_range_m = positive("radar.max_range_m", s.max_range_m.unwrap_or(1500.0))?;
+    let spokes = s.spokes.unwrap_or(360);
+    if spokes == 0 || spokes > MAX_SPOKES {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.spokes",
+            spokes,
+            format!("must be between 1 and {MAX_SPOKES}"),
+        ));
+    }
+    let window = match s.window.unwrap_or_default() {
+        WindowName::None => Window::None,
+        WindowName::Hamming => Window::Hamming,
+        WindowName::Taylor => {
+            let nbar = s.taylor_nbar.unwrap_or(4);
+            if !(2..=32).contains(&nbar) {
+                return Err(Error::invalid(
+                    Problem::OutOfRange,
+                    "radar.taylor_nbar",
+                    nbar,
+                    "must be between 2 and 32",
+                ));
+            }
+            let sll = finite(
+                "radar.taylor_sidelobe_db",
+                s.taylor_sidelobe_db.unwrap_or(-35.0),
+            )?;
+            if !(-120.0..=-13.5).contains(&sll) {
+                return Err(Error::invalid(
+                    Problem::OutOfRange,
+                    "radar.taylor_sidelobe_db",
+                    sll,
+                    "must be between -120 and -13.5 dB",
+                ));
+            }
+            Window::Taylor {
+                nbar,
+                sidelobe_db: sll,
+            }
+        }
+    };
+    let pulse_width_s = pulse_width_us * 1e-6;
+    let pri_s = 1.0 / prf_hz;
+    // Compared in microseconds, as written, so that 50 us at 20 kHz is caught exactly.
+    if pulse_width_us >= 1e6 / prf_hz {
+        return Err(Error::invalid(
+                Problem::Conflict,
+            "radar.pulse_width_us",
+            pulse_width_us,
+            format!("the pulse must be shorter than the pulse repetition interval 1/prf_hz = {:.3} us (prf_hz = {prf_hz})", pri_s * 1e6),
+        ));
+    }
+    let stagger = build_stagger(s.prf_stagger.as_deref(), prf_hz, pulse_width_us)?;
+    let sample_rate_hz = sample_rate_mhz * 1e6;
+    let bandwidth_hz = bandwidth_mhz * 1e6;
+    if bandwidth_hz > sample_rate_hz {
+        return Err(Error::invalid(
+                Problem::Conflict,
+            "radar.bandwidth_mhz",
+            bandwidth_mhz,
+            format!("complex sampling needs sample_rate_mhz ({sample_rate_mhz}) at least equal to the bandwidth"),
+        ));
+    }
+    let samples = (pulse_width_s * sample_rate_hz).round();
+    if samples < 2.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.pulse_width_us",
+            pulse_width_us,
+            format!("the pulse is under two samples at sample_rate_mhz = {sample_rate_mhz}"),
+        ));
+    }
+    if samples > 4.0e6 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.pulse_width_us",
+            pulse_width_us,
+            "the pulse is over 4 million samples; lower the pulse width or sample rate",
+        ));
+    }
+    let range_bin_m = SPEED_OF_LIGHT_M_PER_S / (2.0 * sample_rate_hz);
+    // Echoes from beyond c/(2·PRF) arrive after the next pulse has gone out (second-trace
+    // echoes): the simulator records one pulse repetition interval, so it does not model
+    // them and the recorded range must stay inside it.
+    // A staggered train's shortest interval sets it.
+    let shortest_pri_s = stagger.shortest_interval_s();
+    let unambiguous_m = SPEED_OF_LIGHT_M_PER_S * shortest_pri_s / 2.0;
+    if max_range_m + SPEED_OF_LIGHT_M_PER_S * pulse_width_s / 2.0 > unambiguous_m {
+        let interval = if stagger.is_staggered() {
+            format!(
+                "the shortest pulse interval ({:.3} us, prf_stagger)",
+                shortest_pri_s * 1e6
+            )
+        } else {
+            format!("1/prf_hz (prf_hz = {prf_hz})")
+        };
+        return Err(Error::invalid(
+                Problem::Conflict,
+            "radar.max_range_m",
+            max_range_m,
+            format!(
+                "beyond the unambiguous range: max_range_m plus the pulse's c·T/2 must stay within c/2 times {interval} = {:.1} km (echoes from farther arrive after the next pulse, which is not modelled); lower max_range_m or prf_hz",
+                unambiguous_m / 1000.0
+            ),
+        ));
+    }
+    let bins = max_range_m / range_bin_m;
+    if bins > 4.0e6 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.max_range_m",
+            max_range_m,
+            "over 4 million range bins; lower max_range_m or sample_rate_mhz",
+        ));
+    }
+    let cells = bins * spokes as f64;
+    if cells > MAX_POLAR_CELLS as f64 {
+        return Err(Error::invalid(
+                Problem::OutOfRange,
+            "radar.max_range_m",
+            max_range_m,
+            format!(
+                "the output would have {spokes} spokes × {:.0} range bins = {:.0} M cells ({:.1} GB of polar data alone); the limit is {} M cells: lower max_range_m, spokes or sample_rate_mhz",
+                bins.ceil(),
+                cells / 1e6,
+                cells * 4.0 / 1e9,
+                MAX_POLAR_CELLS / 1_000_000
+            ),
+        ));
+    }
+    if frequency_ghz * 1e9 <= bandwidth_hz {
+        return Err(Error::invalid(
+            Problem::Conflict,
+            "radar.frequency_ghz",
+            frequency_ghz,
+            "the carrier must be above the bandwidth",
+        ));
+    }
+    let short_pulse = build_short_pulse(s, pulse_width_us, sample_rate_hz, window)?;
+    let mut polarisation = s.polarisation.unwrap_or(Polarisation::Hh);
+    if let Some(pol) = environment_polarisation {
+        if s.polarisation.is_some() && pol != polarisation {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                "environment.polarisation",
+                format!("\"{pol}\""),
+                "differs from radar.polarisation; give the polarisation once",
+            ));
+        }
+        polarisation = pol;
+    }
+    Ok(Radar {
+        position_m,
+        carrier_freq_hz: frequency_ghz * 1e9,
+        chirp: LfmChirp {
+            bandwidth_hz,
+            pulse_width_s,
+            sample_rate_hz,
+        },
+        window,
+        peak_power_w,
+        noise_figure_linear: db_to_linear(noise_figure_db),
+        system_loss_linear: db_to_linear(system_loss_db),
+        antenna: Antenna {
+            az_beamwidth_rad: az_bw,
+            el_beamwidth_rad: el_bw,
+            peak_gain_linear,
+            tilt_rad: tilt_deg.to_radians(),
+        },
+        scan: Scan {
+            prf_hz,
+            rotation_rpm,
+            spokes,
+            max_range_m,
+            stagger,
+        },
+        receiver_blanking: s.receiver_blanking.unwrap_or(true),
+        polarisation,
+        short_pulse,
+    })
+}
+
+/// Validates `radar.prf_stagger`: 2 to [`MAX_PRF_STAGGER`] finite positive ratios, no
+/// interval shorter than the pulse.
+fn build_stagger(ratios: Option<&[f64]>, prf_hz: f64, pulse_width_us: f64) -> Result<Stagger> {
+    let Some(ratios) = ratios else {
+        return Ok(Stagger::none(prf_hz));
+    };
+    let field = "radar.prf_stagger";
+    if !(2..=MAX_PRF_STAGGER).contains(&ratios.len()) {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            field,
+            fmt_list(ratios),
+            format!(
+                "give 2 to {MAX_PRF_STAGGER} pulse-interval ratios (leave it out for no stagger)"
+            ),
+        ));
+    }
+    for (i, &r) in ratios.iter().enumerate() {
+        if !r.is_finite() || r <= 0.0 {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                format!("{field}[{i}]"),
+                r,
+                "a pulse-interval ratio must be a finite number above 0",
+            ));
+        }
+    }
+    let stagger = Stagger::of(ratios, prf_hz);
+    if pulse_width_us >= stagger.shortest_interval_s() * 1e6 {
+        return Err(Error::invalid(
+            Problem::Conflict,
+            field,
+            fmt_list(ratios),
+            format!(
+                "the shortest pulse interval ({:.3} us) is not longer than the pulse (pulse_width_us = {pulse_width_us})",
+                stagger.shortest_interval_s() * 1e6
+            ),
+        ));
+    }
+    Ok(stagger)
+}
+
+fn fmt_list(values: &[f64]) -> String {
+    let items: Vec<String> = values.iter().map(|v| v.to_string()).collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// Validates `radar.pulse_mode` and the short pulse's fields (given only with "combined";
+/// the short pulse at least two samples long and shorter than the long one, its bandwidth
+/// within the sample rate).
+fn build_short_pulse(
+    s: &RadarSpec,
+    pulse_width_us: f64,
+    sample_rate_hz: f64,
+    window: Window,
+) -> Result<Option<ShortPulse>> {
+    if s.pulse_mode.unwrap_or_default() == PulseModeName::Single {
+        for (field, given) in [
+            ("radar.short_pulse_width_us", s.short_pulse_width_us),
+            ("radar.short_bandwidth_mhz", s.short_bandwidth_mhz),
+        ] {
+            if let Some(v) = given {
+                return Err(Error::invalid(
+                    Problem::Conflict,
+                    field,
+                    v,
+                    "only combined pulse mode has a short pulse: set radar.pulse_mode = \"combined\" or leave it out",
+                ));
+            }
+        }
+        return Ok(None);
+    }
+    let width_us = positive(
+        "radar.short_pulse_width_us",
+        s.short_pulse_width_us.unwrap_or(0.08),
+    )?;
+    if width_us >= pulse_width_us {
+        return Err(Error::invalid(
+            Problem::Conflict,
+            "radar.short_pulse_width_us",
+            width_us,
+            format!("the short pulse must be shorter than the long one (pulse_width_us = {pulse_width_us})"),
+        ));
+    }
+    if (width_us * 1e-6 * sample_rate_hz).round() < 2.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.short_pulse_width_us",
+            width_us,
+            format!(
+                "the short pulse is under two samples at sample_rate_mhz = {}",
+                sample_rate_hz / 1e6
+            ),
+        ));
+    }
+    let (bandwidth_hz, window) = match s.short_bandwidth_mhz {
+        None => (0.0, Window::None),
+        Some(b) => {
+            let b = positive("radar.short_bandwidth_mhz", b)?;
+            if b * 1e6 > sample_rate_hz {
+                return Err(Error::invalid(
+                    Problem::Conflict,
+                    "radar.short_bandwidth_mhz",
+                    b,
+                    format!(
+                        "complex sampling needs sample_rate_mhz ({}) at least equal to the bandwidth",
+                        sample_rate_hz / 1e6
+                    ),
+                ));
+            }
+            (b * 1e6, window)
+        }
+    };
+    Ok(Some(ShortPulse {
+        chirp: LfmChirp {
+            bandwidth_hz,
+            pulse_width_s: width_us * 1e-6,
+            sample_rate_hz,
+        },
+        window,
+    }))
+}
