@@ -359,3 +359,212 @@ impl DwellSink for IqRecorder {
 
     fn finish(&mut self, _dwell: &Dwell, _rows: &mut SpokeRows) {}
 }
+
+#[cfg(test)]
+mod tests {
+    //! Every sink against a naive reference in f64 over the same pulses.
+    use super::*;
+    use crate::waveform::Window;
+    use num_complex::Complex64;
+
+    const BINS: usize = 24;
+
+    /// A dwell of `m` pulses, pulse i at azimuth `az0 + i·step` and time `i·pri`, with
+    /// deterministic outputs (a Doppler line in bins 3 and 10, other bins varied).
+    fn dwell(m: usize, az0: f64, step: f64) -> (Dwell, Vec<Vec<Complex32>>) {
+        let pri = 1e-3;
+        let pulses = (0..m)
+            .map(|i| Pulse {
+                number: i as u64,
+                time_s: i as f64 * pri,
+                azimuth_rad: (az0 + i as f64 * step).rem_euclid(std::f64::consts::TAU),
+            })
+            .collect();
+        let outputs = (0..m)
+            .map(|i| {
+                (0..BINS)
+                    .map(|j| {
+                        let phase = 0.7 * i as f32 * (j % 5) as f32 + 0.1 * j as f32;
+                        let amp = 1.0 + ((i * 7 + j * 3) % 11) as f32 / 4.0;
+                        Complex32::from_polar(amp, phase)
+                    })
+                    .collect()
+            })
+            .collect();
+        (Dwell { spoke: 0, pulses }, outputs)
+    }
+
+    /// The rows a sink wrote: polar, cube, velocity (value, estimated, power), I/Q.
+    type Written = (
+        Vec<f32>,
+        Vec<f32>,
+        (Vec<f32>, Vec<bool>, Vec<f32>),
+        Vec<Complex32>,
+    );
+
+    /// Runs `sink` over the dwell and returns the rows it wrote.
+    fn run(
+        sink: &mut dyn DwellSink,
+        dwell: &Dwell,
+        outputs: &[Vec<Complex32>],
+        spoke_az: f64,
+        doppler_len: usize,
+    ) -> Written {
+        let m = dwell.pulses.len();
+        let mut polar = vec![f32::NAN; BINS];
+        let mut cube = vec![f32::NAN; doppler_len * BINS];
+        let (mut v, mut e, mut p) = (
+            vec![f32::NAN; BINS],
+            vec![false; BINS],
+            vec![f32::NAN; BINS],
+        );
+        let mut iq = vec![Complex32::new(f32::NAN, 0.0); m * BINS];
+        {
+            let mut rows = SpokeRows {
+                polar_db: &mut polar,
+                doppler_db: Some(&mut cube),
+                velocity: Some((&mut v, &mut e, &mut p)),
+                iq: Some(&mut iq),
+            };
+            sink.begin(dwell, spoke_az, &mut rows);
+            for (i, (pulse, y)) in dwell.pulses.iter().zip(outputs).enumerate() {
+                // The received record: the output conjugated, so it differs from it.
+                let received: Vec<Complex32> = y.iter().map(|c| c.conj()).collect();
+                let out = PulseOutput {
+                    index: i,
+                    pulse,
+                    compressed: y,
+                    received: &received,
+                };
+                sink.add_pulse(&out, &mut rows);
+            }
+            sink.finish(dwell, &mut rows);
+        }
+        (polar, cube, (v, e, p), iq)
+    }
+
+    fn c64(c: Complex32) -> Complex64 {
+        Complex64::new(f64::from(c.re), f64::from(c.im))
+    }
+
+    fn db(x: f64) -> f64 {
+        (10.0 * x.log10()).max(f64::from(POLAR_FLOOR_DB))
+    }
+
+    #[test]
+    fn integrators_match_their_sums() {
+        for m in [1, 3, 8] {
+            let (d, ys) = dwell(m, 0.3, 0.002);
+            let (power, ..) = run(&mut PowerIntegrator, &d, &ys, 0.3, 0);
+            let (coherent, ..) = run(&mut CoherentIntegrator::default(), &d, &ys, 0.3, 0);
+            for j in 0..BINS {
+                let mean: f64 = ys.iter().map(|y| c64(y[j]).norm_sqr()).sum::<f64>() / m as f64;
+                let sum: Complex64 = ys.iter().map(|y| c64(y[j])).sum();
+                assert!(
+                    (f64::from(power[j]) - db(mean)).abs() < 1e-4,
+                    "m {m}, bin {j}"
+                );
+                let want = db(sum.norm_sqr() / m as f64);
+                assert!(
+                    (f64::from(coherent[j]) - want).abs() < 1e-3,
+                    "m {m}, bin {j}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn nearest_pulse_is_the_one_nearest_the_spoke_across_north() {
+        // Pulses from 359.5° on through north: the spoke at 0° is nearest pulse 2 (at 0.1°).
+        let step = 0.3f64.to_radians();
+        let (d, ys) = dwell(5, 359.5f64.to_radians(), step);
+        let (row, ..) = run(&mut NearestPulse::default(), &d, &ys, 0.0, 0);
+        let nearest = (0..5)
+            .min_by(|&a, &b| {
+                let off = |i: usize| {
+                    let x = (359.5 + 0.3 * i as f64) % 360.0;
+                    x.min(360.0 - x)
+                };
+                off(a).total_cmp(&off(b))
+            })
+            .unwrap();
+        assert_eq!(nearest, 2);
+        for j in 0..BINS {
+            let want = db(c64(ys[nearest][j]).norm_sqr());
+            assert!((f64::from(row[j]) - want).abs() < 1e-4, "bin {j}");
+        }
+    }
+
+    #[test]
+    fn cpi_collector_is_the_windowed_dft() {
+        let m = 8;
+        let plan = DopplerPlan::new(m, Window::Hamming);
+        let w = Window::Hamming.coefficients(m);
+        let w_power: f64 = w.iter().map(|x| x * x).sum();
+        // Two more pulses than the CPI: only the first m count.
+        let (d, ys) = dwell(m + 2, 0.0, 0.001);
+        let (_, cube, ..) = run(&mut CpiCollector::new(&plan, BINS), &d, &ys, 0.0, m);
+        for j in 0..BINS {
+            for k in 0..m {
+                let y: Complex64 = (0..m)
+                    .map(|i| {
+                        c64(ys[i][j])
+                            * w[i]
+                            * Complex64::from_polar(
+                                1.0,
+                                -std::f64::consts::TAU * (k * i) as f64 / m as f64,
+                            )
+                    })
+                    .sum();
+                let row = (k + m / 2) % m;
+                let want = db(y.norm_sqr() / w_power);
+                let got = f64::from(cube[row * BINS + j]);
+                assert!(
+                    (got - want).abs() < 2e-3,
+                    "bin {j}, Doppler {k}: {got} vs {want}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn pulse_pair_is_the_lag_one_estimate() {
+        let (d, ys) = dwell(6, 0.0, 0.001);
+        let lambda = 0.0316;
+        let mut pp = PulsePair::new(BINS, lambda, 5, 7.0);
+        let (_, _, (v, e, p), _) = run(&mut pp, &d, &ys, 0.0, 0);
+        let pri = 1e-3;
+        for j in 0..BINS {
+            let r1: Complex64 = (1..6)
+                .map(|i| c64(ys[i][j]) * c64(ys[i - 1][j]).conj())
+                .sum();
+            let r0: f64 = ys.iter().map(|y| c64(y[j]).norm_sqr()).sum::<f64>() / 6.0;
+            let want_v = -lambda * r1.arg() / (4.0 * std::f64::consts::PI * pri);
+            assert!(e[j]);
+            assert!(
+                (f64::from(v[j]) - want_v).abs() < 1e-4 * want_v.abs().max(1.0),
+                "bin {j}"
+            );
+            let noise = if j < 5 { 7.0 } else { 0.0 };
+            assert!((f64::from(p[j]) - (db(r0) - noise)).abs() < 1e-4, "bin {j}");
+        }
+        // Nothing received: no estimate, the floor.
+        let zeros = vec![vec![Complex32::new(0.0, 0.0); BINS]; 6];
+        let (_, _, (v, e, p), _) = run(&mut pp, &d, &zeros, 0.0, 0);
+        assert!(e.iter().all(|&x| !x) && v.iter().all(|&x| x == 0.0));
+        assert!(p.iter().all(|&x| x == POLAR_FLOOR_DB));
+    }
+
+    #[test]
+    fn iq_recorder_keeps_every_received_record() {
+        let (d, ys) = dwell(4, 0.0, 0.001);
+        let mut rec = IqRecorder::new(BINS);
+        assert!(rec.wants_received());
+        let (.., iq) = run(&mut rec, &d, &ys, 0.0, 0);
+        for (i, y) in ys.iter().enumerate() {
+            for j in 0..BINS {
+                assert_eq!(iq[i * BINS + j], y[j].conj());
+            }
+        }
+    }
+}
