@@ -331,10 +331,11 @@ impl Episode {
                 .with_overrides(&settings)?;
             let scene = spec.build()?;
             // Every pulse choice sees the same world: the first simulation made traces it,
-            // the others share its traces and rebuild only their receive chain.
+            // the others share its traces and rebuild only their receive chain (when the
+            // world serves them: the curriculum's targets are points, so it does).
             self.sims[i] = Some(match self.sims.iter().flatten().next() {
-                Some(traced) => traced.with_scene(scene)?,
-                None => Simulation::new(scene),
+                Some(traced) if traced.world().serves(&scene) => traced.with_scene(scene)?,
+                _ => Simulation::new(scene),
             });
         }
         Ok(self.sims[i].as_ref().expect("made above"))

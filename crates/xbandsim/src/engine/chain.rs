@@ -11,7 +11,8 @@
 use super::{Simulation, POLAR_FLOOR_DB};
 use crate::model::Integration;
 use crate::processing::sinks::{
-    integrator, CpiCollector, DopplerPlan, DwellSink, IqRecorder, PulseOutput, PulsePair, SpokeRows,
+    integrator, CpiCollector, DopplerPlan, DwellSink, IqRecorder, PowerIntegrator, PulseOutput,
+    PulsePair, SpokeRows,
 };
 use crate::processing::{DopplerSpectra, SpokeScratch};
 use crate::rng::FrameKey;
@@ -44,7 +45,9 @@ impl RevolutionSources<'_> {
 
 /// The sinks a revolution feeds, made once per worker.
 pub(crate) struct SinkPlan<'a> {
-    pub(crate) integration: Integration,
+    /// The integrator: spoke mode's power integrator (None) or pulse mode's
+    /// `[processing] integration`.
+    pub(crate) integration: Option<Integration>,
     pub(crate) bins: usize,
     pub(crate) doppler: Option<&'a DopplerPlan>,
     /// Pulse pair: wavelength (m), join bin, the short pulse's noise over the long's (dB).
@@ -55,7 +58,10 @@ pub(crate) struct SinkPlan<'a> {
 
 impl SinkPlan<'_> {
     fn make(&self) -> Vec<Box<dyn DwellSink>> {
-        let mut sinks = vec![integrator(self.integration)];
+        let mut sinks = vec![match self.integration {
+            Some(i) => integrator(i),
+            None => Box::new(PowerIntegrator::scaled_in_db()),
+        }];
         if let Some(plan) = self.doppler {
             sinks.push(Box::new(CpiCollector::new(plan, self.bins)));
         }
@@ -99,7 +105,7 @@ impl Simulation {
             return;
         }
         let rx = &self.receiver;
-        let in_blanking = rx.echo_in_blanking(false, earliest);
+        let in_blanking = rx.echo_in_blanking(earliest);
         let fused = !self
             .compressor
             .takes_exact_path(scratch, rx.blanking(), in_blanking);
@@ -253,7 +259,7 @@ impl Simulation {
             short,
             rx.noise(),
             rx.blanking(),
-            rx.echo_in_blanking(false, earliest),
+            rx.echo_in_blanking(earliest),
         );
         let join = ch.compressor.num_bins();
         for (o, y) in scratch.buffer[..join].iter_mut().zip(&short.buffer[..join]) {

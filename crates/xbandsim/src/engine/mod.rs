@@ -1,11 +1,10 @@
-//! Stage: engine. [`Simulation`] = the model + its BVH + FFT plans + the receiver + a trace
-//! cache. It runs a [`Schedule`]: for the scene state the schedule sees it takes the traced
-//! contributions and their echo groups (from the [`TraceCache`]), then for every pulse weights
-//! the groups by the antenna pattern at the pulse's azimuth, adds clutter and noise, blanks and
-//! compresses, and integrates each dwell's pulses into one spoke of the record
-//! (docs/physics.md, "Pipeline"; docs/architecture.md, "Engine"). Today's render is the
-//! frozen-scan schedule: one pulse per spoke and one scene state per revolution, every object
-//! where the beam crosses it ([`crate::model::Revolution`]).
+//! Stage: engine. [`Simulation`] = a traced world ([`World`]: the scene's BVH and traces,
+//! shared by every simulation made from it with [`Simulation::with_scene`]) + a receive chain
+//! (pulse compressor, receiver, short-pulse channel, Doppler plan, gain and STC) with its echo
+//! groups of each traced state. [`Simulation::run`] takes a [`Request`]: it runs the request's
+//! [`Schedule`] (the scene's own scan by default) through the signal chain — for every dwell
+//! the sources, the receiver, the matched filter and the sinks (`engine::chain`) — and labels the
+//! revolution's state (docs/architecture.md, "Signal chain", "Engine").
 
 mod chain;
 mod iq;
@@ -210,18 +209,19 @@ impl Simulation {
         &self.world
     }
 
-    /// A simulation of `scene` sharing this one's traced world (BVH and traces): `scene` may
-    /// differ from this one's only in its waveform and receiver (`radar.pulse_width_us`,
-    /// `bandwidth_mhz`, `window`, `pulse_mode`, the short pulse, `receiver_blanking`), which
-    /// are what the receive chain is built from; anything else would change the traces, and
-    /// is refused.
+    /// A simulation of `scene` sharing this one's traced world (BVH and traces), when the
+    /// world serves it ([`World::serves`]): `scene` may differ from this one's only in its
+    /// waveform and receiver (`radar.pulse_width_us`, `bandwidth_mhz`, `window`, `pulse_mode`,
+    /// the short pulse, `receiver_blanking`), which are what the receive chain is built from,
+    /// and with another pulse length only when every object is a point. Anything else would
+    /// trace differently, and is refused.
     pub fn with_scene(&self, scene: Scene) -> Result<Simulation> {
-        if !self.world.scene().same_world_as(&scene) {
+        if !self.world.serves(&scene) {
             return Err(Error::invalid(
                 Problem::Conflict,
                 "radar",
                 "a scene with another world",
-                "only the waveform and the receiver (pulse width, bandwidth, window, pulse mode, short pulse, blanking) may differ from the traced world's scene; make a new Simulation for another scene",
+                "only the waveform and the receiver (pulse width, bandwidth, window, pulse mode, short pulse, blanking) may differ from the traced world's scene, and the pulse length only when every object is a point (an extended object's trace depends on the range it can be seen to, max range + c*T/2); make a new Simulation for another scene",
             ));
         }
         let mut s = Simulation::new(scene);
@@ -307,7 +307,8 @@ impl Simulation {
         };
         self.check_schedule(schedule)?;
         let outputs = request.outputs_asked();
-        self.check_outputs(outputs)?;
+        // The I/Q capture's size is checked against this schedule by IqCapture::new.
+        self.check_output_modes(outputs)?;
         let mut iq = if outputs.iq {
             Some(iq::IqCapture::new(schedule, self.compressor.record_len())?)
         } else {
@@ -450,8 +451,20 @@ impl Simulation {
     }
 
     /// Whether this scene can give `outputs`: a Doppler cube and radial velocities need
-    /// `[processing] mode = "pulse"`; raw I/Q must stay under [`MAX_IQ_BYTES`] per revolution.
+    /// `[processing] mode = "pulse"`; raw I/Q of the scene's own scan must stay under
+    /// [`MAX_IQ_BYTES`] per revolution.
     pub fn check_outputs(&self, outputs: Outputs) -> Result<()> {
+        self.check_output_modes(outputs)?;
+        if outputs.iq {
+            let schedule =
+                Schedule::for_mode(self.scene.radar(), self.scene.processing().mode(), 0);
+            iq::IqCapture::rows(&schedule, self.compressor.record_len())?;
+        }
+        Ok(())
+    }
+
+    /// The products that need pulse mode.
+    fn check_output_modes(&self, outputs: Outputs) -> Result<()> {
         if outputs.doppler_cube && self.scene.processing().mode() != ProcessingMode::Pulse {
             return Err(Error::invalid(
                 Problem::Conflict,
@@ -467,11 +480,6 @@ impl Simulation {
                 "\"spoke\"",
                 "radial velocities (display.doppler_colour) need processing.mode = \"pulse\": the scene fires one pulse per spoke",
             ));
-        }
-        if outputs.iq {
-            let schedule =
-                Schedule::for_mode(self.scene.radar(), self.scene.processing().mode(), 0);
-            iq::IqCapture::rows(&schedule, self.compressor.record_len())?;
         }
         Ok(())
     }
@@ -497,10 +505,8 @@ impl Simulation {
     fn traced_now(&self, start_time_s: f64) -> (Arc<Traced>, bool) {
         let still = self.scene.is_still();
         let lead_s = self.revolution_lead_s();
-        let mut fresh_world = false;
-        let (traced, fresh) = self.cache.get_or_trace(start_time_s, still, || {
-            let (world, fresh) = self.world.traced(start_time_s, lead_s);
-            fresh_world = fresh;
+        self.cache.get_or_trace(start_time_s, still, || {
+            let (world, _) = self.world.traced(start_time_s, lead_s);
             let revolution = Revolution::with_lead(&self.scene, start_time_s, lead_s);
             let groups = if revolution.deck_moves() {
                 let tilts: Vec<f64> = revolution
@@ -518,8 +524,7 @@ impl Simulation {
                 set: Arc::clone(&world.set),
                 groups,
             }
-        });
-        (traced, fresh && fresh_world)
+        })
     }
 
     fn check_schedule(&self, schedule: &Schedule) -> Result<()> {

@@ -42,7 +42,8 @@ impl<'a> Request<'a> {
     }
 
     /// Revolution number `frame` (the clutter texture has drifted for `frame` antenna
-    /// periods; noise and speckle are new each frame).
+    /// periods; noise and speckle are new each frame). A schedule given with
+    /// [`Request::schedule`] brings its own frame, which counts instead.
     pub fn frame(mut self, frame: u64) -> Request<'a> {
         self.frame = frame;
         self

@@ -7,7 +7,7 @@ use super::chain::{RevolutionSources, SinkPlan};
 use super::{iq, Outputs, Simulation};
 use crate::echo::EchoGroups;
 use crate::model::revolution::Revolution;
-use crate::model::{Integration, ProcessingMode, Radar};
+use crate::model::{ProcessingMode, Radar};
 use crate::processing::sinks::{SpokeRows, VelocityRows};
 use crate::processing::DopplerSpectra;
 use crate::products::{DopplerCube, RadialVelocity};
@@ -57,8 +57,8 @@ impl Simulation {
         }
     }
 
-    /// The sinks of a revolution in `mode` with `outputs`: the integrator (always
-    /// non-coherent in spoke mode), the CPI collector, the pulse pair and raw I/Q.
+    /// The sinks of a revolution in `mode` with `outputs`: the integrator (spoke mode's
+    /// power integrator, pulse mode's `[processing] integration`), the CPI collector, the pulse pair and raw I/Q.
     pub(super) fn sink_plan(&self, mode: ProcessingMode, outputs: Outputs) -> SinkPlan<'_> {
         let radar = self.scene.radar();
         let bins = self.compressor.num_bins();
@@ -67,11 +67,7 @@ impl Simulation {
             .short_pulse_noise_db()
             .map_or((0, 0.0), |d| (radar.join_bin().min(bins), d as f32));
         SinkPlan {
-            integration: if pulse {
-                self.scene.processing().integration()
-            } else {
-                Integration::Noncoherent
-            },
+            integration: pulse.then(|| self.scene.processing().integration()),
             bins,
             doppler: self
                 .doppler

@@ -3,8 +3,7 @@
 //! and revolutions that see the same state do not trace or group it again.
 //!
 //! When is a state the same? A still scene (nothing moves: [`crate::model::Scene::is_still`])
-//! is the same at every time and is traced once per [`crate::engine::Simulation`], on first
-//! use. A moving scene's state is that of one revolution (every object where the beam crosses
+//! is the same at every time and is traced once per [`crate::engine::World`], on first use. A moving scene's state is that of one revolution (every object where the beam crosses
 //! it, [`crate::model::Revolution`]), keyed by the revolution's start time; the last
 //! [`MOVING_STATES_KEPT`] are kept.
 

@@ -36,6 +36,19 @@ impl World {
         &self.scene
     }
 
+    /// Whether this world's traces serve `scene`: the same world but for the radar's waveform
+    /// and receiver ([`Scene::same_world_as`]), and the same objects in sight. A trace skips
+    /// an extended object wholly beyond the recorded range, max range + c·T/2
+    /// ([`crate::scattering::po::out_of_sight`]), which depends on the pulse length T: two
+    /// pulses of different length share a world only when every object is a point (points
+    /// are never skipped), since a moving object may cross that reach in some revolution.
+    pub fn serves(&self, scene: &Scene) -> bool {
+        let mine = self.scene.radar();
+        self.scene.same_world_as(scene)
+            && (mine.eclipse_range_m() == scene.radar().eclipse_range_m()
+                || scene.objects().iter().all(|o| o.shape().is_point()))
+    }
+
     /// The BVH of the scene as written (every object at its t = 0 pose).
     pub fn bvh(&self) -> &Arc<Bvh> {
         self.bvh

@@ -56,6 +56,11 @@ pub fn object_frame(yaw_rad: f64, pitch_rad: f64, roll_rad: f64) -> DMat3 {
 }
 
 impl ShapeGeometry {
+    /// Whether it is a point scatterer (no geometry).
+    pub fn is_point(&self) -> bool {
+        matches!(self, ShapeGeometry::Point { .. })
+    }
+
     /// The shape's kind, as a scene file names it (`shape = "..."`).
     pub fn kind(&self) -> ShapeName {
         match self {

@@ -14,10 +14,14 @@
 //! The integrators write the spoke's power in dB over noise, floored at [`POLAR_FLOOR_DB`].
 
 use crate::model::Integration;
+use crate::receiver::stages::Detector;
 use crate::schedule::{Dwell, Pulse};
 use num_complex::Complex32;
 use rustfft::{Fft, FftPlanner};
 use std::sync::Arc;
+
+/// The integrators' detector: linear power, `|y|²`.
+const DETECTOR: Detector = Detector::LinearPower;
 
 /// Smallest power written to the polar output, dB over noise (for noise-free runs).
 pub const POLAR_FLOOR_DB: f32 = -120.0;
@@ -70,7 +74,24 @@ pub trait DwellSink: Send {
 /// Non-coherent integration: the mean power of the dwell's pulses (exactly the pulse's power
 /// for a one-pulse dwell), in dB.
 #[derive(Debug, Default)]
-pub struct PowerIntegrator;
+pub struct PowerIntegrator {
+    /// Whether the mean is taken inside the dB conversion, `10·log10(Σ·(1/M))` (spoke mode's
+    /// record), rather than as `Σ/M` before it (pulse mode's). The two are the same to half
+    /// an ulp, and equal when M is a power of two; each mode keeps its bytes.
+    scale_in_db: bool,
+}
+
+impl PowerIntegrator {
+    /// The pulse-mode integrator (`Σ/M`, then dB).
+    pub fn new() -> PowerIntegrator {
+        PowerIntegrator { scale_in_db: false }
+    }
+
+    /// The spoke-mode integrator (`10·log10(Σ·(1/M))`).
+    pub fn scaled_in_db() -> PowerIntegrator {
+        PowerIntegrator { scale_in_db: true }
+    }
+}
 
 impl DwellSink for PowerIntegrator {
     fn begin(&mut self, _dwell: &Dwell, _az: f64, rows: &mut SpokeRows) {
@@ -79,12 +100,16 @@ impl DwellSink for PowerIntegrator {
 
     fn add_pulse(&mut self, out: &PulseOutput, rows: &mut SpokeRows) {
         for (o, y) in rows.polar_db.iter_mut().zip(out.compressed) {
-            *o += y.norm_sqr();
+            *o += DETECTOR.power(*y);
         }
     }
 
     fn finish(&mut self, dwell: &Dwell, rows: &mut SpokeRows) {
         let count = dwell.pulses.len() as f32;
+        if self.scale_in_db {
+            crate::special::power_db_in_place(rows.polar_db, 1.0 / count, POLAR_FLOOR_DB);
+            return;
+        }
         rows.polar_db.iter_mut().for_each(|o| *o /= count);
         crate::special::power_db_in_place(rows.polar_db, 1.0, POLAR_FLOOR_DB);
     }
@@ -114,7 +139,7 @@ impl DwellSink for CoherentIntegrator {
     fn finish(&mut self, dwell: &Dwell, rows: &mut SpokeRows) {
         let count = dwell.pulses.len() as f32;
         for (o, v) in rows.polar_db.iter_mut().zip(&self.sum) {
-            *o = v.norm_sqr() / count;
+            *o = DETECTOR.power(*v) / count;
         }
         crate::special::power_db_in_place(rows.polar_db, 1.0, POLAR_FLOOR_DB);
     }
@@ -146,7 +171,7 @@ impl DwellSink for NearestPulse {
     fn add_pulse(&mut self, out: &PulseOutput, rows: &mut SpokeRows) {
         if out.index == self.nearest {
             for (o, v) in rows.polar_db.iter_mut().zip(out.compressed) {
-                *o = v.norm_sqr();
+                *o = DETECTOR.power(*v);
             }
         }
     }
@@ -156,10 +181,10 @@ impl DwellSink for NearestPulse {
     }
 }
 
-/// The integrator `[processing] integration` names.
+/// The integrator `[processing] integration` names (pulse mode).
 pub fn integrator(integration: Integration) -> Box<dyn DwellSink> {
     match integration {
-        Integration::Noncoherent => Box::new(PowerIntegrator),
+        Integration::Noncoherent => Box::new(PowerIntegrator::new()),
         Integration::Coherent => Box::new(CoherentIntegrator::default()),
         Integration::None => Box::new(NearestPulse::default()),
     }
@@ -455,13 +480,18 @@ mod tests {
     fn integrators_match_their_sums() {
         for m in [1, 3, 8] {
             let (d, ys) = dwell(m, 0.3, 0.002);
-            let (power, ..) = run(&mut PowerIntegrator, &d, &ys, 0.3, 0);
+            let (power, ..) = run(&mut PowerIntegrator::new(), &d, &ys, 0.3, 0);
+            let (scaled, ..) = run(&mut PowerIntegrator::scaled_in_db(), &d, &ys, 0.3, 0);
             let (coherent, ..) = run(&mut CoherentIntegrator::default(), &d, &ys, 0.3, 0);
             for j in 0..BINS {
                 let mean: f64 = ys.iter().map(|y| c64(y[j]).norm_sqr()).sum::<f64>() / m as f64;
                 let sum: Complex64 = ys.iter().map(|y| c64(y[j])).sum();
                 assert!(
                     (f64::from(power[j]) - db(mean)).abs() < 1e-4,
+                    "m {m}, bin {j}"
+                );
+                assert!(
+                    (f64::from(scaled[j]) - db(mean)).abs() < 1e-4,
                     "m {m}, bin {j}"
                 );
                 let want = db(sum.norm_sqr() / m as f64);

@@ -72,11 +72,11 @@ impl Receiver {
         self.blanking
     }
 
-    /// Whether something arrives while the pulse is still going out: clutter, which starts at
-    /// the radar, or an echo whose first sample `earliest_sample` is inside the pulse. Only
-    /// then does blanking change the record's echo part.
-    pub fn echo_in_blanking(&self, clutter: bool, earliest_sample: Option<usize>) -> bool {
-        clutter || earliest_sample.is_some_and(|e| e < self.pulse_len)
+    /// Whether something arrives while the pulse is still going out: a signal whose first
+    /// sample `earliest_sample` is inside the pulse (clutter, which starts at the radar,
+    /// reports sample 0). Only then does blanking change the record's echo part.
+    pub fn echo_in_blanking(&self, earliest_sample: Option<usize>) -> bool {
+        earliest_sample.is_some_and(|e| e < self.pulse_len)
     }
 
     /// Its thermal noise (stream `ReceiverNoise` unless [`Receiver::with_noise_stream`]
@@ -94,8 +94,10 @@ impl Receiver {
     /// receiver blanks.
     pub fn blank(&self, record: &mut [Complex32]) {
         if self.blanking {
-            let n = self.pulse_len.min(record.len());
-            record[..n].fill(Complex32::new(0.0, 0.0));
+            stages::Blanking {
+                samples: self.pulse_len,
+            }
+            .apply(record);
         }
     }
 }

@@ -1,9 +1,9 @@
 //! Receiver stages, each a small unit with explicit buffers, in the order a receiver applies
-//! them (docs/architecture.md, "Signal chain"): [`Blanking`] on the received record,
-//! [`GainStc`] on the compressed signal before detection, the [`Detector`], and the
-//! [`Ftc`] on detected power. A stage at its neutral setting ([`GainStc::is_neutral`],
-//! [`Ftc::is_neutral`]) is skipped by the engine, so the calibrated outputs stay exactly the
-//! matched filter's power.
+//! them (docs/architecture.md, "Signal chain"): [`Blanking`] on the received record (the
+//! receiver's), [`GainStc`] on the compressed signal before detection (the engine's chain,
+//! skipped at its neutral setting, so the calibrated outputs stay exactly the matched
+//! filter's power), the [`Detector`] (the integrators detect with it) and the [`Ftc`] on
+//! detected power (the operator's display controls, `super::video`).
 //!
 //! Sensitivity time control lowers the gain by `10·k·log10(R_stc/R)` dB inside `R_stc`, the
 //! classic R⁻ᵏ law against sea clutter (k = 3 for a point target's R⁻⁴ echo against an
@@ -91,14 +91,18 @@ pub enum Detector {
 }
 
 impl Detector {
+    /// The detected value of one bin.
+    #[inline]
+    pub fn power(&self, y: Complex32) -> f32 {
+        match self {
+            Detector::LinearPower => y.norm_sqr(),
+        }
+    }
+
     /// Detects `bins` into `out` (the same length).
     pub fn apply(&self, bins: &[Complex32], out: &mut [f32]) {
-        match self {
-            Detector::LinearPower => {
-                for (o, y) in out.iter_mut().zip(bins) {
-                    *o = y.norm_sqr();
-                }
-            }
+        for (o, y) in out.iter_mut().zip(bins) {
+            *o = self.power(*y);
         }
     }
 }

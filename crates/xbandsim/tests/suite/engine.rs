@@ -31,42 +31,63 @@ fn trace_cache_traces_once_and_changes_nothing() {
     assert_eq!(fresh.truth, f1.truth);
 }
 
-/// A simulation made by `with_scene` for another pulse shares the traced world: it traces
-/// nothing (for a still and for a moving scene), and its frames have the bytes of a fresh
-/// simulation of that scene. A scene with another world is refused, naming the radar.
+/// A simulation made by `with_scene` for another waveform shares the traced world: it traces
+/// nothing again (for a still and for a moving scene), and its frames have the bytes of a
+/// fresh simulation of that scene. Another pulse length is shared only by point targets (an
+/// extended object's trace depends on the range it can be seen to); a scene with another
+/// world is refused, naming the radar.
 #[test]
-fn another_pulse_shares_the_traced_world_and_changes_nothing() {
-    let moving = "[[object]]\nname = \"boat\"\nshape = \"sphere\"\nradius_m = 2.0\n\
-        position_m = [0.0, 600.0, 2.0]\nspeed_kn = 12.0\ncourse_deg = 90.0\n";
-    for text in [
-        PAPER.replace("scenes/", ""),
-        format!("[radar]\nspokes = 90\nmax_range_m = 1200.0\n{moving}"),
+fn another_waveform_shares_the_traced_world_and_changes_nothing() {
+    let points = "[[object]]\nname = \"boat\"\nshape = \"point\"\nrcs_m2 = 50.0\n\
+        position_m = [0.0, 600.0, 2.0]\nspeed_kn = 12.0\ncourse_deg = 90.0\n\
+        [[object]]\nname = \"buoy\"\nshape = \"point\"\nrcs_m2 = 5.0\n\
+        position_m = [300.0, 200.0, 1.0]\n";
+    let paper = PAPER.replace("scenes/", "");
+    for (text, change) in [
+        (paper.clone(), "radar.window=\"hamming\""),
+        (
+            format!("[radar]\nspokes = 90\nmax_range_m = 1200.0\n{points}"),
+            "radar.pulse_width_us=0.2",
+        ),
     ] {
-        let long = Simulation::new(scene(&text));
-        let first = long.run(&Request::new(4)).unwrap();
-        assert!(first.stats.rays_cast > 0);
-        let with = |set: &str| {
+        let with = |set: &[&str]| {
+            let sets: Vec<String> = set.iter().map(|s| s.to_string()).collect();
             xbandsim::LoadedSpec::from_toml(&text, "test", std::path::Path::new("."))
-                .and_then(|l| l.with_overrides(&[set.to_string()]))
+                .and_then(|l| l.with_overrides(&sets))
                 .and_then(|l| l.build())
                 .unwrap()
         };
-        let shared = long.with_scene(with("radar.pulse_width_us=0.2")).unwrap();
-        assert!(Arc::ptr_eq(shared.world(), long.world()));
+        let first = Simulation::new(with(&[]));
+        let before = first.run(&Request::new(4)).unwrap();
+        assert!(before.stats.rays_cast > 0 || text.contains("point"));
+        let shared = first.with_scene(with(&[change])).unwrap();
+        assert!(Arc::ptr_eq(shared.world(), first.world()));
         let frame = shared.run(&Request::new(4)).unwrap();
-        assert_eq!(frame.stats.trace_s, 0.0, "the world was traced already");
-        let fresh = Simulation::new(with("radar.pulse_width_us=0.2"))
+        assert!(
+            Arc::ptr_eq(&shared.traced(0.0).set, &first.traced(0.0).set),
+            "{change}: the world's trace must be shared, not traced again"
+        );
+        let fresh = Simulation::new(with(&[change]))
             .run(&Request::new(4))
             .unwrap();
-        assert_ne!(fresh.polar_db, first.polar_db, "the pulse must matter");
-        assert_eq!(fresh.polar_db, frame.polar_db);
-        assert_eq!(fresh.truth, frame.truth);
-        let Err(e) = long.with_scene(with("radar.position_m=[0.0, 0.0, 20.0]")) else {
+        assert_ne!(fresh.polar_db, before.polar_db, "{change} must matter");
+        assert_eq!(fresh.polar_db, frame.polar_db, "{change}");
+        assert_eq!(fresh.truth, frame.truth, "{change}");
+        let Err(e) = first.with_scene(with(&["radar.position_m=[0.0, 0.0, 20.0]"])) else {
             panic!("a radar moved elsewhere sees another world");
         };
         assert_eq!(e.problem(), Some(Problem::Conflict), "{e}");
         assert!(e.to_string().contains("radar"), "{e}");
     }
+    // Extended objects and another pulse length: refused (what is beyond max range + c·T/2
+    // is not traced, and T differs).
+    let paper_sim = Simulation::new(scene(&paper));
+    let longer = xbandsim::LoadedSpec::from_toml(&paper, "test", std::path::Path::new("."))
+        .and_then(|l| l.with_overrides(&["radar.pulse_width_us=2.0".to_string()]))
+        .and_then(|l| l.build())
+        .unwrap();
+    assert!(!paper_sim.world().serves(&longer));
+    assert!(paper_sim.with_scene(longer).is_err());
 }
 
 /// A render of some spokes (`only_spokes`, what the dataset's masks read) has those spokes'
@@ -223,4 +244,60 @@ fn noncoherent_integration_averages_independent_pulses() {
         );
         assert!((mean - 1.0).abs() < 0.05, "mean noise power {mean}");
     }
+}
+
+/// Gain and STC on the compressed signal, before detection: every bin of a noise-free frame
+/// rises by the gain and, inside the STC's reach, falls by `10·k·log10(R_stc/R)` (Skolnik,
+/// *Radar Handbook*, 3rd ed., §2.9), against the same frame without them (to 10⁻³ dB); the
+/// neutral setting leaves the bytes as they were.
+#[test]
+fn gain_and_stc_act_on_the_compressed_signal() {
+    let text = format!(
+        "{}[environment]\nnoise = false\nclutter = false\nmultipath = false\n\
+         [[object]]\nname = \"near\"\nshape = \"point\"\nrcs_m2 = 10.0\nposition_m = [0.0, 400.0, 4.0]\n\
+         [[object]]\nname = \"far\"\nshape = \"point\"\nrcs_m2 = 10.0\nposition_m = [0.0, 1100.0, 4.0]\n",
+        "[radar]\nspokes = 64\nmax_range_m = 1500.0\n"
+    );
+    let sim = Simulation::new(scene(&text));
+    let plain = sim.run(&Request::new(1)).unwrap();
+    let range_bin_m = sim.scene().radar().range_bin_m();
+    let stage = |gain_db: f32, stc_law: f32| xbandsim::receiver::stages::GainStc {
+        gain_db,
+        stc_law,
+        stc_reach_m: 1000.0,
+        range_bin_m,
+    };
+    let neutral = sim
+        .with_gain_stc(stage(0.0, 0.0))
+        .run(&Request::new(1))
+        .unwrap();
+    assert_eq!(neutral.polar_db, plain.polar_db);
+    let shaped = sim
+        .with_gain_stc(stage(6.0, 3.0))
+        .run(&Request::new(1))
+        .unwrap();
+    let bins = plain.range_bins;
+    let mut near_and_far = [0usize; 2];
+    for (i, (&a, &b)) in plain.polar_db.iter().zip(&shaped.polar_db).enumerate() {
+        if a < -60.0 {
+            continue;
+        }
+        let r = (i % bins) as f64 * range_bin_m;
+        let stc = if r < 1000.0 {
+            30.0 * (1000.0 / r.max(1.0)).log10()
+        } else {
+            0.0
+        };
+        let want = f64::from(a) + 6.0 - stc;
+        assert!(
+            (f64::from(b) - want).abs() < 1e-3,
+            "bin {} at {r:.0} m: {b} vs {want}",
+            i % bins
+        );
+        near_and_far[usize::from(r >= 1000.0)] += 1;
+    }
+    assert!(
+        near_and_far[0] > 0 && near_and_far[1] > 0,
+        "{near_and_far:?}"
+    );
 }

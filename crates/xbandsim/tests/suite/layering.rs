@@ -44,12 +44,24 @@ fn uses(source: &str) -> Vec<String> {
         }
         let code = line.split("//").next().unwrap_or_default();
         for (at, _) in code.match_indices("crate::") {
-            let name: String = code[at + "crate::".len()..]
-                .chars()
-                .take_while(|c| c.is_ascii_lowercase() || *c == '_')
-                .collect();
-            if !name.is_empty() && !found.contains(&name) {
-                found.push(name);
+            let rest = &code[at + "crate::".len()..];
+            // `crate::{a, b::c}`: every name in the braces (on this line).
+            let names: Vec<&str> = match rest.strip_prefix('{') {
+                Some(group) => group
+                    .split([',', '}'])
+                    .map(|n| n.trim())
+                    .take_while(|n| !n.is_empty())
+                    .collect(),
+                None => vec![rest],
+            };
+            for n in names {
+                let name: String = n
+                    .chars()
+                    .take_while(|c| c.is_ascii_lowercase() || *c == '_')
+                    .collect();
+                if !name.is_empty() && !found.contains(&name) {
+                    found.push(name);
+                }
             }
         }
     }

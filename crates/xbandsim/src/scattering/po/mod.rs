@@ -37,7 +37,7 @@ pub use tube::{
 
 use super::{azimuth_elevation_rad, carrier_phase, vector_bits, Contribution, ScatterSet};
 use crate::geometry::{Bvh, Ray, ShapeGeometry};
-use crate::model::{Polarisation, Scene};
+use crate::model::{Polarisation, Scene, SceneObject};
 use crate::propagation::SeaSurface;
 use crate::special::LastCall;
 use glam::DVec3;
@@ -218,6 +218,24 @@ pub fn plane_wave_rcs_m2(
 }
 
 /// SBR settings of a scene.
+/// Whether `obj` of `scene` cannot be seen and is not traced: wholly beyond the recorded
+/// range (max range + c·T/2, where the last echo tail ends: it depends on the pulse) or below
+/// the radar horizon.
+pub fn out_of_sight(scene: &Scene, obj: &SceneObject) -> bool {
+    let radar = scene.radar();
+    let centre = obj.bounding_centre_m();
+    let radius = obj.shape().bounding_radius_m();
+    let nearest_m = (centre - radar.position_m()).length() - radius;
+    let ground_m = ((centre - radar.position_m()).truncate().length() - radius).max(0.0);
+    nearest_m > radar.max_range_m() + radar.eclipse_range_m()
+        || (scene.environment().earth_curvature()
+            && !crate::propagation::above_horizon(
+                radar.position_m().z,
+                ground_m,
+                centre.z + radius,
+            ))
+}
+
 pub fn settings_for(scene: &Scene) -> SbrSettings {
     let lambda = scene.radar().wavelength_m();
     SbrSettings {
@@ -317,22 +335,11 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
             if let ShapeGeometry::Point { .. } = obj.shape() {
                 return None;
             }
-            // Objects that cannot be seen are not traced: wholly beyond the recorded range
-            // (max range + c·T/2, where the last echo tail ends) or below the radar horizon.
-            let centre = obj.bounding_centre_m();
-            let radius = obj.shape().bounding_radius_m();
-            let nearest_m = (centre - radar.position_m()).length() - radius;
-            let ground_m = ((centre - radar.position_m()).truncate().length() - radius).max(0.0);
-            if nearest_m > radar.max_range_m() + radar.eclipse_range_m()
-                || (s.earth_curvature
-                    && !crate::propagation::above_horizon(
-                        radar.position_m().z,
-                        ground_m,
-                        centre.z + radius,
-                    ))
-            {
+            if out_of_sight(scene, obj) {
                 return None;
             }
+            let centre = obj.bounding_centre_m();
+            let radius = obj.shape().bounding_radius_m();
             let illumination = Illumination::FromPoint {
                 radar_m: radar.position_m(),
             };
