@@ -46,6 +46,26 @@ pub fn snr_error_db(window: &str, pulse_us: f64) -> (f64, f64) {
     (expected, measured as f64)
 }
 
+/// A magnetron set's single-pulse SNR of a 10⁴ m² point at 8.1 km (an unmodulated pulse of
+/// `pulse_us`, its own matched filter, no window): (radar equation, measured peak), dB. The
+/// unmodulated pulse's energy `Pt·T` is the chirp's, so the closed form is the same
+/// `Pt·T·G0²·λ²·σ/((4π)³·R⁴·k·T0·F·L)` (Skolnik, eq. 2.51), with the pulse sampled whole
+/// (T·fs an integer) and the target on a bin.
+pub fn magnetron_snr_error_db(pulse_us: f64) -> (f64, f64) {
+    let range_m = bin_range_m(5400.0, 100e6);
+    let text = format!(
+        "{}{}",
+        radar_block_no_noise(&format!(
+            "transmitter = \"magnetron\"\npulse_width_us = {pulse_us}\nmax_range_m = 9000.0"
+        )),
+        point_north("p", range_m, 1e4)
+    );
+    let (sim, frame) = render_text(&text, 1);
+    let expected = linear_to_db(sim.scene().radar().point_target_snr(1e4, range_m));
+    let (_, measured) = argmax(&spoke(&frame, 0)[5300..5500]);
+    (expected, measured as f64)
+}
+
 /// Mean noise power over all spokes past the blanked interval, dB.
 pub fn noise_mean_db(seed: u64) -> f64 {
     let powers = noise_only_powers(seed);
@@ -405,6 +425,20 @@ pub(crate) fn checks(out: &mut Checks) {
         let (e, m) = snr_error_db(w, t);
         out.push(check(
             &format!("single-pulse SNR = radar equation ({w}, {t} us, 10⁴ m², 8.1 km)"),
+            e,
+            m,
+            "dB",
+            Tolerance::Absolute(0.05),
+            SKOLNIK,
+        ));
+    }
+
+    for t in [0.08, 0.5, 1.2] {
+        let (e, m) = magnetron_snr_error_db(t);
+        out.push(check(
+            &format!(
+                "magnetron single-pulse SNR = radar equation ({t} us unmodulated, 10⁴ m², 8.1 km)"
+            ),
             e,
             m,
             "dB",

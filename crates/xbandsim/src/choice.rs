@@ -123,3 +123,16 @@ pub enum Orientation {
     /// needs `[own_ship]`).
     CourseUp,
 }
+
+/// `radar.transmitter`: what makes the pulse.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Transmitter {
+    /// A solid-state set: a coded pulse (LFM chirp) compressed by the matched filter, coherent
+    /// from pulse to pulse.
+    #[default]
+    SolidState,
+    /// A magnetron: an unmodulated pulse (no compression: a receiver matched to the pulse),
+    /// each pulse starting at a random phase (no coherence from pulse to pulse).
+    Magnetron,
+}

@@ -42,6 +42,8 @@ pub enum Stream {
     ClutterDwell,
     /// The receiver's thermal noise of one pulse's short-pulse channel (combined pulse mode).
     ShortPulseNoise,
+    /// A magnetron's start phase of one pulse.
+    TransmitPhase,
 }
 
 /// The key of one random stream.
@@ -77,7 +79,7 @@ impl RngKey {
     /// The (frame word, stream word) hashed with the seed. Receiver noise: (frame, pulse);
     /// clutter speckle: (frame, 2^40 + pulse); the clutter texture: (2^64 − 1, 2^40 − 1);
     /// a pulse-mode dwell's clutter: (frame, 2^41 + spoke); the short-pulse channel's noise:
-    /// (frame, 3·2^40 + pulse).
+    /// (frame, 3·2^40 + pulse); a magnetron pulse's start phase: (frame, 4·2^40 + pulse).
     fn words(&self) -> (u64, u64) {
         match self.stream {
             Stream::ReceiverNoise => (self.frame, self.pulse),
@@ -85,6 +87,7 @@ impl RngKey {
             Stream::ClutterTexture => (u64::MAX, CLUTTER_WORD - 1),
             Stream::ClutterDwell => (self.frame, 2 * CLUTTER_WORD + self.pulse),
             Stream::ShortPulseNoise => (self.frame, 3 * CLUTTER_WORD + self.pulse),
+            Stream::TransmitPhase => (self.frame, 4 * CLUTTER_WORD + self.pulse),
         }
     }
 
@@ -246,6 +249,11 @@ fn tail_beyond_r(rng: &mut Pcg64Mcg) -> f64 {
             return ZIGGURAT_R + xi;
         }
     }
+}
+
+/// A uniform phase in (0, 2π), rad, from one word of `rng`.
+pub fn uniform_phase_rad(rng: &mut Pcg64Mcg) -> f64 {
+    std::f64::consts::TAU * open_unit(rng)
 }
 
 /// A uniform draw in (0, 1) from the top 52 bits of one word (`(k + ½)·2⁻⁵²` is exact, so

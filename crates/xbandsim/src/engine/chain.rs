@@ -10,12 +10,13 @@
 
 use super::{Simulation, POLAR_FLOOR_DB};
 use crate::model::Integration;
+use crate::model::Transmitter;
 use crate::processing::sinks::{
     integrator, CpiCollector, DopplerPlan, DwellSink, IqRecorder, PowerIntegrator, PulseOutput,
     PulsePair, SpokeRows,
 };
 use crate::processing::{DopplerSpectra, SpokeScratch};
-use crate::rng::FrameKey;
+use crate::rng::{uniform_phase_rad, FrameKey, Stream};
 use crate::schedule::{Dwell, Schedule};
 use crate::signal::clutter::SeaAndRainClutter;
 use crate::signal::targets::{FixedEchoes, MovingEchoes};
@@ -104,6 +105,15 @@ impl Simulation {
             // Nothing in and no noise: the matched filter's output is zero (the buffer is).
             return;
         }
+        // A magnetron's pulse starts at a random phase: every echo of the pulse turns with it
+        // (the noise does not).
+        let start = self.start_phase(at);
+        if let Some(p) = start {
+            let p = Complex32::new(p.re as f32, p.im as f32);
+            for s in &mut scratch.buffer[..record] {
+                *s *= p;
+            }
+        }
         let rx = &self.receiver;
         let in_blanking = rx.echo_in_blanking(earliest);
         let fused = !self
@@ -115,9 +125,12 @@ impl Simulation {
         if any_strong {
             self.compressor.clear_moving(scratch);
             for (m, spectra) in sources.moving.movers().iter().zip(sources.spectra) {
-                let Some(a) = sources.moving.strong(m, at) else {
+                let Some(mut a) = sources.moving.strong(m, at) else {
                     continue;
                 };
+                if let Some(p) = start {
+                    a.phase *= p;
+                }
                 // The whole buffer: it goes through an FFT.
                 scratch.moving.fill(Complex32::new(0.0, 0.0));
                 sources
@@ -208,6 +221,15 @@ impl Simulation {
                 dwell_done();
             },
         );
+    }
+
+    /// A magnetron pulse's random start phase factor `exp(jφ)`, φ uniform in (0, 2π) from the
+    /// pulse's `TransmitPhase` stream; None for a solid-state set (coherent pulses).
+    fn start_phase(&self, at: &PulseAt) -> Option<num_complex::Complex64> {
+        (self.scene.radar().transmitter() == Transmitter::Magnetron).then(|| {
+            let mut rng = at.key.pulse(at.pulse.number, Stream::TransmitPhase).rng();
+            num_complex::Complex64::from_polar(1.0, uniform_phase_rad(&mut rng))
+        })
     }
 
     /// Combined pulse mode: hands the pulse's impulse response (`scratch.buffer`, before any

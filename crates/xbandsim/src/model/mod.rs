@@ -17,7 +17,8 @@ pub use environment::{ClutterDoppler, Environment, SeaClutter};
 pub use motion::{Kinematics, Motion, OwnShip};
 pub use processing::{Integration, Processing, ProcessingMode};
 pub use radar::{
-    Polarisation, Radar, Scan, ShortPulse, Stagger, MAX_POLAR_CELLS, MAX_PRF_STAGGER, MAX_SPOKES,
+    Polarisation, Radar, Scan, ShortPulse, Stagger, Transmitter, MAX_POLAR_CELLS, MAX_PRF_STAGGER,
+    MAX_SPOKES,
 };
 pub use revolution::Revolution;
 pub use scattering::{

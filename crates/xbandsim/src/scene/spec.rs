@@ -3,7 +3,7 @@
 //! Schema generated from these types.
 
 use crate::choice::{Colormap, Motion, Orientation};
-use crate::choice::{Integration, Polarisation, ProcessingMode, ScatteringModel};
+use crate::choice::{Integration, Polarisation, ProcessingMode, ScatteringModel, Transmitter};
 use crate::environment::clutter::Sigma0Model;
 use crate::geometry::MeshUnit;
 use crate::propagation::SeaRoughness;
@@ -162,6 +162,9 @@ pub struct RadarSpec {
     /// Staggered pulse intervals: a list of 2 to 8 positive PRI ratios, cycled pulse after
     /// pulse (e.g. [4, 5]: intervals 4/4.5 and 5/4.5 of 1/prf_hz). Pulse mode only matters.
     pub prf_stagger: Option<Vec<f64>>,
+    /// "solid_state" (default: an LFM chirp, pulse compression, coherent) or "magnetron" (an
+    /// unmodulated pulse of random start phase; no `bandwidth_mhz`, no combined mode).
+    pub transmitter: Option<Transmitter>,
     /// "single" (default) or "combined" (short pulse near, long pulse far).
     pub pulse_mode: Option<PulseModeName>,
     /// Combined mode: width of the short pulse, microseconds (default 0.08).

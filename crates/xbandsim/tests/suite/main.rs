@@ -20,3 +20,4 @@ mod rcs;
 mod scene_errors;
 mod signal_chain;
 mod targets;
+mod transmitter;

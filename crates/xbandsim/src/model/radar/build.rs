@@ -4,6 +4,7 @@
 
 use super::*;
 use crate::antenna::{uniform_aperture_gain, Antenna};
+use crate::choice::Transmitter;
 use crate::constants::*;
 use crate::error::{Error, Problem, Result};
 use crate::model::checks::{finite, finite_vec, fmt_vec, positive};
@@ -30,7 +31,17 @@ pub(in crate::model) fn build_radar(
         ));
     }
     let frequency_ghz = positive("radar.frequency_ghz", s.frequency_ghz.unwrap_or(9.41))?;
-    let bandwidth_mhz = positive("radar.bandwidth_mhz", s.bandwidth_mhz.unwrap_or(50.0))?;
+    let transmitter = s.transmitter.unwrap_or_default();
+    if transmitter == Transmitter::Magnetron {
+        refuse_for_magnetron(s)?;
+    }
+    let bandwidth_mhz = match transmitter {
+        Transmitter::SolidState => {
+            positive("radar.bandwidth_mhz", s.bandwidth_mhz.unwrap_or(50.0))?
+        }
+        // An unmodulated pulse: no sweep (its spectrum is about 1/T wide).
+        Transmitter::Magnetron => 0.0,
+    };
     let pulse_width_us = positive("radar.pulse_width_us", s.pulse_width_us.unwrap_or(1.0))?;
     let sample_rate_mhz = positive("radar.sample_rate_mhz", s.sample_rate_mhz.unwrap_or(100.0))?;
     let peak_power_w = positive("radar.peak_power_w", s.peak_power_w.unwrap_or(25.0))?;
@@ -261,6 +272,7 @@ pub(in crate::model) fn build_radar(
         polarisation = pol;
     }
     Ok(Radar {
+        transmitter,
         position_m,
         carrier_freq_hz: frequency_ghz * 1e9,
         chirp: LfmChirp {
@@ -412,4 +424,26 @@ fn build_short_pulse(
         },
         window,
     }))
+}
+
+/// The fields a magnetron set cannot have: a swept bandwidth (its pulse is unmodulated) and the
+/// combined pulse mode (a second, coded pulse).
+fn refuse_for_magnetron(s: &RadarSpec) -> Result<()> {
+    if let Some(b) = s.bandwidth_mhz {
+        return Err(Error::invalid(
+            Problem::Conflict,
+            "radar.bandwidth_mhz",
+            b,
+            "a magnetron transmits an unmodulated pulse (its spectrum is about 1/pulse width wide): leave bandwidth_mhz out, or set radar.transmitter = \"solid_state\"",
+        ));
+    }
+    if s.pulse_mode == Some(PulseModeName::Combined) {
+        return Err(Error::invalid(
+            Problem::Conflict,
+            "radar.pulse_mode",
+            "\"combined\"",
+            "the combined pulse mode is a solid-state set's (a coded long pulse and a short one): a magnetron fires one pulse",
+        ));
+    }
+    Ok(())
 }

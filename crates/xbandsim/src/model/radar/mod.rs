@@ -22,6 +22,8 @@ pub const MAX_POLAR_CELLS: usize = 64_000_000;
 /// The radar, in SI units.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Radar {
+    /// What makes the pulse.
+    transmitter: Transmitter,
     /// Antenna phase centre, ENU m.
     position_m: DVec3,
     /// Carrier frequency f0, Hz.
@@ -372,7 +374,7 @@ impl Radar {
     }
 }
 
-pub use crate::choice::Polarisation;
+pub use crate::choice::{Polarisation, Transmitter};
 
 impl std::fmt::Display for Polarisation {
     /// "HH" or "VV".
@@ -420,9 +422,20 @@ impl Radar {
     }
 
     /// Range resolution of the compressed pulse, `c/(2B)`, m (Skolnik, *Introduction to Radar
-    /// Systems*, 3rd ed., §11.5; the half-power width of the unwindowed sinc is 0.886 of it).
+    /// Systems*, 3rd ed., §11.5; the half-power width of the unwindowed sinc is 0.886 of it);
+    /// of an unmodulated pulse (a magnetron's), its length `c·T/2`.
     pub fn range_resolution_m(&self) -> f64 {
-        SPEED_OF_LIGHT_M_PER_S / (2.0 * self.chirp.bandwidth_hz)
+        if self.chirp.bandwidth_hz > 0.0 {
+            SPEED_OF_LIGHT_M_PER_S / (2.0 * self.chirp.bandwidth_hz)
+        } else {
+            // An unmodulated pulse resolves its length, c·T/2.
+            SPEED_OF_LIGHT_M_PER_S * self.chirp.pulse_width_s / 2.0
+        }
+    }
+
+    /// What makes the pulse.
+    pub fn transmitter(&self) -> Transmitter {
+        self.transmitter
     }
 
     /// Number of range bins: bin j is at `j·c/(2·fs)`, up to `max_range_m`.
