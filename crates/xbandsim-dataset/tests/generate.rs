@@ -719,3 +719,27 @@ fn stats_say_when_a_dataset_is_unfinished() {
     }
     assert_eq!(complete[0], complete[1]);
 }
+
+/// A spec can draw the transmitter: both kinds appear over a few samples, each sample's
+/// scene says which, and every one renders.
+#[test]
+fn specs_draw_the_transmitter() {
+    let text = SPEC.replace(
+        "[vary]\n",
+        "[vary]\n\"radar.transmitter\" = { choice = [\"solid_state\", \"magnetron\"] }\n",
+    );
+    let spec = DatasetSpec::parse(&text, Path::new(".")).unwrap();
+    let mut seen = std::collections::BTreeSet::new();
+    for i in 0..12 {
+        let s = spec.sample(5, i).unwrap();
+        let scene: toml::Table = toml::from_str(&s.scene_toml).unwrap();
+        let t = scene["radar"]["transmitter"].as_str().unwrap().to_string();
+        let built = xbandsim::model::Scene::from_toml_str(&s.scene_toml, "sample").unwrap();
+        let magnetron = built.radar().transmitter() == xbandsim::model::Transmitter::Magnetron;
+        assert_eq!(magnetron, t == "magnetron", "sample {i}");
+        seen.insert(t);
+    }
+    assert_eq!(seen.len(), 2, "{seen:?}");
+    let out = tempfile::tempdir().unwrap();
+    xbandsim_dataset::make_sample(&spec, out.path(), 5, 0).unwrap();
+}
