@@ -10,7 +10,8 @@
 //! area's R⁻³; Skolnik, *Radar Handbook*, 3rd ed., §2.9). The fast time constant is a
 //! differentiator along range: it takes `α` times the local mean power over
 //! `2·half_window + 1` cells off each cell, keeping leading edges and flattening extended
-//! echoes such as rain (Skolnik §2.9; Briggs, *Target Detection by Marine Radar*, §6.6).
+//! echoes such as rain (Skolnik §2.9; Briggs, *Target Detection by Marine Radar*, IEE,
+//! 2004, on the fast time constant).
 
 use num_complex::Complex32;
 
@@ -226,6 +227,47 @@ mod tests {
         for (o, c) in p.iter().zip(&y) {
             assert_eq!(*o, c.re * c.re + c.im * c.im);
         }
+    }
+
+    /// The FTC's step response, the differentiator's signature: on a step from p0 to P at
+    /// bin s (half-window h, fraction α) the leading edge keeps `P − α·((h+1)·P + h·p0)/(2h+1)`,
+    /// the plateau settles to `P·(1 − α)` once the window is inside it, and before the step
+    /// the background keeps `p0·(1 − α)` until the window reaches the edge (Briggs, *Target
+    /// Detection by Marine Radar*, 2004: the fast time constant passes leading edges and
+    /// flattens extended echoes).
+    #[test]
+    fn ftc_step_response() {
+        let (p0, p, s, h, alpha) = (1.0f32, 100.0f32, 40usize, 8usize, 0.9f32);
+        let power: Vec<f32> = (0..100).map(|j| if j < s { p0 } else { p }).collect();
+        let ftc = Ftc {
+            fraction: alpha,
+            half_window_bins: h,
+            floor_power: 1e-3,
+        };
+        let mut out = vec![0f32; power.len()];
+        ftc.apply(&power, &mut out);
+        let n = (2 * h + 1) as f32;
+        let edge = p - alpha * ((h as f32 + 1.0) * p + h as f32 * p0) / n;
+        assert!(
+            (out[s] - edge).abs() < 1e-3 * edge,
+            "edge {} vs {edge}",
+            out[s]
+        );
+        for j in s + h..power.len() - h {
+            assert!(
+                (out[j] - p * (1.0 - alpha)).abs() < 1e-3 * p,
+                "plateau bin {j}: {}",
+                out[j]
+            );
+        }
+        for j in h..s - h {
+            assert!(
+                (out[j] - p0 * (1.0 - alpha)).abs() < 1e-5,
+                "background bin {j}"
+            );
+        }
+        // The edge stands out of the plateau by the differentiator's gain.
+        assert!(out[s] > 4.0 * out[s + h]);
     }
 
     #[test]

@@ -36,7 +36,7 @@ fn mean_linear(db: &[f64]) -> f64 {
 /// Pulses of random start phase do not add coherently: the mean of `|Σ y_m|²/M` over dwells
 /// is the mean pulse power `Σ|y_m|²/M` (the cross terms average to zero, `E[e^{j(φ_m − φ_n)}] =
 /// 0`), where the solid-state set's coherent pulses gain about M (Richards, *Fundamentals of
-/// Radar Signal Processing*, 2nd ed., §6.2: coherent integration gain). 2 spokes × 48 frames:
+/// Radar Signal Processing*, 2nd ed., 2014: the coherent integration gain). 2 spokes × 48 frames:
 /// the magnetron's ratio is 1 within ±1.5 dB (about ±4σ of a mean of 96 exponential draws).
 #[test]
 fn magnetron_pulses_do_not_integrate_coherently() {
