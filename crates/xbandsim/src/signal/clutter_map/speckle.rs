@@ -62,6 +62,28 @@ pub fn doppler_lines(spectrum: GaussianDoppler, duration_s: f64, lines: &mut Vec
 }
 
 impl ClutterMap {
+    /// Spoke `k`'s beam-weighted texture-free sea and rain powers of its first `n_max`
+    /// samples into `sea` and `rain` (rain left empty without rain), row by row (contiguous,
+    /// vectorisable); what the buffers held before does not matter.
+    fn beam_weighted(&self, k: usize, n_max: usize, sea: &mut Vec<f32>, rain: &mut Vec<f32>) {
+        let has_rain = !self.rain[k].is_empty();
+        sea.clear();
+        sea.resize(n_max, 0.0);
+        rain.clear();
+        rain.resize(if has_rain { n_max } else { 0 }, 0.0);
+        for (t, &w) in self.weights.iter().enumerate() {
+            let j = self.neighbour(k, t);
+            for (acc, &v) in sea.iter_mut().zip(&self.sea[j][..n_max]) {
+                *acc += w * v;
+            }
+            if has_rain {
+                for (acc, &v) in rain.iter_mut().zip(&self.rain[j][..n_max]) {
+                    *acc += w * v;
+                }
+            }
+        }
+    }
+
     /// Adds the clutter echo of one pulse with the beam at spoke `k` to `impulse_response`
     /// (noise-rms units): complex Gaussian speckle with the cell's power, drawn from the
     /// pulse's `speckle` stream. `sea` and `rain` are the caller's buffers for the spoke's
@@ -80,21 +102,7 @@ impl ClutterMap {
         // Beam-weighted sea and rain power of this spoke, accumulated row by row (contiguous,
         // vectorisable) into the caller's two buffers.
         let has_rain = !self.rain[k].is_empty();
-        sea.clear();
-        sea.resize(n_max, 0.0);
-        rain.clear();
-        rain.resize(if has_rain { n_max } else { 0 }, 0.0);
-        for (t, &w) in self.weights.iter().enumerate() {
-            let j = self.neighbour(k, t);
-            for (acc, &v) in sea.iter_mut().zip(&self.sea[j][..n_max]) {
-                *acc += w * v;
-            }
-            if has_rain {
-                for (acc, &v) in rain.iter_mut().zip(&self.rain[j][..n_max]) {
-                    *acc += w * v;
-                }
-            }
-        }
+        self.beam_weighted(k, n_max, sea, rain);
         let texture = (!self.texture[k].is_empty()).then(|| &self.texture[k][..n_max]);
         for n in 0..n_max {
             let mut p = texture.map_or(sea[n], |t| t[n] * sea[n]);
@@ -136,21 +144,7 @@ impl ClutterMap {
         let pulses = times_s.len();
         let has_rain = !self.rain[k].is_empty();
         let s = scratch;
-        s.sea.clear();
-        s.sea.resize(n_max, 0.0);
-        s.rain.clear();
-        s.rain.resize(if has_rain { n_max } else { 0 }, 0.0);
-        for (t, &w) in self.weights.iter().enumerate() {
-            let j = self.neighbour(k, t);
-            for (acc, &v) in s.sea.iter_mut().zip(&self.sea[j][..n_max]) {
-                *acc += w * v;
-            }
-            if has_rain {
-                for (acc, &v) in s.rain.iter_mut().zip(&self.rain[j][..n_max]) {
-                    *acc += w * v;
-                }
-            }
-        }
+        self.beam_weighted(k, n_max, &mut s.sea, &mut s.rain);
         let duration =
             times_s.last().copied().unwrap_or(0.0) - times_s.first().copied().unwrap_or(0.0);
         let t0 = times_s.first().copied().unwrap_or(0.0);
