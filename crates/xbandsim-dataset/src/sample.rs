@@ -6,6 +6,7 @@
 //! bearing (redrawn, at most 50 times, to keep `min_separation_m`; never nearer than the
 //! object's extent plus 20 m).
 
+use serde::Deserialize;
 use crate::dist::{as_f64, unit_draw};
 use crate::error::{DatasetError, Result};
 use crate::spec::DatasetSpec;
@@ -75,9 +76,14 @@ impl DatasetSpec {
         }
         // The sample's radar: where targets are placed from.
         let radar = doc.get("radar").and_then(|r| r.as_table());
+        // Its recorded range (`max_range_m`, or its range scale's or preset's); a table the
+        // loader will refuse places targets as the default radar would, and is refused later.
         let max_range_m = radar
-            .and_then(|r| r.get("max_range_m"))
-            .and_then(as_f64)
+            .and_then(|r| {
+                let spec = xbandsim::scene::RadarSpec::deserialize(toml::Value::Table(r.clone()));
+                spec.ok()
+            })
+            .and_then(|spec| xbandsim::model::radar::preset::recorded_range_m(&spec).ok())
             .unwrap_or(1500.0);
         let origin = radar
             .and_then(|r| r.get("position_m"))

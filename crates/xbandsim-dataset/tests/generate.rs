@@ -743,3 +743,36 @@ fn specs_draw_the_transmitter() {
     let out = tempfile::tempdir().unwrap();
     xbandsim_dataset::make_sample(&spec, out.path(), 5, 0).unwrap();
 }
+
+/// A spec can draw the preset and the range scale: each sample's radar is the drawn preset on
+/// the drawn scale, its targets lie inside that range, and a sample renders.
+#[test]
+fn specs_draw_presets_and_range_scales() {
+    let text = SPEC.replace("max_range_m = 400.0\n", "").replace(
+        "[vary]\n",
+        "[vary]\n\"radar.preset\" = { choice = [\"drs4d-nxt\", \"magnetron-4kw-radome\"] }\n\
+         \"radar.range_scale_nm\" = { choice = [0.125, 0.25] }\n",
+    );
+    let spec = DatasetSpec::parse(&text, Path::new(".")).unwrap();
+    let mut seen = std::collections::BTreeSet::new();
+    for i in 0..16 {
+        let s = spec.sample(5, i).unwrap();
+        let scene: toml::Table = toml::from_str(&s.scene_toml).unwrap();
+        let preset = scene["radar"]["preset"].as_str().unwrap().to_string();
+        let nm = scene["radar"]["range_scale_nm"].as_float().unwrap();
+        let built = xbandsim::model::Scene::from_toml_str(&s.scene_toml, "sample").unwrap();
+        let radar = built.radar();
+        assert_eq!(radar.range_scale_nm(), Some(nm), "sample {i}");
+        assert_eq!(radar.max_range_m(), nm * 1852.0);
+        let magnetron = radar.transmitter() == xbandsim::model::Transmitter::Magnetron;
+        assert_eq!(magnetron, preset == "magnetron-4kw-radome", "sample {i}");
+        for o in built.objects() {
+            let p = o.position_m();
+            assert!(p.x.hypot(p.y) <= 0.95 * radar.max_range_m() + 1e-6, "sample {i}");
+        }
+        seen.insert((preset, nm.to_bits()));
+    }
+    assert_eq!(seen.len(), 4, "{seen:?}");
+    let out = tempfile::tempdir().unwrap();
+    xbandsim_dataset::make_sample(&spec, out.path(), 5, 0).unwrap();
+}

@@ -136,3 +136,27 @@ pub enum Transmitter {
     /// each pulse starting at a random phase (no coherence from pulse to pulse).
     Magnetron,
 }
+
+/// `radar.pulse_length`: which of a preset's pulses a range scale fires (docs/formats.md,
+/// "Radar presets").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum PulseLength {
+    /// The shortest pulse: best range resolution, least energy.
+    Short,
+    /// The middle pulse.
+    Medium,
+    /// The longest pulse: most energy, coarsest range resolution.
+    Long,
+}
+
+impl PulseLength {
+    /// The name a scene file uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            PulseLength::Short => "short",
+            PulseLength::Medium => "medium",
+            PulseLength::Long => "long",
+        }
+    }
+}

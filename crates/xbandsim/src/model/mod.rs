@@ -8,7 +8,7 @@ pub(crate) mod checks;
 mod environment;
 pub mod motion;
 pub mod processing;
-mod radar;
+pub mod radar;
 pub mod revolution;
 mod scattering;
 mod world;

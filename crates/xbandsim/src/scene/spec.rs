@@ -3,7 +3,7 @@
 //! Schema generated from these types.
 
 use crate::choice::{Colormap, Motion, Orientation};
-use crate::choice::{Integration, Polarisation, ProcessingMode, ScatteringModel, Transmitter};
+use crate::choice::{Integration, Polarisation, ProcessingMode, PulseLength, ScatteringModel, Transmitter};
 use crate::environment::clutter::Sigma0Model;
 use crate::geometry::MeshUnit;
 use crate::propagation::SeaRoughness;
@@ -18,6 +18,18 @@ pub enum RadarPreset {
     #[default]
     #[serde(rename = "drs4d-nxt")]
     Drs4dNxt,
+    /// A 4 kW magnetron set in a 24-inch radome for small craft.
+    #[serde(rename = "magnetron-4kw-radome")]
+    Magnetron4kwRadome,
+    /// A 25 kW magnetron set with a 6 ft open array, as fitted to fishing vessels and ships.
+    #[serde(rename = "magnetron-25kw-open-array")]
+    Magnetron25kwOpenArray,
+    /// An IMO-class S-band ship radar: 3 GHz, 30 kW magnetron, 12 ft open array.
+    #[serde(rename = "s-band-30kw")]
+    SBand30kw,
+    /// A solid-state set with a 4 ft open array.
+    #[serde(rename = "solid-state-open-array")]
+    SolidStateOpenArray,
 }
 
 /// `radar.window`: the matched filter's reference window.
@@ -165,6 +177,12 @@ pub struct RadarSpec {
     /// "solid_state" (default: an LFM chirp, pulse compression, coherent) or "magnetron" (an
     /// unmodulated pulse of random start phase; no `bandwidth_mhz`, no combined mode).
     pub transmitter: Option<Transmitter>,
+    /// The displayed range scale, nautical miles: one of the preset's scales; sets
+    /// `max_range_m`, the pulse and the PRF from the preset's pulse table.
+    pub range_scale_nm: Option<f64>,
+    /// With `range_scale_nm`: "short", "medium" or "long", one the scale offers (default:
+    /// the scale's own).
+    pub pulse_length: Option<PulseLength>,
     /// "single" (default) or "combined" (short pulse near, long pulse far).
     pub pulse_mode: Option<PulseModeName>,
     /// Combined mode: width of the short pulse, microseconds (default 0.08).

@@ -15,6 +15,7 @@ mod meshes;
 mod motion;
 mod multipath;
 mod pulse;
+mod presets;
 mod pulse_modes;
 mod rcs;
 mod scene_errors;

@@ -8,7 +8,8 @@ use crate::choice::Transmitter;
 use crate::constants::*;
 use crate::error::{Error, Problem, Result};
 use crate::model::checks::{finite, finite_vec, fmt_vec, positive};
-use crate::scene::{PulseModeName, RadarPreset, RadarSpec, WindowName};
+use super::preset::RadarDefaults;
+use crate::scene::{PulseModeName, RadarSpec, WindowName};
 use crate::waveform::{LfmChirp, Window};
 
 /// Validates the `[radar]` table; `environment_polarisation` is the older place a scene file
@@ -18,10 +19,13 @@ pub(in crate::model) fn build_radar(
     s: &RadarSpec,
     environment_polarisation: Option<Polarisation>,
 ) -> Result<Radar> {
-    let RadarPreset::Drs4dNxt = s.preset.unwrap_or_default();
-    // drs4d-nxt: Furuno DRS4D-NXT-like figures from the seed paper (f0, B, beamwidths, Pt,
-    // fs); PRF, noise figure, mast height, range and rotation are typical values, assumed.
-    let position_m = finite_vec("radar.position_m", s.position_m.unwrap_or([0.0, 0.0, 4.0]))?;
+    let d = RadarDefaults::of(s)?;
+    let preset = d.preset;
+    let position_m = finite_vec(
+        "radar.position_m",
+        s.position_m
+            .unwrap_or([0.0, 0.0, preset.antenna_height_m]),
+    )?;
     if position_m.z <= 0.0 {
         return Err(Error::invalid(
             Problem::OutOfRange,
@@ -30,22 +34,27 @@ pub(in crate::model) fn build_radar(
             "the antenna must be above the sea surface (z > 0; the sea is the plane z = 0)",
         ));
     }
-    let frequency_ghz = positive("radar.frequency_ghz", s.frequency_ghz.unwrap_or(9.41))?;
-    let transmitter = s.transmitter.unwrap_or_default();
+    let frequency_ghz = positive("radar.frequency_ghz", s.frequency_ghz.unwrap_or(preset.frequency_ghz))?;
+    let transmitter = s.transmitter.unwrap_or(preset.transmitter);
     if transmitter == Transmitter::Magnetron {
         refuse_for_magnetron(s)?;
     }
     let bandwidth_mhz = match transmitter {
         Transmitter::SolidState => {
-            positive("radar.bandwidth_mhz", s.bandwidth_mhz.unwrap_or(50.0))?
+            positive(
+                "radar.bandwidth_mhz",
+                // A magnetron preset's pulse has no sweep: a solid-state override gets 50 MHz.
+                s.bandwidth_mhz
+                    .unwrap_or(if d.bandwidth_mhz > 0.0 { d.bandwidth_mhz } else { 50.0 }),
+            )?
         }
         // An unmodulated pulse: no sweep (its spectrum is about 1/T wide).
         Transmitter::Magnetron => 0.0,
     };
-    let pulse_width_us = positive("radar.pulse_width_us", s.pulse_width_us.unwrap_or(1.0))?;
-    let sample_rate_mhz = positive("radar.sample_rate_mhz", s.sample_rate_mhz.unwrap_or(100.0))?;
-    let peak_power_w = positive("radar.peak_power_w", s.peak_power_w.unwrap_or(25.0))?;
-    let noise_figure_db = finite("radar.noise_figure_db", s.noise_figure_db.unwrap_or(5.0))?;
+    let pulse_width_us = positive("radar.pulse_width_us", s.pulse_width_us.unwrap_or(d.pulse_width_us))?;
+    let sample_rate_mhz = positive("radar.sample_rate_mhz", s.sample_rate_mhz.unwrap_or(d.sample_rate_mhz))?;
+    let peak_power_w = positive("radar.peak_power_w", s.peak_power_w.unwrap_or(preset.peak_power_w))?;
+    let noise_figure_db = finite("radar.noise_figure_db", s.noise_figure_db.unwrap_or(preset.noise_figure_db))?;
     if noise_figure_db < 0.0 {
         return Err(Error::invalid(
             Problem::OutOfRange,
@@ -65,11 +74,11 @@ pub(in crate::model) fn build_radar(
     }
     let az_bw_deg = positive(
         "radar.azimuth_beamwidth_deg",
-        s.azimuth_beamwidth_deg.unwrap_or(3.9),
+        s.azimuth_beamwidth_deg.unwrap_or(preset.azimuth_beamwidth_deg),
     )?;
     let el_bw_deg = positive(
         "radar.elevation_beamwidth_deg",
-        s.elevation_beamwidth_deg.unwrap_or(25.0),
+        s.elevation_beamwidth_deg.unwrap_or(preset.elevation_beamwidth_deg),
     )?;
     if az_bw_deg >= 180.0 {
         return Err(Error::invalid(
@@ -101,7 +110,7 @@ pub(in crate::model) fn build_radar(
     // A lossless aperture with these beamwidths cannot exceed 4π/(θaz·θel) (Balanis,
     // Antenna Theory, §2.6, with Kraus's approximation; the uniform aperture reaches 0.78 of it).
     let max_gain_dbi = 10.0 * (4.0 * std::f64::consts::PI / (az_bw * el_bw)).log10();
-    let peak_gain_linear = match s.gain_dbi {
+    let peak_gain_linear = match s.gain_dbi.or(preset.gain_dbi) {
         Some(g) => {
             let g = finite("radar.gain_dbi", g)?;
             if !(0.0..=max_gain_dbi + 1.0).contains(&g) {
@@ -118,10 +127,10 @@ pub(in crate::model) fn build_radar(
         }
         None => uniform_aperture_gain(az_bw, el_bw),
     };
-    let prf_hz = positive("radar.prf_hz", s.prf_hz.unwrap_or(1200.0))?;
-    let rotation_rpm = positive("radar.rotation_rpm", s.rotation_rpm.unwrap_or(24.0))?;
-    let max_range_m = positive("radar.max_range_m", s.max_range_m.unwrap_or(1500.0))?;
-    let spokes = s.spokes.unwrap_or(360);
+    let prf_hz = positive("radar.prf_hz", s.prf_hz.unwrap_or(d.prf_hz))?;
+    let rotation_rpm = positive("radar.rotation_rpm", s.rotation_rpm.unwrap_or(preset.rotation_rpm))?;
+    let max_range_m = positive("radar.max_range_m", s.max_range_m.unwrap_or(d.max_range_m))?;
+    let spokes = s.spokes.unwrap_or(preset.spokes);
     if spokes == 0 || spokes > MAX_SPOKES {
         return Err(Error::invalid(
             Problem::OutOfRange,
@@ -300,6 +309,7 @@ pub(in crate::model) fn build_radar(
         receiver_blanking: s.receiver_blanking.unwrap_or(true),
         polarisation,
         short_pulse,
+        range_scale_nm: d.range_scale_nm,
     })
 }
 

@@ -3,6 +3,7 @@
 //! units, validated from the scene file's `[radar]` table (docs/formats.md).
 
 mod build;
+pub mod preset;
 
 use crate::antenna::Antenna;
 use crate::constants::{
@@ -48,6 +49,8 @@ pub struct Radar {
     polarisation: Polarisation,
     /// The short pulse of combined pulse mode (None: single pulse).
     short_pulse: Option<ShortPulse>,
+    /// The range scale the set is on, NM (None: a range given as `max_range_m`).
+    range_scale_nm: Option<f64>,
 }
 
 /// The short pulse of `pulse_mode = "combined"` (docs/physics.md §11): it serves the range
@@ -361,6 +364,11 @@ impl Radar {
     /// Spokes per revolution.
     pub fn spokes(&self) -> usize {
         self.scan.spokes
+    }
+
+    /// The range scale the set is on, NM (None: a range given as `max_range_m`).
+    pub fn range_scale_nm(&self) -> Option<f64> {
+        self.range_scale_nm
     }
 
     /// Receiver blanked while transmitting.
