@@ -6,12 +6,12 @@
 //! bearing (redrawn, at most 50 times, to keep `min_separation_m`; never nearer than the
 //! object's extent plus 20 m).
 
-use serde::Deserialize;
 use crate::dist::{as_f64, unit_draw};
 use crate::error::{DatasetError, Result};
 use crate::spec::DatasetSpec;
 use rand::{RngCore, SeedableRng};
 use rand_pcg::Pcg64Mcg;
+use serde::Deserialize;
 use xbandsim::rng::splitmix64;
 
 /// One sample's scene, ready to render.

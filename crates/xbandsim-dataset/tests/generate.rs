@@ -768,7 +768,10 @@ fn specs_draw_presets_and_range_scales() {
         assert_eq!(magnetron, preset == "magnetron-4kw-radome", "sample {i}");
         for o in built.objects() {
             let p = o.position_m();
-            assert!(p.x.hypot(p.y) <= 0.95 * radar.max_range_m() + 1e-6, "sample {i}");
+            assert!(
+                p.x.hypot(p.y) <= 0.95 * radar.max_range_m() + 1e-6,
+                "sample {i}"
+            );
         }
         seen.insert((preset, nm.to_bits()));
     }

@@ -160,3 +160,32 @@ impl PulseLength {
         }
     }
 }
+
+/// `receiver.stc`: the sea clutter control.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum StcMode {
+    /// No sensitivity time control.
+    #[default]
+    Off,
+    /// The manual law: `stc_level_db`, `stc_range_m`, `stc_law`.
+    Manual,
+    /// Adapts to the clutter measured along range in the scan.
+    Auto,
+}
+
+/// `receiver.interference_rejection`: how strictly a sample must correlate with the
+/// neighbouring sweeps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum InterferenceRejection {
+    /// Off.
+    #[default]
+    Off,
+    /// A sample may exceed the stronger neighbouring sweep by 6 dB.
+    Low,
+    /// By 2 dB.
+    Medium,
+    /// It may not exceed the weaker neighbouring sweep.
+    High,
+}

@@ -31,6 +31,7 @@ use crate::processing::{DopplerSpectra, PulseCompressor, SpokeScratch};
 use crate::products::labels::{object_truth, ObjectTruth};
 use crate::products::{Frame, FrameStats};
 use crate::receiver::stages::GainStc;
+use crate::receiver::video_chain::{self, PolarRecord};
 use crate::receiver::Receiver;
 use crate::rng::{FrameKey, Stream};
 use crate::scattering::{trace_scene, ScatterSet};
@@ -322,6 +323,23 @@ impl Simulation {
             request.progress_or_none(),
         );
         frame.iq = iq.map(|c| c.finish(schedule, self.scene.radar().sample_rate_hz()));
+        if let Some(settings) = self.scene.receiver() {
+            let record = PolarRecord {
+                db: &frame.polar_db,
+                spokes: frame.spokes,
+                bins: frame.range_bins,
+                bin_m: frame.range_bin_m,
+                range_m: self.scene.radar().max_range_m(),
+            };
+            let video = match request.echo_history_given() {
+                Some(h) => {
+                    let mut h = h.lock().unwrap_or_else(|e| e.into_inner());
+                    video_chain::run(settings, &record, Some(&mut h))
+                }
+                None => video_chain::run(settings, &record, None),
+            };
+            frame.video = Some(video);
+        }
         Ok(frame)
     }
 
@@ -613,6 +631,7 @@ impl Simulation {
             polar_db: products.0,
             doppler_cube: products.1,
             iq: None,
+            video: None,
             radial_velocity: products.2,
             truth,
             stats: FrameStats {

@@ -3,8 +3,10 @@
 //! callback. [`crate::engine::Simulation::run`] takes it.
 
 use super::Outputs;
+use crate::receiver::video_chain::EchoHistory;
 use crate::rng::FrameKey;
 use crate::schedule::Schedule;
+use std::sync::Mutex;
 
 /// A request for one revolution.
 #[derive(Clone, Copy)]
@@ -14,6 +16,7 @@ pub struct Request<'a> {
     schedule: Option<&'a Schedule>,
     outputs: Outputs,
     progress: Option<&'a (dyn Fn() + Sync)>,
+    echo_history: Option<&'a Mutex<EchoHistory>>,
 }
 
 impl std::fmt::Debug for Request<'_> {
@@ -24,6 +27,7 @@ impl std::fmt::Debug for Request<'_> {
             .field("schedule", &self.schedule.map(|s| s.frame()))
             .field("outputs", &self.outputs)
             .field("progress", &self.progress.is_some())
+            .field("echo_history", &self.echo_history.is_some())
             .finish()
     }
 }
@@ -38,6 +42,7 @@ impl<'a> Request<'a> {
             schedule: None,
             outputs: Outputs::default(),
             progress: None,
+            echo_history: None,
         }
     }
 
@@ -66,6 +71,18 @@ impl<'a> Request<'a> {
     pub fn progress(mut self, dwell_done: &'a (dyn Fn() + Sync)) -> Request<'a> {
         self.progress = Some(dwell_done);
         self
+    }
+
+    /// Carries the receiver's echo averaging (`receiver.echo_average_scans`) from scan to
+    /// scan in `history`: give the same history to a sequence's revolutions, in order.
+    pub fn echo_history(mut self, history: &'a Mutex<EchoHistory>) -> Request<'a> {
+        self.echo_history = Some(history);
+        self
+    }
+
+    /// The echo-averaging history given, if any.
+    pub fn echo_history_given(&self) -> Option<&'a Mutex<EchoHistory>> {
+        self.echo_history
     }
 
     /// The seed.

@@ -9,6 +9,7 @@ mod environment;
 pub mod motion;
 pub mod processing;
 pub mod radar;
+pub mod receiver;
 pub mod revolution;
 mod scattering;
 mod world;
@@ -42,6 +43,7 @@ pub struct Scene {
     objects: Vec<SceneObject>,
     own_ship: Option<OwnShip>,
     processing: Processing,
+    receiver: Option<receiver::VideoSettings>,
 }
 
 /// Refuses a ray budget whose PO trace would need more than [`MAX_TRACE_BYTES`]: every
@@ -168,7 +170,19 @@ impl Scene {
             objects,
             own_ship: None,
             processing: Processing::default(),
+            receiver: None,
         })
+    }
+
+    /// The scene with the video chain `receiver` (None: calibrated outputs only).
+    pub fn with_receiver(mut self, receiver: Option<receiver::VideoSettings>) -> Scene {
+        self.receiver = receiver;
+        self
+    }
+
+    /// The receiver's video chain, if the scene has a `[receiver]` table.
+    pub fn receiver(&self) -> Option<&receiver::VideoSettings> {
+        self.receiver.as_ref()
     }
 
     /// The scene processed with `processing`.
@@ -217,8 +231,14 @@ impl Scene {
             .map(|(i, o)| world::build_object(i, o, base_dir))
             .collect::<Result<Vec<_>>>()?;
         let processing = processing::build_processing(&spec.processing, &radar)?;
-        let scene =
-            Scene::new(radar, environment, scattering, objects)?.with_processing(processing);
+        let video = spec
+            .receiver
+            .as_ref()
+            .map(receiver::VideoSettings::from_spec)
+            .transpose()?;
+        let scene = Scene::new(radar, environment, scattering, objects)?
+            .with_processing(processing)
+            .with_receiver(video);
         Ok(match &spec.own_ship {
             None => scene,
             Some(s) => {

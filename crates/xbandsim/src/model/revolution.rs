@@ -158,6 +158,7 @@ impl Revolution {
                 objects: posed,
                 own_ship: None,
                 processing: scene.processing().clone(),
+                receiver: scene.receiver().copied(),
             })
         };
         Revolution {

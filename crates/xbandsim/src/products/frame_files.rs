@@ -5,9 +5,10 @@
 
 use super::labels::ObjectTruth;
 use super::output::{
-    json_bytes, npy_c64_bytes, npy_f32_bytes, npy_f64_bytes, png_bytes, write_set,
+    json_bytes, npy_c64_bytes, npy_f32_bytes, npy_f64_bytes, npy_u8_bytes, png_bytes, write_set,
 };
-use super::ppi::{colour_image_marked, gray_image, PpiSettings, ScanConverter};
+use super::ppi::{colour_image_marked, gray_image, PpiGeometry, PpiSettings, ScanConverter};
+use super::Video;
 use super::{Frame, FrameStats};
 use crate::error::{Error, Problem, Result};
 use crate::model::motion::KNOT_M_PER_S;
@@ -26,6 +27,7 @@ struct TruthFile<'a> {
     doppler_cube: Option<CubeAxes>,
     iq: Option<IqAxes>,
     combined_pulse: Option<CombinedPulseTruth>,
+    video: Option<VideoAxes>,
     spokes: usize,
     range_bins: usize,
     range_bin_m: f64,
@@ -61,6 +63,17 @@ struct IqAxes {
     shape: [usize; 2],
     sample_rate_hz: f64,
     pulse_columns: [&'static str; 3],
+}
+
+/// The axes and levels of video.npy.
+#[derive(Serialize)]
+struct VideoAxes {
+    shape: [usize; 2],
+    bits: u32,
+    max_level: u8,
+    sample_m: f64,
+    threshold_db: f32,
+    level_step_db: f32,
 }
 
 /// Combined pulse mode: where the short pulse's bins end and their noise level.
@@ -161,6 +174,9 @@ pub struct FrameProducts {
     pub colour_rgb: Option<Vec<u8>>,
     /// `ppi_gray.png`'s pixels, if asked for.
     pub gray: Option<Vec<u8>>,
+    /// `video_ppi.png`'s pixels, RGB row-major: the receiver's video drawn like `ppi.png`
+    /// (with a `[receiver]` table and the colour image asked for).
+    pub video_rgb: Option<Vec<u8>>,
     /// `truth.json`.
     pub truth_json: Vec<u8>,
     /// The objects' truth labelled for the image (`ppi_box_px`, `ppi_footprint_px`).
@@ -198,7 +214,16 @@ pub fn encode_frame_files(
             png_bytes(&out.join("ppi_gray.png"), size, size, 1, gray)?,
         ));
     }
+    if let Some(rgb) = &p.video_rgb {
+        files.push((
+            "video_ppi.png",
+            png_bytes(&out.join("video_ppi.png"), size, size, 3, rgb)?,
+        ));
+    }
     files.push(("truth.json", p.truth_json));
+    if let Some(v) = &frame.video {
+        files.push(("video.npy", npy_u8_bytes(&[v.spokes, v.samples], &v.levels)));
+    }
     if let Some(c) = &frame.doppler_cube {
         files.push((
             "doppler_cube.npy",
@@ -277,6 +302,10 @@ pub fn frame_products(
         )
     });
     let gray = images.gray.then(|| gray_image(&ppi, d.min_db, d.max_db));
+    let video_rgb = match (&frame.video, images.colour) {
+        (Some(v), true) => Some(video_image(v, geometry, d)),
+        _ => None,
+    };
     let truth = TruthFile {
         scene: scene_name.to_string(),
         seed,
@@ -300,6 +329,14 @@ pub fn frame_products(
                 join_range_m: radar.join_range_m(),
                 short_pulse_noise_db: noise_db,
             }),
+        video: frame.video.as_ref().map(|v| VideoAxes {
+            shape: [v.spokes, v.samples],
+            bits: v.bits,
+            max_level: v.max_level(),
+            sample_m: v.sample_m,
+            threshold_db: v.threshold_db,
+            level_step_db: v.level_step_db,
+        }),
         spokes: frame.spokes,
         range_bins: frame.range_bins,
         range_bin_m: frame.range_bin_m,
@@ -322,8 +359,29 @@ pub fn frame_products(
         ppi_db: ppi,
         colour_rgb: colour,
         gray,
+        video_rgb,
         truth_json,
         objects,
         converter: conv,
     })
+}
+
+/// The video's levels drawn like `ppi.png` (same geometry, colour map and range rings), the
+/// colour scale spanning level 0 to the largest.
+fn video_image(video: &Video, geometry: PpiGeometry, d: &PpiSettings) -> Vec<u8> {
+    let conv = ScanConverter::for_geometry(geometry, video.spokes, video.samples, video.sample_m);
+    let levels: Vec<f32> = video.levels.iter().map(|&l| f32::from(l)).collect();
+    let size = conv.size_px() as usize;
+    let mut ppi = vec![0f32; size * size];
+    conv.convert(&levels, f32::NAN, &mut ppi);
+    let top = f64::from((1u32 << video.bits) - 1);
+    colour_image_marked(
+        &conv,
+        &ppi,
+        None,
+        d.colormap,
+        0.0,
+        top,
+        d.range_ring_spacing_m,
+    )
 }

@@ -10,6 +10,7 @@ pub mod output;
 pub mod ppi;
 
 use crate::model::revolution::ShipState;
+pub use crate::receiver::video_chain::Video;
 use labels::ObjectTruth;
 use num_complex::Complex32;
 
@@ -136,6 +137,8 @@ pub struct Frame {
     pub iq: Option<PulseIq>,
     /// Every cell's pulse-pair radial velocity (pulse mode, when asked for).
     pub radial_velocity: Option<RadialVelocity>,
+    /// The receiver's quantised video (scenes with a `[receiver]` table).
+    pub video: Option<Video>,
     /// Per-object ground truth (PPI pixel boxes are added by the PPI product for a given
     /// image: `products::ppi::PpiGeometry::label`).
     pub truth: Vec<ObjectTruth>,

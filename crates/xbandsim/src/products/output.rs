@@ -161,6 +161,16 @@ pub fn npy_f32_bytes(shape: &[usize], data: &[f32]) -> Vec<u8> {
     })
 }
 
+/// `.npy` bytes of a uint8 array of `shape` (C order).
+pub fn npy_u8_bytes(shape: &[usize], data: &[u8]) -> Vec<u8> {
+    assert_eq!(
+        shape.iter().product::<usize>(),
+        data.len(),
+        "npy shape does not match data"
+    );
+    npy_bytes("|u1", shape, data.len(), |out| out.extend_from_slice(data))
+}
+
 /// `.npy` bytes of a little-endian float64 array of `shape` (C order).
 pub fn npy_f64_bytes(shape: &[usize], data: &[f64]) -> Vec<u8> {
     assert_eq!(

@@ -18,6 +18,7 @@
 
 pub mod stages;
 pub mod video;
+pub mod video_chain;
 
 use crate::rng::{FrameKey, Stream};
 pub use crate::signal::noise::fill_unit_noise;

@@ -9,6 +9,6 @@ mod spec;
 pub use load::{assign_field, locate, LoadedSpec};
 pub use spec::{
     ClutterDistributionName, DisplaySpec, EnvironmentSpec, ObjectSpec, OwnShipSpec, ProcessingSpec,
-    PulseModeName, RadarPreset, RadarSpec, RainCellSpec, ScatteringSpec, SceneSpec, ShapeName,
-    WindowName,
+    PulseModeName, RadarPreset, RadarSpec, RainCellSpec, ReceiverSpec, ScatteringSpec, SceneSpec,
+    ShapeName, WindowName,
 };

@@ -3,7 +3,10 @@
 //! Schema generated from these types.
 
 use crate::choice::{Colormap, Motion, Orientation};
-use crate::choice::{Integration, Polarisation, ProcessingMode, PulseLength, ScatteringModel, Transmitter};
+use crate::choice::{
+    Integration, Polarisation, ProcessingMode, PulseLength, ScatteringModel, Transmitter,
+};
+use crate::choice::{InterferenceRejection, StcMode};
 use crate::environment::clutter::Sigma0Model;
 use crate::geometry::MeshUnit;
 use crate::propagation::SeaRoughness;
@@ -128,6 +131,8 @@ pub struct SceneSpec {
     /// How pulses are fired and processed.
     #[serde(default)]
     pub processing: ProcessingSpec,
+    /// The receiver's video chain (none: the calibrated outputs only).
+    pub receiver: Option<ReceiverSpec>,
     /// The objects in the scene (`[[object]]` tables).
     #[serde(default, rename = "object")]
     pub objects: Vec<ObjectSpec>,
@@ -446,4 +451,43 @@ pub struct OwnShipSpec {
     pub motion_period_s: Option<f64>,
     /// Phase φ of the roll and pitch, degrees (default 0).
     pub motion_phase_deg: Option<f64>,
+}
+
+/// `[receiver]`: the log receiver and video chain after detection (docs/formats.md,
+/// "[receiver]"). Its presence adds `video.npy` to a frame's outputs.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ReceiverSpec {
+    /// Bits a video sample is quantised to, 1–8 (default 4).
+    pub video_bits: Option<u32>,
+    /// Video spokes a revolution, 1–8192 (default 2048).
+    pub video_spokes: Option<usize>,
+    /// Video samples a spoke, 1–8192 (default 512), evenly over the recorded range.
+    pub video_samples: Option<usize>,
+    /// The log amplifier's dynamic range above the noise, dB: it saturates there (default 80).
+    pub log_dynamic_range_db: Option<f64>,
+    /// Gain, dB (default 0): lowers the video threshold (6 dB over the noise at 0 dB).
+    pub gain_db: Option<f64>,
+    /// The span of the video levels above the threshold, dB (default 40).
+    pub video_span_db: Option<f64>,
+    /// Sea clutter control: "off" (default), "manual" or "auto".
+    pub stc: Option<StcMode>,
+    /// Manual STC: the deepest attenuation, dB (default 20).
+    pub stc_level_db: Option<f64>,
+    /// Manual STC: range where the attenuation ends, m (default 4000).
+    pub stc_range_m: Option<f64>,
+    /// Manual STC: the law's exponent k, attenuation `10·k·log10(stc_range_m/R)` (default 3).
+    pub stc_law: Option<f64>,
+    /// Auto STC: the level it brings the median clutter down to, dB over noise (default 3).
+    pub stc_auto_level_db: Option<f64>,
+    /// Rain clutter control: the FTC differentiator's time constant, µs (none: off).
+    pub ftc_time_constant_us: Option<f64>,
+    /// Interference rejection: "off" (default), "low", "medium" or "high".
+    pub interference_rejection: Option<InterferenceRejection>,
+    /// Echo averaging over this many scans (1, the default: off), 1–16.
+    pub echo_average_scans: Option<u32>,
+    /// Echo stretch along range, video samples (0, the default: off), 0–16.
+    pub echo_stretch_samples: Option<usize>,
+    /// Noise rejection: clear lone video samples (default false).
+    pub noise_rejection: Option<bool>,
 }

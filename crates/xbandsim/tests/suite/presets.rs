@@ -2,7 +2,7 @@
 //! the PRF together, and every scale and pulse a preset offers builds (docs/formats.md,
 //! "Radar presets").
 
-use xbandsim::model::radar::preset::{PRESETS, NAUTICAL_MILE_M};
+use xbandsim::model::radar::preset::{NAUTICAL_MILE_M, PRESETS};
 use xbandsim::model::Scene;
 use xbandsim::Problem;
 

@@ -2,13 +2,13 @@
 //! its located error (docs/scene-format.md), the pulse train's stagger and the combined
 //! mode's short pulse.
 
+use super::preset::RadarDefaults;
 use super::*;
 use crate::antenna::{uniform_aperture_gain, Antenna};
 use crate::choice::Transmitter;
 use crate::constants::*;
 use crate::error::{Error, Problem, Result};
 use crate::model::checks::{finite, finite_vec, fmt_vec, positive};
-use super::preset::RadarDefaults;
 use crate::scene::{PulseModeName, RadarSpec, WindowName};
 use crate::waveform::{LfmChirp, Window};
 
@@ -23,8 +23,7 @@ pub(in crate::model) fn build_radar(
     let preset = d.preset;
     let position_m = finite_vec(
         "radar.position_m",
-        s.position_m
-            .unwrap_or([0.0, 0.0, preset.antenna_height_m]),
+        s.position_m.unwrap_or([0.0, 0.0, preset.antenna_height_m]),
     )?;
     if position_m.z <= 0.0 {
         return Err(Error::invalid(
@@ -34,7 +33,10 @@ pub(in crate::model) fn build_radar(
             "the antenna must be above the sea surface (z > 0; the sea is the plane z = 0)",
         ));
     }
-    let frequency_ghz = positive("radar.frequency_ghz", s.frequency_ghz.unwrap_or(preset.frequency_ghz))?;
+    let frequency_ghz = positive(
+        "radar.frequency_ghz",
+        s.frequency_ghz.unwrap_or(preset.frequency_ghz),
+    )?;
     let transmitter = s.transmitter.unwrap_or(preset.transmitter);
     if transmitter == Transmitter::Magnetron {
         refuse_for_magnetron(s)?;
@@ -44,17 +46,32 @@ pub(in crate::model) fn build_radar(
             positive(
                 "radar.bandwidth_mhz",
                 // A magnetron preset's pulse has no sweep: a solid-state override gets 50 MHz.
-                s.bandwidth_mhz
-                    .unwrap_or(if d.bandwidth_mhz > 0.0 { d.bandwidth_mhz } else { 50.0 }),
+                s.bandwidth_mhz.unwrap_or(if d.bandwidth_mhz > 0.0 {
+                    d.bandwidth_mhz
+                } else {
+                    50.0
+                }),
             )?
         }
         // An unmodulated pulse: no sweep (its spectrum is about 1/T wide).
         Transmitter::Magnetron => 0.0,
     };
-    let pulse_width_us = positive("radar.pulse_width_us", s.pulse_width_us.unwrap_or(d.pulse_width_us))?;
-    let sample_rate_mhz = positive("radar.sample_rate_mhz", s.sample_rate_mhz.unwrap_or(d.sample_rate_mhz))?;
-    let peak_power_w = positive("radar.peak_power_w", s.peak_power_w.unwrap_or(preset.peak_power_w))?;
-    let noise_figure_db = finite("radar.noise_figure_db", s.noise_figure_db.unwrap_or(preset.noise_figure_db))?;
+    let pulse_width_us = positive(
+        "radar.pulse_width_us",
+        s.pulse_width_us.unwrap_or(d.pulse_width_us),
+    )?;
+    let sample_rate_mhz = positive(
+        "radar.sample_rate_mhz",
+        s.sample_rate_mhz.unwrap_or(d.sample_rate_mhz),
+    )?;
+    let peak_power_w = positive(
+        "radar.peak_power_w",
+        s.peak_power_w.unwrap_or(preset.peak_power_w),
+    )?;
+    let noise_figure_db = finite(
+        "radar.noise_figure_db",
+        s.noise_figure_db.unwrap_or(preset.noise_figure_db),
+    )?;
     if noise_figure_db < 0.0 {
         return Err(Error::invalid(
             Problem::OutOfRange,
@@ -74,11 +91,13 @@ pub(in crate::model) fn build_radar(
     }
     let az_bw_deg = positive(
         "radar.azimuth_beamwidth_deg",
-        s.azimuth_beamwidth_deg.unwrap_or(preset.azimuth_beamwidth_deg),
+        s.azimuth_beamwidth_deg
+            .unwrap_or(preset.azimuth_beamwidth_deg),
     )?;
     let el_bw_deg = positive(
         "radar.elevation_beamwidth_deg",
-        s.elevation_beamwidth_deg.unwrap_or(preset.elevation_beamwidth_deg),
+        s.elevation_beamwidth_deg
+            .unwrap_or(preset.elevation_beamwidth_deg),
     )?;
     if az_bw_deg >= 180.0 {
         return Err(Error::invalid(
@@ -128,7 +147,10 @@ pub(in crate::model) fn build_radar(
         None => uniform_aperture_gain(az_bw, el_bw),
     };
     let prf_hz = positive("radar.prf_hz", s.prf_hz.unwrap_or(d.prf_hz))?;
-    let rotation_rpm = positive("radar.rotation_rpm", s.rotation_rpm.unwrap_or(preset.rotation_rpm))?;
+    let rotation_rpm = positive(
+        "radar.rotation_rpm",
+        s.rotation_rpm.unwrap_or(preset.rotation_rpm),
+    )?;
     let max_range_m = positive("radar.max_range_m", s.max_range_m.unwrap_or(d.max_range_m))?;
     let spokes = s.spokes.unwrap_or(preset.spokes);
     if spokes == 0 || spokes > MAX_SPOKES {

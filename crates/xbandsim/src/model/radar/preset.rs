@@ -350,8 +350,11 @@ impl RadarDefaults {
             .iter()
             .find(|r| (r.range_nm - nm).abs() < 1e-9)
             .ok_or_else(|| {
-                let offered: Vec<String> =
-                    preset.scales.iter().map(|r| r.range_nm.to_string()).collect();
+                let offered: Vec<String> = preset
+                    .scales
+                    .iter()
+                    .map(|r| r.range_nm.to_string())
+                    .collect();
                 Error::invalid(
                     Problem::OutOfRange,
                     "radar.range_scale_nm",
