@@ -10,6 +10,7 @@ use xbandsim::model::ProcessingMode;
 use xbandsim::products::frame_files::{encode_frame_files, write_frame_files, Images};
 use xbandsim::products::labels::ObjectTruth;
 use xbandsim::products::output::write_set;
+use xbandsim::receiver::video_chain::EchoHistory;
 use xbandsim::scene::LoadedSpec;
 
 /// Arguments of `xbandsim render`.
@@ -202,8 +203,15 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     };
     let progress = crate::progress::bar(count, "render: frames");
     let (mut trace_s, mut synthesis_s) = (0.0, 0.0);
+    // The receiver's echo averaging runs on from frame to frame.
+    let echo_history = std::sync::Mutex::new(EchoHistory::default());
     for k in 0..count {
-        let frame = sim.run(&Request::new(a.seed).frame(k).outputs(outputs))?;
+        let frame = sim.run(
+            &Request::new(a.seed)
+                .frame(k)
+                .outputs(outputs)
+                .echo_history(&echo_history),
+        )?;
         let dir = a.out.join(frame_dir_name(k));
         let encoded = encode_frame_files(
             radar,

@@ -12,6 +12,7 @@ use std::path::Path;
 use xbandsim::engine::Outputs;
 use xbandsim::engine::Request as RenderRequest;
 use xbandsim::products::frame_files::encode_frame_files;
+use xbandsim::receiver::video_chain::EchoHistory;
 use xbandsim::Simulation;
 
 /// A sample's files: relative names and bytes, in storage order.
@@ -44,12 +45,15 @@ pub fn render_sample(
     let name = format!("sample {index}");
     let categories = spec.categories();
     let mut written: Vec<(String, Vec<u8>)> = Vec::new();
+    // The receiver's echo averaging runs on through a sequence's frames.
+    let echo_history = std::sync::Mutex::new(EchoHistory::default());
     for k in 0..spec.frames {
         let frame = sim
             .run(
                 &RenderRequest::new(sample.render_seed)
                     .frame(k)
-                    .outputs(outputs),
+                    .outputs(outputs)
+                    .echo_history(&echo_history),
             )
             .map_err(scene_err)?;
         let sub = frame_subdir(spec.frames, k);

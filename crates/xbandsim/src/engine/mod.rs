@@ -63,6 +63,9 @@ pub struct Simulation {
     clutter: bool,
     /// The spokes a spoke-mode revolution renders (all when None; [`Simulation::only_spokes`]).
     spokes_rendered: Option<Arc<[bool]>>,
+    /// The receiver's video chain runs when the scene has one (off in
+    /// [`Simulation::targets_only`], whose record is for masks).
+    video: bool,
 }
 
 /// The short pulse's receive channel in combined pulse mode (docs/physics.md §11): its own
@@ -148,6 +151,7 @@ impl Simulation {
             },
             clutter: true,
             spokes_rendered: None,
+            video: true,
         }
     }
 
@@ -156,7 +160,7 @@ impl Simulation {
         !self.receiver.noise() && self.short.as_ref().is_none_or(|c| !c.receiver.noise())
     }
 
-    /// The same simulation without thermal noise and without sea and rain clutter: its frames
+    /// The same simulation without thermal noise, sea and rain clutter or video: its frames
     /// hold the objects' echoes alone as the receiver records them (blanked, compressed,
     /// integrated; the same schedule, pulses and motion) — the target-only render from which
     /// the dataset draws its masks (docs/formats.md, "Dataset labels"). It shares this
@@ -168,6 +172,7 @@ impl Simulation {
             ch.receiver = ch.receiver.without_noise();
         }
         s.clutter = false;
+        s.video = false;
         s
     }
 
@@ -323,7 +328,7 @@ impl Simulation {
             request.progress_or_none(),
         );
         frame.iq = iq.map(|c| c.finish(schedule, self.scene.radar().sample_rate_hz()));
-        if let Some(settings) = self.scene.receiver() {
+        if let Some(settings) = self.scene.receiver().filter(|_| self.video) {
             let record = PolarRecord {
                 db: &frame.polar_db,
                 spokes: frame.spokes,

@@ -292,3 +292,47 @@ fn auto_stc_brings_the_clutter_down_to_its_level() {
         "the clutter sets its own attenuation at {own} samples"
     );
 }
+
+/// Echo averaging over scans: four scans of noise averaged in log video leave under a tenth
+/// as many samples over the threshold as one scan (the mean of four `10·log10(1 + x)` is about
+/// 2.5 dB, the threshold 6 dB), where one scan leaves 5–10 % (a sample is the peak of two
+/// bins); a steady target keeps its level. Without a history each scan stands alone.
+#[test]
+fn echo_averaging_smooths_noise_and_keeps_a_steady_echo() {
+    use std::sync::Mutex;
+    use xbandsim::engine::{Request, Simulation};
+    use xbandsim::receiver::video_chain::EchoHistory;
+    let text = format!(
+        "{}{}[receiver]\nvideo_spokes = 180\nvideo_samples = 500\necho_average_scans = 4\n",
+        radar_block("spokes = 180\nmax_range_m = 1500.0"),
+        point_north("p", 900.0, 10.0)
+    );
+    let sim = Simulation::new(scene(&text));
+    let noise_fraction = |v: &video_chain::Video| {
+        let far: Vec<u8> = (10..170)
+            .flat_map(|s| v.levels[s * v.samples + 100..(s + 1) * v.samples].to_vec())
+            .collect();
+        far.iter().filter(|&&l| l > 0).count() as f64 / far.len() as f64
+    };
+    let history = Mutex::new(EchoHistory::default());
+    let mut last = None;
+    for k in 0..4 {
+        let f = sim
+            .run(&Request::new(4).frame(k).echo_history(&history))
+            .unwrap();
+        last = f.video;
+    }
+    assert_eq!(history.lock().unwrap().scans(), 4);
+    let averaged = last.unwrap();
+    let alone = sim.run(&Request::new(4).frame(3)).unwrap().video.unwrap();
+    let (a, b) = (noise_fraction(&alone), noise_fraction(&averaged));
+    assert!((0.05..0.12).contains(&a), "one scan: {a:.4}");
+    assert!(b < a / 10.0, "four scans averaged: {b:.4}, one scan {a:.4}");
+    let peak = |v: &video_chain::Video| *v.levels[..v.samples].iter().max().unwrap();
+    assert!(
+        peak(&averaged) + 1 >= peak(&alone),
+        "{} {}",
+        peak(&averaged),
+        peak(&alone)
+    );
+}
