@@ -7,9 +7,10 @@ use std::time::Instant;
 use xbandsim::engine::Request;
 use xbandsim::engine::{Outputs, Simulation};
 use xbandsim::model::ProcessingMode;
-use xbandsim::products::frame_files::{encode_frame_files, write_frame_files, Images};
+use xbandsim::products::frame_files::{encode_frame_files, Images};
 use xbandsim::products::labels::ObjectTruth;
 use xbandsim::products::output::write_set;
+use xbandsim::products::spokes::{self, SpokePacking, SweepTiming};
 use xbandsim::receiver::video_chain::EchoHistory;
 use xbandsim::scene::LoadedSpec;
 
@@ -62,6 +63,11 @@ pub struct RenderArgs {
     /// e.g. --set radar.pulse_width_us=2 --set object[0].yaw_deg=45 (repeatable).
     #[arg(long, value_name = "FIELD=VALUE")]
     pub set: Vec<String>,
+    /// Also write each frame's receiver video as a stream of spoke records, spokes.bin
+    /// (needs a [receiver] table; docs/formats.md): "bytes" (a byte a sample) or "packed"
+    /// (video_bits a sample, low bits first, as networked radars send them).
+    #[arg(long, value_name = "FORMAT")]
+    pub spoke_format: Option<String>,
 }
 
 /// Reads a scene file and applies `--set FIELD=VALUE` overrides and the options that stand
@@ -146,6 +152,23 @@ pub fn ray_cap_note(truth: &[ObjectTruth]) -> Option<String> {
     ))
 }
 
+/// Adds `spokes.bin`, the frame's video as spoke records, when `packing` asks for it.
+fn add_spoke_stream(
+    files: &mut Vec<(&'static str, Vec<u8>)>,
+    frame: &xbandsim::Frame,
+    radar: &xbandsim::model::Radar,
+    packing: Option<SpokePacking>,
+) {
+    if let (Some(packing), Some(video)) = (packing, &frame.video) {
+        let timing = SweepTiming {
+            start_time_s: frame.start_time_s,
+            period_s: radar.scan().period_s(),
+            heading_deg: frame.own_ship.map(|s| s.heading_rad.to_degrees()),
+        };
+        files.push(("spokes.bin", spokes::encode(video, timing, packing)));
+    }
+}
+
 /// Runs `xbandsim render`.
 pub fn run(a: &RenderArgs) -> Result<()> {
     let t0 = Instant::now();
@@ -156,6 +179,18 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     let spec = load_spec(&a.scene, &overrides(a)?)?;
     let scene = spec.build()?;
     let display = spec.ppi_settings()?;
+    let spoke_packing = match a.spoke_format.as_deref() {
+        None => None,
+        Some(name) => {
+            let Some(p) = SpokePacking::from_name(name) else {
+                bail!("invalid --spoke-format {name:?}: must be \"bytes\" or \"packed\"");
+            };
+            if scene.receiver().is_none() {
+                bail!("--spoke-format writes the receiver's video: the scene needs a [receiver] table (docs/formats.md, \"[receiver]\"), e.g. --set receiver.gain_db=0");
+            }
+            Some(p)
+        }
+    };
     if a.datacube && scene.processing().mode() != ProcessingMode::Pulse {
         bail!("--datacube needs processing.mode = \"pulse\" (the scene fires one pulse per spoke; add [processing] mode = \"pulse\" or --set processing.mode=pulse)");
     }
@@ -183,7 +218,17 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         )?;
         progress.finish_and_clear();
         note_ray_caps(&frame.truth);
-        write_frame_files(radar, &display, &frame, &a.out, &scene_name, a.seed)
+        let mut encoded = encode_frame_files(
+            radar,
+            &display,
+            &frame,
+            &a.out,
+            &scene_name,
+            a.seed,
+            Images::BOTH,
+        )?;
+        add_spoke_stream(&mut encoded.files, &frame, radar, spoke_packing);
+        write_set(&a.out, &encoded.files)
             .with_context(|| format!("writing the outputs into {}", a.out.display()))?;
         let s = &frame.stats;
         crate::say!(
@@ -213,7 +258,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
                 .echo_history(&echo_history),
         )?;
         let dir = a.out.join(frame_dir_name(k));
-        let encoded = encode_frame_files(
+        let mut encoded = encode_frame_files(
             radar,
             &display,
             &frame,
@@ -223,6 +268,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
             Images::BOTH,
         )
         .with_context(|| format!("encoding frame {k}"))?;
+        add_spoke_stream(&mut encoded.files, &frame, radar, spoke_packing);
         if k == 0 {
             note_ray_caps(&frame.truth);
             let frame_bytes: usize = encoded.files.iter().map(|(_, b)| b.len()).sum();

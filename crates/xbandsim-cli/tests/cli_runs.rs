@@ -274,3 +274,59 @@ fn absurd_frame_and_job_counts() {
         "{stderr}"
     );
 }
+
+/// `--spoke-format` writes the receiver's video as spoke records beside video.npy, in every
+/// frame of `--frames`; without a `[receiver]` table or with an unknown format it is refused
+/// before anything is rendered.
+#[test]
+fn spoke_streams_are_written_with_the_video() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let run = |extra: &[&str]| {
+        xbandsim()
+            .args(["render", "scenes/vessel.toml", "--spokes", "60", "--out"])
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let ok = run(&[
+        "--set",
+        "receiver.video_spokes=64",
+        "--spoke-format",
+        "packed",
+        "--frames",
+        "2",
+    ]);
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    for frame in ["frame_0000", "frame_0001"] {
+        let bytes = std::fs::read(out.join(frame).join("spokes.bin")).unwrap();
+        let path = out.join(frame).join("spokes.bin");
+        let stream = xbandsim::products::spokes::decode(&path, &bytes).unwrap();
+        assert_eq!(stream.records.len(), 64);
+        let video = std::fs::read(out.join(frame).join("video.npy")).unwrap();
+        // The npy's data is its last 64 × 512 bytes.
+        let levels: Vec<u8> = stream
+            .records
+            .iter()
+            .flat_map(|r| r.levels.clone())
+            .collect();
+        assert_eq!(&video[video.len() - levels.len()..], &levels[..]);
+    }
+    for (extra, says) in [
+        (&["--spoke-format", "packed"][..], "[receiver]"),
+        (
+            &["--set", "receiver.gain_db=0", "--spoke-format", "nmea"][..],
+            "--spoke-format",
+        ),
+    ] {
+        let failed = run(extra);
+        assert!(!failed.status.success());
+        let err = String::from_utf8_lossy(&failed.stderr);
+        assert!(err.contains(says), "{err}");
+    }
+}

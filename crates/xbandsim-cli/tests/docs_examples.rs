@@ -140,3 +140,41 @@ fn the_readme_and_docs_commands_run_as_written() {
         );
     }
 }
+
+/// Every TOML block of the README and docs is a scene file the loader builds as written.
+#[test]
+fn the_docs_toml_blocks_are_valid_scenes() {
+    let root = repo_root();
+    let mut files = vec![root.join("README.md")];
+    for e in std::fs::read_dir(root.join("docs")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "md") {
+            files.push(p);
+        }
+    }
+    let mut blocks = 0;
+    for path in files {
+        let text = std::fs::read_to_string(&path).unwrap();
+        let mut block: Option<String> = None;
+        for line in text.lines() {
+            let trimmed = line.trim_start();
+            match (&mut block, trimmed.strip_prefix("```")) {
+                (None, Some(lang)) if lang.trim() == "toml" => block = Some(String::new()),
+                (Some(b), Some(_)) => {
+                    let name = path.display().to_string();
+                    xbandsim::LoadedSpec::from_toml(b, &name, &root)
+                        .and_then(|s| s.build())
+                        .unwrap_or_else(|e| panic!("{name}: a TOML block is refused: {e}"));
+                    blocks += 1;
+                    block = None;
+                }
+                (Some(b), None) => {
+                    b.push_str(line);
+                    b.push('\n');
+                }
+                (None, _) => {}
+            }
+        }
+    }
+    assert!(blocks >= 2, "{blocks} TOML blocks");
+}

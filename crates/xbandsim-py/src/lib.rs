@@ -333,6 +333,13 @@ impl Sim {
             }
             None => out.set_item("iq", py.None())?,
         }
+        match f.video {
+            Some(v) => out.set_item(
+                "video",
+                v.levels.into_pyarray(py).reshape([v.spokes, v.samples])?,
+            )?,
+            None => out.set_item("video", py.None())?,
+        }
         let truth =
             String::from_utf8(p.truth_json).map_err(|e| PyValueError::new_err(e.to_string()))?;
         out.set_item("truth_json", truth)?;
@@ -670,6 +677,53 @@ impl Env {
 }
 
 /// Choices per action component and their names (docs/rl.md).
+/// Reads a spoke stream (`spokes.bin`): its spokes a revolution and, per record, angle,
+/// heading (None without an own ship), range, bits, time and levels.
+#[pyfunction]
+fn read_spokes<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyDict>> {
+    let bytes =
+        std::fs::read(&path).map_err(|e| library_error(py, xbandsim::Error::io(&path, e)))?;
+    let stream =
+        xbandsim::products::spokes::decode(&path, &bytes).map_err(|e| library_error(py, e))?;
+    let out = PyDict::new(py);
+    let r = &stream.records;
+    out.set_item("spokes_per_revolution", stream.spokes_per_revolution)?;
+    out.set_item(
+        "angle_deg",
+        PyArray1::from_vec(py, r.iter().map(|x| x.angle_deg).collect()),
+    )?;
+    if r.iter().all(|x| x.heading_deg.is_some()) && !r.is_empty() {
+        let h: Vec<f64> = r.iter().filter_map(|x| x.heading_deg).collect();
+        out.set_item("heading_deg", PyArray1::from_vec(py, h))?;
+    } else {
+        out.set_item("heading_deg", py.None())?;
+    }
+    out.set_item(
+        "range_m",
+        PyArray1::from_vec(py, r.iter().map(|x| x.range_m).collect()),
+    )?;
+    out.set_item(
+        "bits",
+        PyArray1::from_vec(py, r.iter().map(|x| x.bits).collect()),
+    )?;
+    out.set_item(
+        "time_s",
+        PyArray1::from_vec(py, r.iter().map(|x| x.time_s).collect()),
+    )?;
+    let samples = r.first().map_or(0, |x| x.levels.len());
+    if r.iter().all(|x| x.levels.len() == samples) {
+        let flat: Vec<u8> = r.iter().flat_map(|x| x.levels.iter().copied()).collect();
+        out.set_item("levels", flat.into_pyarray(py).reshape([r.len(), samples])?)?;
+    } else {
+        let rows: Vec<Bound<'py, PyArray1<u8>>> = r
+            .iter()
+            .map(|x| PyArray1::from_vec(py, x.levels.clone()))
+            .collect();
+        out.set_item("levels", rows)?;
+    }
+    Ok(out)
+}
+
 #[pyfunction]
 fn action_space() -> (Vec<u32>, Vec<&'static str>) {
     (
@@ -694,6 +748,7 @@ fn _xbandsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render_sample, m)?)?;
     m.add_function(wrap_pyfunction!(decode_rle, m)?)?;
     m.add_function(wrap_pyfunction!(decode_png, m)?)?;
+    m.add_function(wrap_pyfunction!(read_spokes, m)?)?;
     layout::add(m)?;
     Ok(())
 }

@@ -264,3 +264,44 @@ def test_radar_dataset_through_torch_dataloader_workers(tmp_path):
             for key in ("boxes", "labels", "masks", "area", "iscrowd", "track_ids"):
                 assert isinstance(target[key], torch.Tensor), key
                 assert np.array_equal(target[key].numpy(), want_target[key]), key
+
+
+RECEIVER = SMALL.replace(
+    "[[object]]",
+    '[receiver]\nvideo_spokes = 256\nvideo_samples = 128\nstc = "auto"\n\n[[object]]',
+)
+
+
+def test_receiver_video_and_spoke_stream(tmp_path):
+    """Frame.video is the receiver's video; the CLI's spokes.bin (bytes and packed) reads
+    back with read_spokes as the same levels, one record a spoke, angles from north."""
+    import subprocess
+
+    path = tmp_path / "receiver.toml"
+    path.write_text(RECEIVER)
+    frame = xbandsim.Simulation(path).render(seed=2)
+    assert frame.video.dtype == np.uint8 and frame.video.shape == (256, 128)
+    assert frame.video.max() <= 15 and frame.truth["video"]["bits"] == 4
+    assert xbandsim.render(tmp_path / "receiver.toml", seed=2).video is not None
+    assert xbandsim.Simulation(PAPER).render().video is None
+    cli = ROOT / "target" / "release" / "xbandsim"
+    if not cli.exists():
+        pytest.skip("the CLI is not built (scripts/test.sh builds it)")
+    for packing in ["bytes", "packed"]:
+        out = tmp_path / packing
+        subprocess.run(
+            [str(cli), "render", str(path), "--out", str(out), "--seed", "2",
+             "--spoke-format", packing],
+            check=True, capture_output=True,
+        )
+        video = np.load(out / "video.npy")
+        assert np.array_equal(video, frame.video)
+        stream = xbandsim.read_spokes(out / "spokes.bin")
+        assert stream["spokes_per_revolution"] == 256
+        assert np.array_equal(stream["levels"], video)
+        assert np.allclose(stream["angle_deg"], np.arange(256) * 360.0 / 256)
+        assert stream["heading_deg"] is None
+        assert set(stream["bits"]) == {4}
+        assert np.allclose(stream["range_m"], 1500.0)
+    with pytest.raises(xbandsim.XbandsimError):
+        xbandsim.read_spokes(out / "video.npy")

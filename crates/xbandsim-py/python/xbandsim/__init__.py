@@ -134,6 +134,9 @@ class Frame:
     """Raw received I/Q: complex64 (pulses, samples), noise-rms units."""
     iq_pulses: Optional[Dict[str, np.ndarray]] = field(default=None)
     """Per pulse of ``iq``: ``time_s``, ``azimuth_deg``, ``spoke``."""
+    video: Optional[np.ndarray] = None
+    """The receiver's video levels: uint8 (video spokes, video samples), scenes with a
+    ``[receiver]`` table (docs/formats.md, "video.npy")."""
 
     @property
     def objects(self) -> List[Dict[str, Any]]:
@@ -208,6 +211,7 @@ class Simulation:
             doppler_cube_db=out["doppler_cube_db"],
             iq=out["iq"],
             iq_pulses=pulses,
+            video=out["video"],
         )
 
     def __repr__(self) -> str:
@@ -220,11 +224,21 @@ def render(scene: Union[Scene, PathLike], seed: int = 0, frame: int = 0) -> Fram
     return Simulation(scene).render(seed=seed, frame=frame)
 
 
+def read_spokes(path: PathLike) -> Dict[str, Any]:
+    """Reads a spoke stream (``spokes.bin``, written by ``xbandsim render --spoke-format``;
+    docs/formats.md): ``spokes_per_revolution`` and, one entry per record in file order,
+    ``angle_deg`` (true bearing), ``heading_deg`` (the own ship's; None when the radar has
+    none), ``range_m``, ``bits``, ``time_s`` (NumPy arrays) and ``levels`` (uint8, records ×
+    samples)."""
+    return _xbandsim.read_spokes(os.fspath(path))
+
+
 __all__ = [
     "Scene",
     "Simulation",
     "Frame",
     "render",
+    "read_spokes",
     "data",
     "dataset",
     "XbandsimError",

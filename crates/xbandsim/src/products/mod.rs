@@ -8,6 +8,7 @@ pub mod frame_files;
 pub mod labels;
 pub mod output;
 pub mod ppi;
+pub mod spokes;
 
 use crate::model::revolution::ShipState;
 pub use crate::receiver::video_chain::Video;
