@@ -82,12 +82,13 @@ impl PulseChoice {
 pub const GAIN_FLOOR_DB: [f32; 4] = [12.0, 9.0, 6.0, 3.0];
 
 /// Sea clutter control (STC) laws: the sensitivity is lowered by `10·k·log10(R_stc/R)` dB
-/// inside [`crate::display::STC_RANGE_M`], k per level (0 = off).
+/// inside [`crate::display::STC_RANGE_M`] ahead of the log amplifier, k per level (0 = off;
+/// `xbandsim::receiver::video_chain::manual_stc_db`).
 pub const STC_LAW: [f32; 4] = [0.0, 1.0, 2.0, 3.0];
 
-/// Rain clutter control (FTC) strengths: the fraction of the local mean power along range
-/// taken off each cell (0 = off).
-pub const FTC_FRACTION: [f32; 3] = [0.0, 0.6, 0.9];
+/// Rain clutter control (FTC): the differentiator's time constant per level, µs (level 0:
+/// off; `xbandsim::receiver::stages::Ftc`).
+pub const FTC_TIME_CONSTANT_US: [Option<f64>; 3] = [None, Some(1.0), Some(0.3)];
 
 /// Pulses integrated per spoke (non-coherently), per integration level.
 pub const PULSES_PER_SPOKE: [usize; 3] = [1, 2, 4];
@@ -103,7 +104,7 @@ pub struct Action {
     pub gain: usize,
     /// Sea clutter control level, 0..4 ([`STC_LAW`]).
     pub sea: usize,
-    /// Rain clutter control level, 0..3 ([`FTC_FRACTION`]).
+    /// Rain clutter control level, 0..3 ([`FTC_TIME_CONSTANT_US`]).
     pub rain: usize,
     /// Integration level, 0..3 ([`PULSES_PER_SPOKE`]).
     pub integration: usize,

@@ -1,16 +1,34 @@
-//! The operator's display chain and the plot extractor (docs/rl.md, "Display and plots"):
-//! the polar record (dB over noise) through the receiver's display controls — the rain
-//! clutter control (FTC), the sea clutter control (STC) and the gain (the gray scale's
-//! floor), which live in the library's receiver (`xbandsim::receiver::video`, re-exported
-//! here) — then plots: the 4-connected groups of cells at least [`DETECTION_MARGIN_DB`] over
-//! the floor, each with its power-weighted centre. Pure functions with explicit scratch, no
-//! allocation per step once the buffers have grown.
+//! The operator's display and the plot extractor (docs/rl.md, "Display and plots"): each
+//! refreshed spoke of the polar record goes through the library's receiver video chain
+//! (`xbandsim::receiver::video_chain`: the sea clutter control's STC ahead of the log
+//! amplifier, then the rain clutter control's FTC differentiator), and the gain sets the
+//! threshold of the picture's gray scale; then plots: the 4-connected groups of cells at
+//! least [`DETECTION_MARGIN_DB`] over the threshold, each with its power-weighted centre. Pure
+//! functions with explicit scratch, no allocation per step once the buffers have grown.
 
 use std::f64::consts::TAU;
+use xbandsim::receiver::video_chain::{manual_stc_db, quantise};
 
-pub use xbandsim::receiver::video::{
-    gray_level, process_spoke, stc_db, DISPLAY_SPAN_DB, FTC_HALF_WINDOW_BINS, STC_RANGE_M,
-};
+/// Range inside which the sea clutter control acts, m.
+pub const STC_RANGE_M: f64 = 1000.0;
+
+/// Span of the gray scale above the gain's threshold, dB.
+pub const DISPLAY_SPAN_DB: f32 = 30.0;
+
+/// The log amplifier's dynamic range in the display chain, dB over the noise.
+pub const LOG_DYNAMIC_RANGE_DB: f32 = 80.0;
+
+/// The STC's attenuation at `range_m` for law `k`, dB (0 at and beyond [`STC_RANGE_M`]).
+pub fn stc_db(range_m: f64, k: f32) -> f32 {
+    manual_stc_db(range_m, f32::INFINITY, STC_RANGE_M, k)
+}
+
+/// Gray level of log video `value_db` with the gain's threshold `floor_db`: 0 under it, then
+/// 255 levels over [`DISPLAY_SPAN_DB`] (the receiver's 8-bit quantiser).
+#[inline]
+pub fn gray_level(value_db: f32, floor_db: f32) -> u8 {
+    quantise(value_db, floor_db, DISPLAY_SPAN_DB, 255)
+}
 
 /// A cell is a hit when its processed value is at least this much over the gain's floor, dB.
 pub const DETECTION_MARGIN_DB: f32 = 6.0;
@@ -131,51 +149,7 @@ mod tests {
         assert!((stc_db(100.0, 3.0) - 30.0).abs() < 1e-4);
         assert!((stc_db(100.0, 2.0) - 20.0).abs() < 1e-4);
         assert!((stc_db(500.0, 1.0) - 10.0 * 2f32.log10()).abs() < 1e-4);
-    }
-
-    #[test]
-    fn ftc_flattens_extended_echoes_and_keeps_a_spike() {
-        // A flat 20 dB echo (rain) loses 10·log10(1 − α) inside; a lone 20 dB spike in a
-        // 0 dB background keeps about 10·log10(100 − α·(100 + 16)/17).
-        let n = 64;
-        let flat = vec![20f32; n];
-        let mut power = vec![0f32; n];
-        let mut out = vec![0f32; n];
-        process_spoke(&flat, 7.5, 0.9, 0.0, &mut power, &mut out);
-        let expect = 20.0 + 10.0 * (0.1f32).log10();
-        assert!((out[32] - expect).abs() < 1e-3, "{}", out[32]);
-        let mut spike = vec![0f32; n];
-        spike[32] = 20.0;
-        process_spoke(&spike, 7.5, 0.9, 0.0, &mut power, &mut out);
-        let mean = (100.0 + 16.0) / 17.0;
-        let expect = 10.0 * (100.0f32 - 0.9 * mean).log10();
-        assert!((out[32] - expect).abs() < 1e-3, "{} vs {expect}", out[32]);
-        // FTC off and STC off: the row unchanged.
-        process_spoke(&spike, 7.5, 0.0, 0.0, &mut power, &mut out);
-        assert_eq!(out, spike);
-    }
-
-    #[test]
-    fn ftc_running_mean_matches_a_direct_mean() {
-        let n = 50;
-        let row: Vec<f32> = (0..n).map(|j| ((j * 37) % 23) as f32).collect();
-        let mut power = vec![0f32; n];
-        let mut out = vec![0f32; n];
-        process_spoke(&row, 7.5, 0.6, 0.0, &mut power, &mut out);
-        let p: Vec<f64> = row
-            .iter()
-            .map(|&d| 10f64.powf(0.1 * f64::from(d)))
-            .collect();
-        for j in 0..n {
-            let lo = j.saturating_sub(FTC_HALF_WINDOW_BINS);
-            let hi = (j + FTC_HALF_WINDOW_BINS).min(n - 1);
-            let mean = p[lo..=hi].iter().sum::<f64>() / (hi - lo + 1) as f64;
-            let v = (p[j] - 0.6 * mean).max(1e-3);
-            assert!(
-                (f64::from(out[j]) - 10.0 * v.log10()).abs() < 2e-3,
-                "bin {j}"
-            );
-        }
+        assert!((stc_db(10.0, 3.0) - 60.0).abs() < 1e-4);
     }
 
     #[test]

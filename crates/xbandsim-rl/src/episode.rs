@@ -4,15 +4,19 @@
 //! schedule, then the display chain and the plot extractor ([`crate::display`]); reward:
 //! plots scored against the ground truth ([`Episode::step`]).
 
-use crate::action::{Action, Scan, FTC_FRACTION, PULSES_PER_SPOKE, QUADRANTS, STC_LAW};
+use crate::action::{Action, Scan, FTC_TIME_CONSTANT_US, PULSES_PER_SPOKE, QUADRANTS, STC_LAW};
 use crate::curriculum::{draw_scene, EpisodeScene, Task, LEVELS, MAX_RANGE_M};
 use crate::display::{
-    extract_plots, gate_distance, gray_level, process_spoke, Plot, PlotScratch, DETECTION_MARGIN_DB,
+    extract_plots, gate_distance, gray_level, stc_db, Plot, PlotScratch, DETECTION_MARGIN_DB,
+    LOG_DYNAMIC_RANGE_DB,
 };
 use std::path::Path;
+use xbandsim::constants::SPEED_OF_LIGHT_M_PER_S;
 use xbandsim::engine::Request;
 use xbandsim::engine::{Dwell, Pulse, Schedule};
 use xbandsim::products::ppi::{colour, Colormap, ScanConverter};
+use xbandsim::receiver::stages::Ftc;
+use xbandsim::receiver::video_chain::sweep_log_video;
 use xbandsim::{Error, LoadedSpec, Problem, Result, Simulation};
 
 /// Reward per target found for the first time (Detection).
@@ -149,7 +153,8 @@ pub struct Episode {
     display_db: Vec<f32>,
     refreshed: Vec<bool>,
     floor_db: f32,
-    power: Vec<f32>,
+    /// The STC's gain per bin for this step's sea clutter level.
+    stc_gain: Vec<f32>,
     row: Vec<f32>,
     ppi_db: Vec<f32>,
     plot_scratch: PlotScratch,
@@ -184,7 +189,7 @@ impl Episode {
             display_db: Vec::new(),
             refreshed: Vec::new(),
             floor_db: Action::default().floor_db(),
-            power: Vec::new(),
+            stc_gain: Vec::new(),
             row: Vec::new(),
             ppi_db: Vec::new(),
             plot_scratch: PlotScratch::default(),
@@ -254,7 +259,7 @@ impl Episode {
         self.display_db.resize(spokes * bins, f32::NEG_INFINITY);
         self.refreshed.clear();
         self.refreshed.resize(spokes, false);
-        self.power.resize(bins, 0.0);
+        self.stc_gain.resize(bins, 1.0);
         self.row.resize(bins, 0.0);
         let outcome = self.revolution(&Action::default())?;
         // The warm-up revolution is frame 0; the agent's first step is frame 1.
@@ -403,6 +408,12 @@ impl Episode {
         let (spokes, bins) = (self.spokes, self.bins);
         let short_noise_db = radar.short_pulse_noise_db().unwrap_or(0.0) as f32;
         let join = radar.join_bin().min(bins);
+        let law = STC_LAW[action.sea];
+        for (j, g) in self.stc_gain.iter_mut().enumerate() {
+            *g = 10f32.powf(-0.1 * stc_db(j as f64 * self.range_bin_m, law));
+        }
+        let sample_s = 2.0 * self.range_bin_m / SPEED_OF_LIGHT_M_PER_S;
+        let ftc = FTC_TIME_CONSTANT_US[action.rain].map(|tau_us| Ftc::new(tau_us * 1e-6, sample_s));
         for k in 0..spokes {
             self.refreshed[k] = match action.scan {
                 Scan::Full => true,
@@ -416,14 +427,12 @@ impl Episode {
                         .iter_mut()
                         .for_each(|v| *v -= short_noise_db);
                 }
-                process_spoke(
-                    &self.row,
-                    self.range_bin_m,
-                    FTC_FRACTION[action.rain],
-                    STC_LAW[action.sea],
-                    &mut self.power,
-                    &mut self.display_db[k * bins..(k + 1) * bins],
-                );
+                // Linear power over the noise, then STC, the log amplifier and the FTC.
+                let out = &mut self.display_db[k * bins..(k + 1) * bins];
+                for (o, &v) in out.iter_mut().zip(&self.row) {
+                    *o = 10f32.powf(0.1 * v);
+                }
+                sweep_log_video(out, &self.stc_gain, LOG_DYNAMIC_RANGE_DB, ftc);
             }
         }
         self.floor_db = action.floor_db();

@@ -182,3 +182,29 @@ fn the_combined_pulses_short_channel_is_shown_over_its_own_noise() {
         "{near} false plots inside the short pulse's range in 3 scans"
     );
 }
+
+/// The clutter controls are the receiver's: at level 3 (sea state 4–5, rain), the sea
+/// control's STC and the rain control's FTC cut the false plots of the same revolutions.
+#[test]
+fn the_sea_and_rain_controls_cut_false_plots_in_heavy_clutter() {
+    let false_plots = |sea: usize, rain: usize| {
+        let mut total = 0;
+        for seed in 0..3 {
+            let mut e = episode(Task::Tracking, 3, 64);
+            e.reset(seed).unwrap();
+            let a = Action {
+                sea,
+                rain,
+                ..Action::default()
+            };
+            total += e.step(&a).unwrap().false_plots;
+        }
+        total
+    };
+    let raw = false_plots(0, 0);
+    let controlled = false_plots(3, 2);
+    assert!(
+        controlled * 2 < raw,
+        "false plots: {raw} with the controls off, {controlled} with STC and FTC"
+    );
+}

@@ -6,9 +6,9 @@
 //! 2. the matched filter (`crate::processing`);
 //! 3. gain and sensitivity time control on the compressed signal ([`stages::GainStc`]);
 //! 4. the detector ([`stages::Detector`]: linear power);
-//! 5. the fast time constant ([`stages::Ftc`]);
-//!
-//! and the operator's display controls on a spoke of video ([`video`]).
+//! 5. the video chain ([`video_chain`]): log amplifier, sea and rain clutter controls (the
+//!    rain control is [`stages::Ftc`]), interference rejection, echo averaging, gain and
+//!    quantisation.
 //!
 //! Blanking: a real receiver is switched off while its own pulse goes out, so the first
 //! `N_T` samples of the record are zero (docs/physics.md, "Eclipsing"). The fused matched
@@ -17,7 +17,6 @@
 //! [`Receiver::echo_in_blanking`] decides that.
 
 pub mod stages;
-pub mod video;
 pub mod video_chain;
 
 use crate::rng::{FrameKey, Stream};

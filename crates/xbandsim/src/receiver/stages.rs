@@ -3,15 +3,14 @@
 //! receiver's), [`GainStc`] on the compressed signal before detection (the engine's chain,
 //! skipped at its neutral setting, so the calibrated outputs stay exactly the matched
 //! filter's power), the [`Detector`] (the integrators detect with it) and the [`Ftc`] on
-//! detected power (the operator's display controls, `super::video`).
+//! log video (the video chain, `super::video_chain`).
 //!
 //! Sensitivity time control lowers the gain by `10·k·log10(R_stc/R)` dB inside `R_stc`, the
 //! classic R⁻ᵏ law against sea clutter (k = 3 for a point target's R⁻⁴ echo against an
 //! area's R⁻³; Skolnik, *Radar Handbook*, 3rd ed., §2.9). The fast time constant is a
-//! differentiator along range: it takes `α` times the local mean power over
-//! `2·half_window + 1` cells off each cell, keeping leading edges and flattening extended
-//! echoes such as rain (Skolnik §2.9; Briggs, *Target Detection by Marine Radar*, IEE,
-//! 2004, on the fast time constant).
+//! first-order differentiator along range, keeping leading edges and flattening extended
+//! echoes such as rain (Briggs, *Target Detection by Marine Radar*, IEE, 2004, on the fast
+//! time constant).
 
 use num_complex::Complex32;
 
@@ -108,45 +107,34 @@ impl Detector {
     }
 }
 
-/// The fast time constant on detected power: `max(p − α·mean, floor)` with the mean over the
-/// `2·half_window + 1` cells around each cell along range (clipped at the record's ends).
+/// The fast time constant (rain clutter control): a first-order differentiator on a sweep's
+/// log video along range, `y_n = a·(y_{n−1} + v_n − v_{n−1})` with `a = τ/(τ + Δt)` for time
+/// constant τ and sample time Δt (from `y_{−1} = v_{−1} = 0`), negative output clipped to 0.
+/// A step of height h leaves `h·aⁿ⁺¹` at its sample n: extended echoes such as rain fade
+/// within a few τ, their leading edges and short echoes pass.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ftc {
-    /// The fraction α of the local mean taken off (0: off).
-    pub fraction: f32,
-    /// Half-width of the local mean, bins.
-    pub half_window_bins: usize,
-    /// Smallest value it leaves, linear power.
-    pub floor_power: f32,
+    /// `τ/(τ + Δt)`.
+    pub a: f32,
 }
 
 impl Ftc {
-    /// Whether it leaves the video as it is (α = 0).
-    pub fn is_neutral(&self) -> bool {
-        self.fraction == 0.0
+    /// The differentiator of time constant `tau_s` on samples `sample_s` apart.
+    pub fn new(tau_s: f64, sample_s: f64) -> Ftc {
+        Ftc {
+            a: (tau_s / (tau_s + sample_s)) as f32,
+        }
     }
 
-    /// Applies it to the detected `power` of one spoke into `out` (the same length), with a
-    /// running sum over the window (f64).
-    pub fn apply(&self, power: &[f32], out: &mut [f32]) {
-        let n = power.len();
-        if n == 0 {
-            return;
-        }
-        let h = self.half_window_bins;
-        let mut sum: f64 = power[..(h + 1).min(n)].iter().map(|&p| f64::from(p)).sum();
-        for j in 0..n {
-            let lo = j.saturating_sub(h);
-            let hi = (j + h).min(n - 1);
-            let mean = (sum / (hi - lo + 1) as f64) as f32;
-            out[j] = (power[j] - self.fraction * mean).max(self.floor_power);
-            // Slide: add j+h+1, drop j−h.
-            if j + h + 1 < n {
-                sum += f64::from(power[j + h + 1]);
-            }
-            if j >= h {
-                sum -= f64::from(power[j - h]);
-            }
+    /// Applies it to one sweep's log video, in place.
+    pub fn apply(&self, video_db: &mut [f32]) {
+        let (mut prev_in, mut prev_out) = (0f32, 0f32);
+        for v in video_db.iter_mut() {
+            let x = *v;
+            let y = self.a * (prev_out + x - prev_in);
+            prev_in = x;
+            prev_out = y;
+            *v = y.max(0.0);
         }
     }
 }
@@ -229,76 +217,29 @@ mod tests {
         }
     }
 
-    /// The FTC's step response, the differentiator's signature: on a step from p0 to P at
-    /// bin s (half-window h, fraction α) the leading edge keeps `P − α·((h+1)·P + h·p0)/(2h+1)`,
-    /// the plateau settles to `P·(1 − α)` once the window is inside it, and before the step
-    /// the background keeps `p0·(1 − α)` until the window reaches the edge (Briggs, *Target
-    /// Detection by Marine Radar*, 2004: the fast time constant passes leading edges and
-    /// flattens extended echoes).
+    /// The FTC's step response is `h·aⁿ⁺¹` (`a = τ/(τ + Δt)`, the first-order high-pass's
+    /// sampled step response, `≈ exp(−t/τ)`); a pulse's trailing edge goes negative and is
+    /// clipped to 0; a flat record stays 0 after its first samples fade.
     #[test]
     fn ftc_step_response() {
-        let (p0, p, s, h, alpha) = (1.0f32, 100.0f32, 40usize, 8usize, 0.9f32);
-        let power: Vec<f32> = (0..100).map(|j| if j < s { p0 } else { p }).collect();
-        let ftc = Ftc {
-            fraction: alpha,
-            half_window_bins: h,
-            floor_power: 1e-3,
-        };
-        let mut out = vec![0f32; power.len()];
-        ftc.apply(&power, &mut out);
-        let n = (2 * h + 1) as f32;
-        let edge = p - alpha * ((h as f32 + 1.0) * p + h as f32 * p0) / n;
-        assert!(
-            (out[s] - edge).abs() < 1e-3 * edge,
-            "edge {} vs {edge}",
-            out[s]
-        );
-        for j in s + h..power.len() - h {
-            assert!(
-                (out[j] - p * (1.0 - alpha)).abs() < 1e-3 * p,
-                "plateau bin {j}: {}",
-                out[j]
-            );
-        }
-        for j in h..s - h {
-            assert!(
-                (out[j] - p0 * (1.0 - alpha)).abs() < 1e-5,
-                "background bin {j}"
-            );
-        }
-        // The edge stands out of the plateau by the differentiator's gain.
-        assert!(out[s] > 4.0 * out[s + h]);
-    }
-
-    #[test]
-    fn ftc_running_mean_matches_a_direct_mean() {
-        for (n, h) in [(50, 8), (5, 8), (17, 0), (1, 3)] {
-            let power: Vec<f32> = (0..n).map(|j| 1.0 + ((j * 37) % 23) as f32).collect();
-            let ftc = Ftc {
-                fraction: 0.6,
-                half_window_bins: h,
-                floor_power: 1e-3,
+        let ftc = Ftc::new(0.5e-6, 0.05e-6);
+        assert!((ftc.a - 0.5 / 0.55).abs() < 1e-7);
+        let mut v: Vec<f32> = (0..60).map(|n| if n < 10 { 0.0 } else { 20.0 }).collect();
+        ftc.apply(&mut v);
+        for (n, y) in v.iter().enumerate() {
+            let want = if n < 10 {
+                0.0
+            } else {
+                20.0 * ftc.a.powi((n - 10) as i32 + 1)
             };
-            let mut out = vec![0f32; n];
-            ftc.apply(&power, &mut out);
-            for j in 0..n {
-                let lo = j.saturating_sub(h);
-                let hi = (j + h).min(n - 1);
-                let mean: f64 = power[lo..=hi].iter().map(|&p| f64::from(p)).sum::<f64>()
-                    / (hi - lo + 1) as f64;
-                let want = (f64::from(power[j]) - 0.6 * mean).max(1e-3);
-                assert!(
-                    (f64::from(out[j]) - want).abs() <= 1e-5 * want,
-                    "n {n}, h {h}, bin {j}: {} vs {want}",
-                    out[j]
-                );
-            }
+            assert!((y - want).abs() < 1e-4, "sample {n}: {y} vs {want}");
         }
-        assert!(Ftc {
-            fraction: 0.0,
-            half_window_bins: 8,
-            floor_power: 1e-3
-        }
-        .is_neutral());
+        // exp(−t/τ): after 10 samples (τ) the step is down to about e⁻¹.
+        assert!((v[19] / 20.0 - (-1.0f32).exp()).abs() < 0.02, "{}", v[19]);
+        let mut pulse = vec![0f32; 20];
+        pulse[5] = 30.0;
+        ftc.apply(&mut pulse);
+        assert!((pulse[5] - 30.0 * ftc.a).abs() < 1e-4);
+        assert!(pulse[6..].iter().all(|&y| y == 0.0));
     }
 }

@@ -11,8 +11,8 @@
 //! 3. **log amplifier**: `v = min(10·log10(1 + p), D)` dB for power p over the noise, linear
 //!    near the noise and logarithmic above it, saturating at the dynamic range D;
 //! 4. **rain clutter control** (FTC): a differentiator on the log video along range, the
-//!    first-order high-pass `y_n = a·(y_{n−1} + v_n − v_{n−1})`, `a = τ/(τ + Δt)`, whose step
-//!    response decays as `aⁿ ≈ exp(−t/τ)`; negative video is clipped to 0;
+//!    first-order high-pass [`Ftc`], `y_n = a·(y_{n−1} + v_n − v_{n−1})`, `a = τ/(τ + Δt)`,
+//!    whose step response decays as `aⁿ⁺¹ ≈ exp(−t/τ)`; negative video is clipped to 0;
 //! 5. **interference rejection**: sweep-to-sweep correlation — a sample may exceed the
 //!    stronger of the neighbouring sweeps' samples at its range by 6 dB (low) or 2 dB
 //!    (medium), or the weaker by nothing (high): another radar's pulses, which land on one
@@ -33,6 +33,7 @@
 use crate::choice::InterferenceRejection;
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
 use crate::model::receiver::{Stc, VideoSettings};
+use crate::receiver::stages::Ftc;
 use rayon::prelude::*;
 
 /// A revolution of quantised video: `spokes × samples` levels `0 ..= 2^bits − 1`.
@@ -173,16 +174,21 @@ fn auto_stc_db(power: &[f32], samples: usize, level_db: f32) -> Vec<f32> {
     attenuation
 }
 
-/// The first-order high-pass (FTC) on one sweep's log video, in place, with `a = τ/(τ + Δt)`;
-/// negative output clipped to 0.
-pub fn ftc_sweep(video_db: &mut [f32], a: f32) {
-    let (mut prev_in, mut prev_out) = (0f32, 0f32);
-    for v in video_db.iter_mut() {
-        let x = *v;
-        let y = a * (prev_out + x - prev_in);
-        prev_in = x;
-        prev_out = y;
-        *v = y.max(0.0);
+/// One sweep's log video in place: `power` (linear over the noise, a sample each) times the
+/// STC's gain per sample, through the log amplifier saturating at `dynamic_range_db`, then the
+/// FTC when given. The per-sweep stages of [`run`], for a caller that refreshes sweeps one by
+/// one (the Gymnasium environments' display).
+pub fn sweep_log_video(
+    power: &mut [f32],
+    stc_gain: &[f32],
+    dynamic_range_db: f32,
+    ftc: Option<Ftc>,
+) {
+    for (p, g) in power.iter_mut().zip(stc_gain) {
+        *p = log_video_db(*p * g, dynamic_range_db);
+    }
+    if let Some(f) = ftc {
+        f.apply(power);
     }
 }
 
@@ -249,18 +255,11 @@ pub fn run(
     let stc_gain: Vec<f32> = stc_db.iter().map(|a| 10f32.powf(-0.1 * a)).collect();
     // 3–4. Log amplifier and FTC, sweep by sweep.
     let dt_s = 2.0 * sample_m / SPEED_OF_LIGHT_M_PER_S;
-    let ftc_a = settings
-        .ftc_time_constant_s
-        .map(|tau| (tau / (tau + dt_s)) as f32);
+    let ftc = settings.ftc_time_constant_s.map(|tau| Ftc::new(tau, dt_s));
     let dynamic_range = settings.log_dynamic_range_db;
-    power.par_chunks_mut(n).for_each(|sweep| {
-        for (p, g) in sweep.iter_mut().zip(&stc_gain) {
-            *p = log_video_db(*p * g, dynamic_range);
-        }
-        if let Some(a) = ftc_a {
-            ftc_sweep(sweep, a);
-        }
-    });
+    power
+        .par_chunks_mut(n)
+        .for_each(|sweep| sweep_log_video(sweep, &stc_gain, dynamic_range, ftc));
     let log_video = power;
     // 5. Interference rejection across sweeps.
     let log_video = if settings.interference_rejection == InterferenceRejection::Off {
@@ -401,17 +400,6 @@ mod tests {
         assert_eq!(quantise(34.0, 6.0, 30.0, 15), 15);
         assert_eq!(quantise(300.0, 6.0, 30.0, 15), 15);
         assert_eq!(quantise(f32::NAN, 6.0, 30.0, 15), 0);
-    }
-
-    #[test]
-    fn ftc_step_response_decays_as_its_time_constant() {
-        let a = 0.9f32;
-        let mut v = vec![20f32; 40];
-        ftc_sweep(&mut v, a);
-        for (n, y) in v.iter().enumerate() {
-            let expect = 20.0 * a.powi(n as i32 + 1);
-            assert!((y - expect).abs() < 1e-4, "{n}: {y} vs {expect}");
-        }
     }
 
     #[test]
