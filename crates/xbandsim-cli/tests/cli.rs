@@ -345,7 +345,22 @@ fn schema_is_json_and_covers_the_format() {
     assert_eq!(choices("Colormap"), ["viridis", "green", "gray"]);
     assert_eq!(choices("ScatteringModel"), ["po", "paper"]);
     assert_eq!(choices("MeshUnit"), ["m", "cm", "mm", "ft", "in"]);
-    assert_eq!(choices("RadarPreset"), ["drs4d-nxt"]);
+    assert_eq!(
+        choices("RadarPreset"),
+        [
+            "drs4d-nxt",
+            "magnetron-4kw-radome",
+            "magnetron-25kw-open-array",
+            "s-band-30kw",
+            "solid-state-open-array"
+        ]
+    );
+    assert_eq!(choices("StcMode"), ["off", "manual", "auto"]);
+    assert_eq!(
+        choices("InterferenceRejection"),
+        ["off", "low", "medium", "high"]
+    );
+    assert_eq!(choices("PulseLength"), ["short", "medium", "long"]);
 }
 
 #[test]

@@ -23,8 +23,7 @@ pub const UNIFORM_APERTURE_HPBW_FACTOR: f64 = 0.8859;
 
 /// A one-way normalised power pattern of one plane, `Gn(θ)` with `Gn(0) = 1`: its value, a
 /// bound on it that needs no trigonometry (the engine skips echoes far in the sidelobes with
-/// it) and its two-way integral (the clutter map's beam weights). The uniform aperture's
-/// sinc² is the only pattern today; another pattern is another variant with these three.
+/// it) and its two-way integral (the clutter map's beam weights).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Pattern {
     /// `Gn(θ) = [sin(u)/u]²`, `u = 2.783·θ/θ3dB` (a uniformly illuminated aperture).
@@ -32,6 +31,177 @@ pub enum Pattern {
         /// Half-power (3-dB) beamwidth, rad.
         beamwidth_3db_rad: f64,
     },
+    /// A tapered aperture's pattern over the whole circle ([`Tapered`]): Taylor's n̄ line
+    /// source in front, a floor under its far sidelobes and a back lobe behind.
+    Tapered(Tapered),
+}
+
+/// The tapered patterns made last, by their inputs' bits.
+static TAPERS: crate::cache::KeptLast<[u64; 5], Tapered> = crate::cache::KeptLast::new(16, 1 << 16);
+
+/// Most n̄ a Taylor pattern takes.
+pub const MAX_TAYLOR_NBAR: usize = 12;
+
+/// A slotted-waveguide array's azimuth pattern over 360°: in front (`|θ| < 90°`) Taylor's n̄
+/// line source (Taylor 1955; Balanis, *Antenna Theory*, 4th ed., §7.6)
+/// `F(u) = sinc(πu)·Π_{n<n̄} (1 − u²/u_n²)/(1 − u²/n²)`, `u_n = σ·√(A² + (n − ½)²)`,
+/// `σ = n̄/√(A² + (n̄ − ½)²)`, `A = acosh(R)/π` for the sidelobe ratio R (voltage), with
+/// `u = u₃·sin θ/sin(θ3dB/2)` so that `F² = ½` at the half-power angle; `Gn = max(F², floor)`
+/// (the far sidelobes of a real array stop falling at the level its errors set); behind
+/// (`|θ| ≥ 90°`) `Gn = back lobe`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tapered {
+    /// Half-power beamwidth, rad.
+    pub beamwidth_3db_rad: f64,
+    /// n̄.
+    pub nbar: usize,
+    /// The `u_n` of n = 1 … n̄ − 1 (unused beyond).
+    pub zeros: [f64; MAX_TAYLOR_NBAR],
+    /// `u₃/sin(θ3dB/2)`: u per unit of sin θ.
+    pub u_per_sine: f64,
+    /// One-way floor of the far sidelobes (linear).
+    pub floor: f64,
+    /// One-way back-lobe level (linear).
+    pub back_lobe: f64,
+    /// `∫Gn²` over the circle, rad (numerical, at construction).
+    pub two_way_integral_rad: f64,
+    /// Angle of the first null, rad.
+    pub first_null_rad: f64,
+    /// `K` with `|F(u)| ≤ K/(π|u|)` for `|u| ≥ n̄` (the far sidelobes' sinc envelope times the
+    /// product's limit, found over `n̄ … 64·n̄` with a margin).
+    pub far_envelope: f64,
+}
+
+impl Tapered {
+    /// The pattern of half-power beamwidth `beamwidth_3db_rad` with Taylor sidelobes
+    /// `sidelobe_db` (< −13.3, e.g. −28) and `nbar`, far-sidelobe floor `floor_db` and back
+    /// lobe `back_lobe_db` (one-way, dB under the peak). Its integral takes a few
+    /// milliseconds: the last patterns made are kept ([`TAPERS`]), so that a dataset's scenes
+    /// of one radar make it once.
+    pub fn new(
+        beamwidth_3db_rad: f64,
+        sidelobe_db: f64,
+        nbar: usize,
+        floor_db: f64,
+        back_lobe_db: f64,
+    ) -> Tapered {
+        let key = [
+            beamwidth_3db_rad.to_bits(),
+            sidelobe_db.to_bits(),
+            nbar as u64,
+            floor_db.to_bits(),
+            back_lobe_db.to_bits(),
+        ];
+        TAPERS.get_or_make(
+            key,
+            || Tapered::make(beamwidth_3db_rad, sidelobe_db, nbar, floor_db, back_lobe_db),
+            |_| std::mem::size_of::<Tapered>(),
+        )
+    }
+
+    fn make(
+        beamwidth_3db_rad: f64,
+        sidelobe_db: f64,
+        nbar: usize,
+        floor_db: f64,
+        back_lobe_db: f64,
+    ) -> Tapered {
+        let nbar = nbar.clamp(2, MAX_TAYLOR_NBAR);
+        let r = 10f64.powf(-sidelobe_db / 20.0);
+        let a = r.acosh() / std::f64::consts::PI;
+        let nb = nbar as f64;
+        let sigma = nb / (a * a + (nb - 0.5).powi(2)).sqrt();
+        let mut zeros = [0.0; MAX_TAYLOR_NBAR];
+        for (n, z) in zeros.iter_mut().enumerate().take(nbar).skip(1) {
+            *z = sigma * (a * a + (n as f64 - 0.5).powi(2)).sqrt();
+        }
+        let mut t = Tapered {
+            beamwidth_3db_rad,
+            nbar,
+            zeros,
+            u_per_sine: 1.0,
+            floor: 10f64.powf(floor_db / 10.0),
+            back_lobe: 10f64.powf(back_lobe_db / 10.0),
+            two_way_integral_rad: 0.0,
+            first_null_rad: 0.0,
+            far_envelope: 0.0,
+        };
+        // u₃: F² = ½, by bisection on the main lobe (F falls monotonically to its first zero,
+        // u_1 or, for n̄ = 2 … , below n̄).
+        let (mut lo, mut hi) = (0.0, t.zeros[1].max(1.0));
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if t.taylor_power(mid) > 0.5 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let u3 = 0.5 * (lo + hi);
+        t.u_per_sine = u3 / (beamwidth_3db_rad / 2.0).sin();
+        t.first_null_rad = (t.zeros[1] / t.u_per_sine).min(1.0).asin();
+        let steps = 200_000;
+        t.far_envelope = (0..=steps)
+            .map(|i| {
+                let u = nb + 63.0 * nb * i as f64 / steps as f64;
+                t.taylor_power(u).sqrt() * std::f64::consts::PI * u
+            })
+            .fold(0.0, f64::max)
+            * 1.02;
+        // ∫Gn² over the circle: fine steps through the main lobe and near sidelobes, then the
+        // rest of the front and the back.
+        let n = 400_000;
+        let h = std::f64::consts::TAU / n as f64;
+        t.two_way_integral_rad = (0..n)
+            .map(|i| {
+                let th = -std::f64::consts::PI + (i as f64 + 0.5) * h;
+                t.value(th).powi(2) * h
+            })
+            .sum();
+        t
+    }
+
+    /// Taylor's power pattern `F²(u)`.
+    fn taylor_power(&self, u: f64) -> f64 {
+        let pu = std::f64::consts::PI * u;
+        let mut f = if pu.abs() < 1e-9 { 1.0 } else { pu.sin() / pu };
+        let u2 = u * u;
+        for n in 1..self.nbar {
+            let nn = (n * n) as f64;
+            let zz = self.zeros[n] * self.zeros[n];
+            let den = 1.0 - u2 / nn;
+            if den.abs() < 1e-12 {
+                // sinc's zero at u = n cancels this pole: the finite limit, taken a hair off.
+                return self.taylor_power(u + 1e-7);
+            }
+            f *= (1.0 - u2 / zz) / den;
+        }
+        f * f
+    }
+
+    /// A lower bound of `1/√Gn(θ)`: 0 where `|u| < n̄`, else `min(π|u|/K, 1/√floor)`, and
+    /// `1/√back_lobe` behind.
+    pub fn inverse_voltage_envelope(&self, off_axis_rad: f64) -> f64 {
+        let th = wrap_angle_rad(off_axis_rad);
+        if th.abs() >= std::f64::consts::FRAC_PI_2 {
+            return 1.0 / self.back_lobe.sqrt();
+        }
+        let u = (self.u_per_sine * th.sin()).abs();
+        if u < self.nbar as f64 {
+            return 0.0;
+        }
+        (std::f64::consts::PI * u / self.far_envelope).min(1.0 / self.floor.sqrt())
+    }
+
+    /// `Gn(θ)` at `off_axis_rad` (wrapped into (−π, π]).
+    pub fn value(&self, off_axis_rad: f64) -> f64 {
+        let th = wrap_angle_rad(off_axis_rad);
+        if th.abs() >= std::f64::consts::FRAC_PI_2 {
+            return self.back_lobe;
+        }
+        let u = self.u_per_sine * th.sin();
+        self.taylor_power(u).max(self.floor)
+    }
 }
 
 impl Pattern {
@@ -45,6 +215,7 @@ impl Pattern {
     pub fn value(&self, off_axis_rad: f64) -> f64 {
         match *self {
             Pattern::Sinc2 { beamwidth_3db_rad } => sinc2_pattern(off_axis_rad, beamwidth_3db_rad),
+            Pattern::Tapered(ref t) => t.value(off_axis_rad),
         }
     }
 
@@ -58,6 +229,7 @@ impl Pattern {
             Pattern::Sinc2 { beamwidth_3db_rad } => {
                 (SINC_BEAMWIDTH_FACTOR * off_axis_rad / beamwidth_3db_rad).abs()
             }
+            Pattern::Tapered(ref t) => t.inverse_voltage_envelope(off_axis_rad),
         }
     }
 
@@ -68,6 +240,7 @@ impl Pattern {
             Pattern::Sinc2 { beamwidth_3db_rad } => {
                 (2.0 * std::f64::consts::PI / 3.0) * beamwidth_3db_rad / SINC_BEAMWIDTH_FACTOR
             }
+            Pattern::Tapered(ref t) => t.two_way_integral_rad,
         }
     }
 
@@ -77,12 +250,14 @@ impl Pattern {
             Pattern::Sinc2 { beamwidth_3db_rad } => {
                 std::f64::consts::PI * beamwidth_3db_rad / SINC_BEAMWIDTH_FACTOR
             }
+            Pattern::Tapered(ref t) => t.first_null_rad,
         }
     }
 }
 
-/// A separable antenna: azimuth and elevation 3-dB beamwidths (each plane's [`Pattern`] is
-/// the sinc² of its beamwidth), peak gain, tilt.
+/// A separable antenna: azimuth and elevation 3-dB beamwidths (the elevation plane's
+/// [`Pattern`] is the sinc² of its beamwidth; the azimuth plane's too, or a [`Tapered`]
+/// pattern over the whole circle), peak gain, tilt.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Antenna {
     /// Azimuth 3-dB (half-power) beamwidth, rad.
@@ -93,6 +268,8 @@ pub struct Antenna {
     pub peak_gain_linear: f64,
     /// Elevation of the beam axis above horizontal, rad.
     pub tilt_rad: f64,
+    /// The azimuth plane's tapered pattern (None: the uniform aperture's sinc²).
+    pub azimuth_taper: Option<Tapered>,
 }
 
 /// One-way normalised sinc² power pattern of one plane at `off_axis_rad` from boresight.
@@ -128,7 +305,10 @@ impl Antenna {
     /// The azimuth plane's pattern.
     #[inline]
     pub fn azimuth(&self) -> Pattern {
-        Pattern::sinc2(self.az_beamwidth_rad)
+        match self.azimuth_taper {
+            None => Pattern::sinc2(self.az_beamwidth_rad),
+            Some(t) => Pattern::Tapered(t),
+        }
     }
 
     /// The elevation plane's pattern.
@@ -226,6 +406,65 @@ mod tests {
                 "{bw_deg}°: {numeric} vs {closed}"
             );
             assert!(p.value(p.first_null_rad()) < 1e-12);
+        }
+    }
+
+    /// The tapered pattern: −3 dB at half the beamwidth, its highest sidelobe at the design
+    /// level (Taylor's n̄ pattern holds its first sidelobes at it), the floor and back lobe
+    /// where they belong, its envelope a bound everywhere, its integral the brute-force one.
+    #[test]
+    fn tapered_pattern_against_its_design() {
+        for (bw_deg, sll, nbar) in [(1.1, -28.0, 5), (3.9, -25.0, 4), (1.9, -30.0, 6)] {
+            let bw = f64::to_radians(bw_deg);
+            let t = Tapered::new(bw, sll, nbar, -40.0, -35.0);
+            let db = |th: f64| 10.0 * t.value(th).log10();
+            assert!(
+                (db(bw / 2.0) + 3.0103).abs() < 1e-6,
+                "{bw_deg}°: {}",
+                db(bw / 2.0)
+            );
+            assert!(db(t.first_null_rad) <= -40.0 + 1e-9);
+            let (mut peak_side, mut i) = (f64::MIN, 0);
+            while i < 200_000 {
+                let th = t.first_null_rad * 1.0001 + i as f64 * 1e-6;
+                if th > 10.0 * bw {
+                    break;
+                }
+                peak_side = peak_side.max(db(th));
+                i += 1;
+            }
+            // Taylor's sidelobes are nearly equal to the design level, within a few tenths of
+            // a dB for small n̄ (Hansen, *Phased Array Antennas*, 2nd ed., 2009, on the n̄
+            // choice).
+            assert!(
+                (peak_side - sll).abs() < 0.4,
+                "{bw_deg}°: sidelobes {peak_side:.2} dB"
+            );
+            assert!((db(2.5) + 35.0).abs() < 1e-9 && (db(-2.0) + 35.0).abs() < 1e-9);
+            // The floor holds the far sidelobes up: their lowest is it, none is under it.
+            let far_min = (0..10_000)
+                .map(|i| db(0.5 + i as f64 * 1e-4))
+                .fold(f64::MAX, f64::min);
+            assert!(
+                (far_min + 40.0).abs() < 1e-9,
+                "far sidelobes down to {far_min}"
+            );
+            let p = Pattern::Tapered(t);
+            for i in 0..200_000 {
+                let th = -std::f64::consts::PI + (i as f64 + 0.5) * std::f64::consts::TAU / 2e5;
+                let r = p.inverse_voltage_envelope(th);
+                assert!(p.value(th) * r * r <= 1.0 + 1e-9, "{bw_deg}° at {th}");
+            }
+            let n = 1_000_000;
+            let h = std::f64::consts::TAU / n as f64;
+            let numeric: f64 = (0..n)
+                .map(|i| {
+                    p.value(-std::f64::consts::PI + (i as f64 + 0.5) * h)
+                        .powi(2)
+                        * h
+                })
+                .sum();
+            assert!((numeric / p.two_way_integral_rad() - 1.0).abs() < 1e-3);
         }
     }
 

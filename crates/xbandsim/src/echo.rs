@@ -588,6 +588,7 @@ mod tests {
             el_beamwidth_rad: 22f64.to_radians(),
             peak_gain_linear: 1000.0,
             tilt_rad: 0.01,
+            azimuth_taper: None,
         };
         let (fs, num_samples, noise) = (30e6, 600usize, 3e-6);
         let kernel = FractionalDelayKernel::new();
@@ -708,6 +709,7 @@ mod tests {
             el_beamwidth_rad: 22f64.to_radians(),
             peak_gain_linear: 1000.0,
             tilt_rad: 0.0,
+            azimuth_taper: None,
         };
         let min = crate::engine::MIN_GROUP_AMPLITUDE;
         let u_to_rad = antenna.az_beamwidth_rad / crate::antenna::SINC_BEAMWIDTH_FACTOR;
@@ -762,6 +764,7 @@ mod tests {
             el_beamwidth_rad: 22f64.to_radians(),
             peak_gain_linear: 1000.0,
             tilt_rad: 0.0,
+            azimuth_taper: None,
         };
         for i in 0..20_000 {
             let az = 0.3 + i as f64 * 3.1e-4;

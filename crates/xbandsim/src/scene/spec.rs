@@ -35,6 +35,18 @@ pub enum RadarPreset {
     SolidStateOpenArray,
 }
 
+/// `radar.antenna_pattern`: the azimuth plane's pattern.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum AntennaPatternName {
+    /// A uniformly illuminated aperture's sinc² (first sidelobe −13.3 dB).
+    #[default]
+    Sinc2,
+    /// A tapered slotted-waveguide array: Taylor's n̄ pattern, a far-sidelobe floor and a
+    /// back lobe.
+    Taylor,
+}
+
 /// `radar.window`: the matched filter's reference window.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "lowercase")]
@@ -172,6 +184,17 @@ pub struct RadarSpec {
     pub elevation_beamwidth_deg: Option<f64>,
     /// Beam axis elevation above horizontal, degrees.
     pub tilt_deg: Option<f64>,
+    /// The azimuth pattern: "sinc2" (a uniform aperture) or "taylor" (a tapered array over
+    /// the whole circle, with `sidelobe_db`, `pattern_nbar`, `far_sidelobe_db`, `back_lobe_db`).
+    pub antenna_pattern: Option<AntennaPatternName>,
+    /// Taylor pattern: its near sidelobes, dB under the peak (one-way), −60 … −14.
+    pub sidelobe_db: Option<f64>,
+    /// Taylor pattern: n̄, 2 … 12.
+    pub pattern_nbar: Option<usize>,
+    /// Taylor pattern: the floor of its far sidelobes, dB under the peak (one-way).
+    pub far_sidelobe_db: Option<f64>,
+    /// Taylor pattern: the back lobe (behind the antenna), dB under the peak (one-way).
+    pub back_lobe_db: Option<f64>,
     /// Complex (I/Q) sample rate, MHz.
     pub sample_rate_mhz: Option<f64>,
     /// Pulse repetition frequency, Hz (the mean rate when `prf_stagger` is given).

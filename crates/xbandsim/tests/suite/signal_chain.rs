@@ -279,6 +279,7 @@ fn echo_synthesis_equals_delayed_chirps() {
         el_beamwidth_rad: 0.4,
         peak_gain_linear: 100.0,
         tilt_rad: 0.0,
+        azimuth_taper: None,
     };
     let groups = EchoGroups::build(
         &contributions,

@@ -4,12 +4,12 @@
 
 use super::preset::RadarDefaults;
 use super::*;
-use crate::antenna::{uniform_aperture_gain, Antenna};
+use crate::antenna::{uniform_aperture_gain, Antenna, Tapered, MAX_TAYLOR_NBAR};
 use crate::choice::Transmitter;
 use crate::constants::*;
 use crate::error::{Error, Problem, Result};
 use crate::model::checks::{finite, finite_vec, fmt_vec, positive};
-use crate::scene::{PulseModeName, RadarSpec, WindowName};
+use crate::scene::{AntennaPatternName, PulseModeName, RadarSpec, WindowName};
 use crate::waveform::{LfmChirp, Window};
 
 /// Validates the `[radar]` table; `environment_polarisation` is the older place a scene file
@@ -290,6 +290,7 @@ pub(in crate::model) fn build_radar(
         ));
     }
     let short_pulse = build_short_pulse(s, pulse_width_us, sample_rate_hz, window)?;
+    let azimuth_taper = build_azimuth_taper(s, preset.sidelobes_db, az_bw)?;
     let mut polarisation = s.polarisation.unwrap_or(Polarisation::Hh);
     if let Some(pol) = environment_polarisation {
         if s.polarisation.is_some() && pol != polarisation {
@@ -320,6 +321,7 @@ pub(in crate::model) fn build_radar(
             el_beamwidth_rad: el_bw,
             peak_gain_linear,
             tilt_rad: tilt_deg.to_radians(),
+            azimuth_taper,
         },
         scan: Scan {
             prf_hz,
@@ -375,6 +377,85 @@ fn build_stagger(ratios: Option<&[f64]>, prf_hz: f64, pulse_width_us: f64) -> Re
         ));
     }
     Ok(stagger)
+}
+
+/// Validates `radar.antenna_pattern` and its fields into the azimuth plane's tapered pattern
+/// (None: sinc²); the preset's sidelobes are the defaults.
+fn build_azimuth_taper(
+    s: &RadarSpec,
+    preset_sidelobes_db: Option<(f64, f64, f64)>,
+    az_bw_rad: f64,
+) -> Result<Option<Tapered>> {
+    let name = s
+        .antenna_pattern
+        .unwrap_or(if preset_sidelobes_db.is_some() {
+            AntennaPatternName::Taylor
+        } else {
+            AntennaPatternName::Sinc2
+        });
+    let fields = [
+        ("radar.sidelobe_db", s.sidelobe_db),
+        ("radar.far_sidelobe_db", s.far_sidelobe_db),
+        ("radar.back_lobe_db", s.back_lobe_db),
+        ("radar.pattern_nbar", s.pattern_nbar.map(|n| n as f64)),
+    ];
+    if name == AntennaPatternName::Sinc2 {
+        if let Some((field, Some(v))) = fields.iter().find(|(_, v)| v.is_some()) {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                *field,
+                v,
+                "only radar.antenna_pattern = \"taylor\" has these sidelobes (sinc² has its own)",
+            ));
+        }
+        return Ok(None);
+    }
+    let (near, far, back) = preset_sidelobes_db.unwrap_or((-28.0, -40.0, -35.0));
+    let sidelobe_db = finite("radar.sidelobe_db", s.sidelobe_db.unwrap_or(near))?;
+    if !(-60.0..=-14.0).contains(&sidelobe_db) {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.sidelobe_db",
+            sidelobe_db,
+            "must be between -60 and -14 dB (a taper lowers the uniform aperture's -13.3 dB)",
+        ));
+    }
+    let nbar = s.pattern_nbar.unwrap_or(5);
+    if !(2..=MAX_TAYLOR_NBAR).contains(&nbar) {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.pattern_nbar",
+            nbar,
+            format!("must be between 2 and {MAX_TAYLOR_NBAR}"),
+        ));
+    }
+    let floor_db = finite("radar.far_sidelobe_db", s.far_sidelobe_db.unwrap_or(far))?;
+    if !(-90.0..=sidelobe_db).contains(&floor_db) {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.far_sidelobe_db",
+            floor_db,
+            format!(
+                "must be between -90 dB and the near sidelobes (radar.sidelobe_db = {sidelobe_db})"
+            ),
+        ));
+    }
+    let back_db = finite("radar.back_lobe_db", s.back_lobe_db.unwrap_or(back))?;
+    if !(-90.0..=-10.0).contains(&back_db) {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            "radar.back_lobe_db",
+            back_db,
+            "must be between -90 and -10 dB",
+        ));
+    }
+    Ok(Some(Tapered::new(
+        az_bw_rad,
+        sidelobe_db,
+        nbar,
+        floor_db,
+        back_db,
+    )))
 }
 
 fn fmt_list(values: &[f64]) -> String {

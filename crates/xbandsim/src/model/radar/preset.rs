@@ -59,6 +59,9 @@ pub struct PresetFigures {
     pub elevation_beamwidth_deg: f64,
     /// Peak antenna gain, dBi (None: from the beamwidths).
     pub gain_dbi: Option<f64>,
+    /// The azimuth pattern's sidelobes: (near sidelobes, far-sidelobe floor, back lobe), dB
+    /// one-way; None: sinc².
+    pub sidelobes_db: Option<(f64, f64, f64)>,
     /// Noise figure, dB.
     pub noise_figure_db: f64,
     /// Rotation, rpm.
@@ -200,6 +203,7 @@ pub const PRESETS: [PresetFigures; 5] = [
         azimuth_beamwidth_deg: 3.9,
         elevation_beamwidth_deg: 25.0,
         gain_dbi: None,
+        sidelobes_db: None,
         noise_figure_db: 5.0,
         rotation_rpm: 24.0,
         antenna_height_m: 4.0,
@@ -216,6 +220,7 @@ pub const PRESETS: [PresetFigures; 5] = [
         azimuth_beamwidth_deg: 3.5,
         elevation_beamwidth_deg: 25.0,
         gain_dbi: None,
+        sidelobes_db: None,
         noise_figure_db: 6.0,
         rotation_rpm: 24.0,
         antenna_height_m: 4.0,
@@ -232,6 +237,7 @@ pub const PRESETS: [PresetFigures; 5] = [
         azimuth_beamwidth_deg: 1.1,
         elevation_beamwidth_deg: 23.0,
         gain_dbi: Some(29.0),
+        sidelobes_db: Some((-23.0, -30.0, -35.0)),
         noise_figure_db: 6.0,
         rotation_rpm: 24.0,
         antenna_height_m: 15.0,
@@ -248,6 +254,7 @@ pub const PRESETS: [PresetFigures; 5] = [
         azimuth_beamwidth_deg: 1.9,
         elevation_beamwidth_deg: 25.0,
         gain_dbi: None,
+        sidelobes_db: Some((-23.0, -30.0, -35.0)),
         noise_figure_db: 5.0,
         rotation_rpm: 24.0,
         antenna_height_m: 25.0,
@@ -264,6 +271,7 @@ pub const PRESETS: [PresetFigures; 5] = [
         azimuth_beamwidth_deg: 1.8,
         elevation_beamwidth_deg: 23.0,
         gain_dbi: Some(27.0),
+        sidelobes_db: Some((-23.0, -30.0, -35.0)),
         noise_figure_db: 5.0,
         rotation_rpm: 24.0,
         antenna_height_m: 10.0,
