@@ -28,6 +28,7 @@ use crate::model::revolution::Revolution;
 use crate::model::{ProcessingMode, Scene};
 use crate::processing::sinks::DopplerPlan;
 use crate::processing::{DopplerSpectra, PulseCompressor, SpokeScratch};
+use crate::products::artefacts::sidelobe_artefacts;
 use crate::products::labels::{object_truth, ObjectTruth};
 use crate::products::{Frame, FrameStats};
 use crate::receiver::stages::GainStc;
@@ -626,6 +627,13 @@ impl Simulation {
         let synthesis_s = t1.elapsed().as_secs_f64();
         let truth = object_truth(revolution, &traced.set, &traced.bvh);
         let radar = self.scene.radar();
+        let artefacts = sidelobe_artefacts(
+            &truth,
+            &radar.antenna().azimuth(),
+            radar.spokes(),
+            radar.range_bin_m(),
+            self.compressor.num_bins(),
+        );
         Frame {
             frame: schedule.frame(),
             start_time_s: revolution.start_time_s(),
@@ -637,6 +645,7 @@ impl Simulation {
             doppler_cube: products.1,
             iq: None,
             video: None,
+            artefacts,
             radial_velocity: products.2,
             truth,
             stats: FrameStats {

@@ -3,6 +3,7 @@
 //! `iq_pulses.npy` when the frame has them (docs/formats.md). The truth file holds no timings,
 //! so the same scene and seed give byte-identical files.
 
+use super::artefacts::ArtefactTruth;
 use super::labels::ObjectTruth;
 use super::output::{
     json_bytes, npy_c64_bytes, npy_f32_bytes, npy_f64_bytes, npy_u8_bytes, png_bytes, write_set,
@@ -37,6 +38,7 @@ struct TruthFile<'a> {
     ppi_radar_px: [f64; 2],
     radar_position_m: [f64; 3],
     objects: &'a [ObjectTruth],
+    artefacts: &'a [ArtefactTruth],
     /// Deterministic counts only: timings go to the terminal, so that the same seed gives
     /// a byte-identical truth.json.
     trace: TraceCounts,
@@ -272,6 +274,10 @@ pub fn frame_products(
     let size = conv.size_px();
     let mut objects = frame.truth.clone();
     geometry.label(&mut objects);
+    let mut artefacts = frame.artefacts.clone();
+    for a in &mut artefacts {
+        a.ppi_boxes_px = a.regions.iter().map(|r| geometry.pixel_box(r)).collect();
+    }
     let mut ppi = vec![0f32; (size * size) as usize];
     conv.convert(&frame.polar_db, f32::NAN, &mut ppi);
     let d = display;
@@ -352,6 +358,7 @@ pub fn frame_products(
             .map_or(radar.position_m(), |s| s.antenna_position_m)
             .to_array(),
         objects: &objects,
+        artefacts: &artefacts,
         trace: TraceCounts::of(&frame.stats),
     };
     let truth_json = json_bytes(&out.join("truth.json"), &truth)?;

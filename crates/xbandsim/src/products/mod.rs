@@ -4,6 +4,7 @@
 //! ([`frame_files`]: polar.npy, ppi.png, ppi_gray.png, truth.json; docs/formats.md). Later
 //! products (range-Doppler cubes, video) belong here too.
 
+pub mod artefacts;
 pub mod frame_files;
 pub mod labels;
 pub mod output;
@@ -140,6 +141,9 @@ pub struct Frame {
     pub radial_velocity: Option<RadialVelocity>,
     /// The receiver's quantised video (scenes with a `[receiver]` table).
     pub video: Option<Video>,
+    /// The frame's artefacts: echoes that are not a target where they appear (sidelobe echoes,
+    /// second-trace echoes, interference), each with its source, reason and boxes.
+    pub artefacts: Vec<artefacts::ArtefactTruth>,
     /// Per-object ground truth (PPI pixel boxes are added by the PPI product for a given
     /// image: `products::ppi::PpiGeometry::label`).
     pub truth: Vec<ObjectTruth>,

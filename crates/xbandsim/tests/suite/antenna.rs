@@ -115,3 +115,65 @@ fn sidelobe_echoes_follow_the_two_way_pattern_round_the_circle() {
     assert!((f64::from(peak(180)) - on_axis + 70.0).abs() < 0.05);
     assert!((f64::from(peak(45)) - on_axis + 60.0).abs() < 0.05);
 }
+
+/// Sidelobe echoes are labelled where they are: with noise off, every spoke outside the main
+/// lobe whose echo peaks at 6 dB or more lies in a `sidelobe` artefact's polar box of the
+/// target, and every labelled spoke's echo peaks there within 0.05 dB of the label's level
+/// or above 6 dB.
+#[test]
+fn sidelobe_echoes_are_labelled_as_artefacts() {
+    use xbandsim::products::artefacts::{ArtefactKind, SIDELOBE_LABEL_DB};
+    let text = format!(
+        "{}{}",
+        radar_block_no_noise(
+            "spokes = 360\nmax_range_m = 1500.0\nazimuth_beamwidth_deg = 1.1\n\
+             antenna_pattern = \"taylor\"\nsidelobe_db = -23.0\nfar_sidelobe_db = -30.0"
+        ),
+        point_north("ship", 600.0, 300.0)
+    );
+    let (sim, f) = render(&text, 1);
+    let null_deg = sim
+        .scene()
+        .radar()
+        .antenna()
+        .azimuth()
+        .first_null_rad()
+        .to_degrees();
+    assert!(!f.artefacts.is_empty());
+    let mut labelled = vec![false; 360];
+    for a in &f.artefacts {
+        assert_eq!(a.kind, ArtefactKind::Sidelobe);
+        assert_eq!(a.source, "ship");
+        for b in &a.polar_boxes {
+            for k in b.spoke_indices(360) {
+                labelled[k] = true;
+            }
+            assert!(b.bin_min <= 400 && b.bin_max >= 400, "{b:?}");
+        }
+    }
+    let peak = |k: usize| {
+        f.polar_db[k * f.range_bins..(k + 1) * f.range_bins]
+            .iter()
+            .copied()
+            .fold(f32::MIN, f32::max) as f64
+    };
+    for k in 0..360 {
+        let off = (k as f64).min(360.0 - k as f64);
+        if off <= null_deg + 1.0 {
+            continue;
+        }
+        let p = peak(k);
+        if labelled[k] {
+            assert!(
+                p >= SIDELOBE_LABEL_DB - 0.05,
+                "spoke {k}: labelled, peak {p:.2} dB"
+            );
+        } else {
+            assert!(
+                p < SIDELOBE_LABEL_DB + 0.05,
+                "spoke {k}: peak {p:.2} dB not labelled"
+            );
+        }
+    }
+    assert!(labelled.iter().filter(|&&l| l).count() >= 4);
+}

@@ -1,0 +1,126 @@
+//! Product: the artefacts of a frame, labelled in its truth beside the objects (docs/formats.md,
+//! "truth.json", `artefacts`): echoes that are not a target where they appear — each with its
+//! kind, the object or emitter it comes from, the physical reason, and its boxes in the polar
+//! record and the PPI — so that a detector can learn not to call them targets.
+//!
+//! **Sidelobe echoes.** A target's echo reaches the spokes off its bearing through the
+//! antenna's sidelobes at `Gn(Δaz)²` of its peak (docs/physics.md §3): where its expected SNR
+//! plus `20·log10 Gn(Δaz)` is at least [`SIDELOBE_LABEL_DB`] over the noise outside the main
+//! lobe (beyond the first null), each run of such spokes is one artefact at the object's range.
+
+use super::labels::{EchoRegion, ObjectTruth, PolarBox};
+use crate::antenna::{wrap_angle_rad, Pattern};
+use serde::Serialize;
+
+/// A sidelobe echo is labelled where it is expected at least this far over the noise, dB (the
+/// receiver video's threshold at 0 dB gain).
+pub const SIDELOBE_LABEL_DB: f64 = 6.0;
+
+/// What made an artefact.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ArtefactKind {
+    /// A target's echo through the antenna's sidelobes.
+    Sidelobe,
+    /// An echo from beyond the unambiguous range, in the next pulse's record.
+    SecondTrace,
+    /// Another radar's pulses.
+    Interference,
+}
+
+/// One artefact of a frame.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ArtefactTruth {
+    /// Its kind.
+    pub kind: ArtefactKind,
+    /// The object (or emitter) it comes from.
+    pub source: String,
+    /// Why it is there, in words.
+    pub reason: String,
+    /// Its expected level, dB over the noise (the strongest of its cells).
+    pub expected_level_db: f64,
+    /// Its boxes in the polar record.
+    pub polar_boxes: Vec<PolarBox>,
+    /// Its boxes in the PPI, `[x_min, y_min, x_max, y_max]` px, each null when outside the
+    /// image (set by the PPI product).
+    pub ppi_boxes_px: Vec<Option<[f64; 4]>>,
+    /// Its regions (for the products' pixel boxes).
+    #[serde(skip)]
+    pub regions: Vec<EchoRegion>,
+}
+
+/// The sidelobe echoes of `objects` for the azimuth `pattern` on `spokes` spokes, with range
+/// bins `bin_m` apart up to `num_bins`.
+pub fn sidelobe_artefacts(
+    objects: &[ObjectTruth],
+    pattern: &Pattern,
+    spokes: usize,
+    bin_m: f64,
+    num_bins: usize,
+) -> Vec<ArtefactTruth> {
+    let null = pattern.first_null_rad();
+    let spoke_rad = std::f64::consts::TAU / spokes as f64;
+    let mut out = Vec::new();
+    for o in objects {
+        let (Some(snr_db), Some(region)) = (o.expected_snr_db, o.echo_region) else {
+            continue;
+        };
+        let az = o.azimuth_deg.to_radians();
+        let level = |k: usize| {
+            let off = wrap_angle_rad(k as f64 * spoke_rad - az);
+            if off.abs() <= null + region.half_width_rad {
+                return None;
+            }
+            let l = snr_db + 20.0 * pattern.value(off).max(1e-300).log10();
+            (l >= SIDELOBE_LABEL_DB).then_some(l)
+        };
+        let marked: Vec<Option<f64>> = (0..spokes).map(level).collect();
+        // Runs of marked spokes, joined across north.
+        let Some(start) = (0..spokes).find(|&k| marked[k].is_none()) else {
+            continue;
+        };
+        let mut k = 0;
+        while k < spokes {
+            let s = (start + k) % spokes;
+            if marked[s].is_none() {
+                k += 1;
+                continue;
+            }
+            let first = s;
+            let mut best = f64::MIN;
+            let mut len = 0;
+            while k < spokes && marked[(start + k) % spokes].is_some() {
+                best = best.max(marked[(start + k) % spokes].unwrap_or(f64::MIN));
+                len += 1;
+                k += 1;
+            }
+            let centre = (first as f64 + (len as f64 - 1.0) / 2.0) * spoke_rad;
+            let run = EchoRegion {
+                azimuth_rad: centre.rem_euclid(std::f64::consts::TAU),
+                half_width_rad: len as f64 * spoke_rad / 2.0,
+                ..region
+            };
+            let Some(mut polar_box) = run.polar_box(bin_m, num_bins, spokes) else {
+                continue;
+            };
+            polar_box.spoke_min = first;
+            polar_box.spoke_max = (first + len - 1) % spokes;
+            out.push(ArtefactTruth {
+                kind: ArtefactKind::Sidelobe,
+                source: o.name.clone(),
+                reason: format!(
+                    "the echo of \"{}\" through the antenna's sidelobes, {:.0}°–{:.0}° off its bearing {:.1}°",
+                    o.name,
+                    wrap_angle_rad(first as f64 * spoke_rad - az).to_degrees(),
+                    wrap_angle_rad((first + len - 1) as f64 * spoke_rad - az).to_degrees(),
+                    o.azimuth_deg
+                ),
+                expected_level_db: best,
+                polar_boxes: vec![polar_box],
+                ppi_boxes_px: Vec::new(),
+                regions: vec![run],
+            });
+        }
+    }
+    out
+}
