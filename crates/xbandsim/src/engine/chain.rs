@@ -19,6 +19,7 @@ use crate::processing::{DopplerSpectra, SpokeScratch};
 use crate::rng::{uniform_phase_rad, FrameKey, Stream};
 use crate::schedule::{Dwell, Schedule};
 use crate::signal::clutter::SeaAndRainClutter;
+use crate::signal::interference::Interference;
 use crate::signal::targets::{FixedEchoes, MovingEchoes};
 use crate::signal::{earlier, PulseAt, Source};
 use num_complex::Complex32;
@@ -32,6 +33,8 @@ pub(crate) struct RevolutionSources<'a> {
     /// Each mover's Doppler-shifted chirp spectra (the matched filter's, for the strong
     /// movers).
     pub(crate) spectra: &'a [DopplerSpectra],
+    /// Other radars' pulses (`[[artefacts.interferer]]`).
+    pub(crate) interference: Interference<'a>,
 }
 
 impl RevolutionSources<'_> {
@@ -101,7 +104,8 @@ impl Simulation {
         }
         let (moving_earliest, any_strong) = sources.moving.add_weak(at, work, samples);
         earliest = earlier(earliest, moving_earliest);
-        if earliest.is_none() && self.is_silent() && !scratch.capture_received {
+        let interfered = !sources.interference.is_empty();
+        if earliest.is_none() && !interfered && self.is_silent() && !scratch.capture_received {
             // Nothing in and no noise: the matched filter's output is zero (the buffer is).
             return;
         }
@@ -113,6 +117,16 @@ impl Simulation {
             for s in &mut scratch.buffer[..record] {
                 *s *= p;
             }
+        }
+        // Other radars' pulses: their own phases, after this transmitter's.
+        if interfered {
+            let samples = &mut scratch.buffer[..record];
+            earliest = earlier(
+                earliest,
+                sources
+                    .interference
+                    .add_to_pulse(at, &mut scratch.sources, samples),
+            );
         }
         let rx = &self.receiver;
         let in_blanking = rx.echo_in_blanking(earliest);

@@ -28,7 +28,7 @@ use crate::model::revolution::Revolution;
 use crate::model::{ProcessingMode, Scene};
 use crate::processing::sinks::DopplerPlan;
 use crate::processing::{DopplerSpectra, PulseCompressor, SpokeScratch};
-use crate::products::artefacts::sidelobe_artefacts;
+use crate::products::artefacts::{interference_artefacts, sidelobe_artefacts};
 use crate::products::labels::{object_truth, ObjectTruth};
 use crate::products::{Frame, FrameStats};
 use crate::receiver::stages::GainStc;
@@ -627,13 +627,25 @@ impl Simulation {
         let synthesis_s = t1.elapsed().as_secs_f64();
         let truth = object_truth(revolution, &traced.set, &traced.bvh);
         let radar = self.scene.radar();
-        let artefacts = sidelobe_artefacts(
+        let mut artefacts = sidelobe_artefacts(
             &truth,
             &radar.antenna().azimuth(),
             radar.spokes(),
             radar.range_bin_m(),
             self.compressor.num_bins(),
         );
+        let interferers = &self.scene.artefacts().interferers;
+        if !interferers.is_empty() {
+            let names: Vec<String> = interferers.iter().map(|i| i.name.clone()).collect();
+            artefacts.extend(interference_artefacts(
+                &sources.interference,
+                &names,
+                schedule,
+                self.compressor.record_len(),
+                radar.range_bin_m(),
+                self.compressor.num_bins(),
+            ));
+        }
         Frame {
             frame: schedule.frame(),
             start_time_s: revolution.start_time_s(),

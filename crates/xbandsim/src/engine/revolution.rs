@@ -15,6 +15,7 @@ use crate::rng::FrameKey;
 use crate::schedule::Schedule;
 use crate::signal::clutter::{ClutterSpeckle, SeaAndRainClutter};
 use crate::signal::clutter_map::ClutterMap;
+use crate::signal::interference::Interference;
 use crate::signal::targets::{FilterReach, FixedEchoes, Mover, MovingEchoes};
 
 impl Simulation {
@@ -54,6 +55,16 @@ impl Simulation {
                 radar.wavelength_m(),
             ),
             spectra,
+            interference: Interference::new(
+                &self.scene.artefacts().interferers,
+                *radar.antenna(),
+                radar.position_m(),
+                radar.wavelength_m(),
+                radar.noise_power_w(),
+                radar.sample_rate_hz(),
+                record,
+                self.compressor.pulse_len(),
+            ),
         }
     }
 

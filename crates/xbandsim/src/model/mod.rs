@@ -4,6 +4,7 @@
 //! the field and the value; nothing here panics on user input. Display settings are not part
 //! of the model: they belong to the PPI product (`crate::products::ppi::PpiSettings`).
 
+pub mod artefacts;
 pub(crate) mod checks;
 mod environment;
 pub mod motion;
@@ -44,6 +45,7 @@ pub struct Scene {
     own_ship: Option<OwnShip>,
     processing: Processing,
     receiver: Option<receiver::VideoSettings>,
+    artefacts: artefacts::Artefacts,
 }
 
 /// Refuses a ray budget whose PO trace would need more than [`MAX_TRACE_BYTES`]: every
@@ -171,6 +173,7 @@ impl Scene {
             own_ship: None,
             processing: Processing::default(),
             receiver: None,
+            artefacts: artefacts::Artefacts::default(),
         })
     }
 
@@ -178,6 +181,17 @@ impl Scene {
     pub fn with_receiver(mut self, receiver: Option<receiver::VideoSettings>) -> Scene {
         self.receiver = receiver;
         self
+    }
+
+    /// The scene with the artefacts `artefacts` switched on.
+    pub fn with_artefacts(mut self, artefacts: artefacts::Artefacts) -> Scene {
+        self.artefacts = artefacts;
+        self
+    }
+
+    /// The artefacts the scene switches on.
+    pub fn artefacts(&self) -> &artefacts::Artefacts {
+        &self.artefacts
     }
 
     /// The receiver's video chain, if the scene has a `[receiver]` table.
@@ -238,7 +252,8 @@ impl Scene {
             .transpose()?;
         let scene = Scene::new(radar, environment, scattering, objects)?
             .with_processing(processing)
-            .with_receiver(video);
+            .with_receiver(video)
+            .with_artefacts(artefacts::build_artefacts(&spec.artefacts)?);
         Ok(match &spec.own_ship {
             None => scene,
             Some(s) => {

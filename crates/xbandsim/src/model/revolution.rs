@@ -159,6 +159,7 @@ impl Revolution {
                 own_ship: None,
                 processing: scene.processing().clone(),
                 receiver: scene.receiver().copied(),
+                artefacts: scene.artefacts().clone(),
             })
         };
         Revolution {

@@ -7,9 +7,18 @@
 //! antenna's sidelobes at `Gn(Δaz)²` of its peak (docs/physics.md §3): where its expected SNR
 //! plus `20·log10 Gn(Δaz)` is at least [`SIDELOBE_LABEL_DB`] over the noise outside the main
 //! lobe (beyond the first null), each run of such spokes is one artefact at the object's range.
+//!
+//! **Interference.** Each interferer is one artefact: every pulse of it that lands in a
+//! pulse's record of the revolution (`crate::signal::interference`) at an expected level of
+//! [`SIDELOBE_LABEL_DB`] or more is a box on that pulse's spoke, `N_T` samples either side of
+//! its arrival (where the matched filter spreads it). Its level is the matched filter's peak
+//! `a²·min(n_i, N_T)²/N_T` (`crate::signal::interference`); for a pulse-mode dwell, one
+//! pulse's level before the dwell's integration.
 
 use super::labels::{EchoRegion, ObjectTruth, PolarBox};
 use crate::antenna::{wrap_angle_rad, Pattern};
+use crate::schedule::Schedule;
+use crate::signal::interference::Interference;
 use serde::Serialize;
 
 /// A sidelobe echo is labelled where it is expected at least this far over the noise, dB (the
@@ -120,6 +129,75 @@ pub fn sidelobe_artefacts(
                 ppi_boxes_px: Vec::new(),
                 regions: vec![run],
             });
+        }
+    }
+    out
+}
+
+/// The interference of `interference` in the pulses of `schedule`: one artefact per
+/// interferer, a box per pulse it lands in at [`SIDELOBE_LABEL_DB`] or more; `record_len`
+/// is the pulse record's length, samples.
+pub fn interference_artefacts(
+    interference: &Interference,
+    names: &[String],
+    schedule: &Schedule,
+    record_len: usize,
+    bin_m: f64,
+    num_bins: usize,
+) -> Vec<ArtefactTruth> {
+    let pulse_len = interference.pulse_len();
+    let spokes = schedule.spokes();
+    let spoke_rad = std::f64::consts::TAU / spokes as f64;
+    let mut out = Vec::new();
+    for (i, name) in names.iter().enumerate() {
+        let mut a = ArtefactTruth {
+            kind: ArtefactKind::Interference,
+            source: name.clone(),
+            reason: format!(
+                "pulses of the radar \"{name}\" (another transmitter), landing at ranges that walk from sweep to sweep"
+            ),
+            expected_level_db: f64::MIN,
+            polar_boxes: Vec::new(),
+            ppi_boxes_px: Vec::new(),
+            regions: Vec::new(),
+        };
+        for dwell in schedule.dwells() {
+            for pulse in &dwell.pulses {
+                interference.pulses_in_record(i, pulse.time_s, pulse.azimuth_rad, |p| {
+                    let level_db = 10.0 * interference.peak_power(&p).log10();
+                    // Only what lands in the record (the source adds nothing else).
+                    if level_db < SIDELOBE_LABEL_DB
+                        || p.first_sample < 0
+                        || p.first_sample as usize >= record_len
+                    {
+                        return;
+                    }
+                    let first = p.first_sample - pulse_len as i64;
+                    let last = p.first_sample + pulse_len as i64;
+                    if first >= num_bins as i64 {
+                        return;
+                    }
+                    let bin_min = first.max(0) as usize;
+                    let bin_max = (last as usize).min(num_bins - 1);
+                    a.expected_level_db = a.expected_level_db.max(level_db);
+                    a.polar_boxes.push(PolarBox {
+                        spoke_min: dwell.spoke,
+                        spoke_max: dwell.spoke,
+                        bin_min,
+                        bin_max,
+                    });
+                    a.regions.push(EchoRegion {
+                        range_min_m: bin_min as f64 * bin_m,
+                        range_max_m: bin_max as f64 * bin_m,
+                        height_above_radar_m: 0.0,
+                        azimuth_rad: dwell.spoke as f64 * spoke_rad,
+                        half_width_rad: spoke_rad / 2.0,
+                    });
+                });
+            }
+        }
+        if !a.polar_boxes.is_empty() {
+            out.push(a);
         }
     }
     out

@@ -145,6 +145,9 @@ pub struct SceneSpec {
     pub processing: ProcessingSpec,
     /// The receiver's video chain (none: the calibrated outputs only).
     pub receiver: Option<ReceiverSpec>,
+    /// Artefacts switched on: other radars' interference (none by default).
+    #[serde(default)]
+    pub artefacts: ArtefactsSpec,
     /// The objects in the scene (`[[object]]` tables).
     #[serde(default, rename = "object")]
     pub objects: Vec<ObjectSpec>,
@@ -513,4 +516,39 @@ pub struct ReceiverSpec {
     pub echo_stretch_samples: Option<usize>,
     /// Noise rejection: clear lone video samples (default false).
     pub noise_rejection: Option<bool>,
+}
+
+/// `[artefacts]`: the artefacts a scene switches on (docs/formats.md, "[artefacts]").
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ArtefactsSpec {
+    /// Other radars nearby (`[[artefacts.interferer]]`): their pulses reach the receiver.
+    #[serde(default)]
+    pub interferer: Vec<InterfererSpec>,
+}
+
+/// `[[artefacts.interferer]]`: another radar whose pulses reach this one's receiver.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct InterfererSpec {
+    /// Its name (default `interferer-<k>`).
+    pub name: Option<String>,
+    /// Its antenna, ENU m (required).
+    pub position_m: Option<[f64; 3]>,
+    /// Its pulse repetition frequency, Hz (default 1000).
+    pub prf_hz: Option<f64>,
+    /// Its rotation, rpm (default 22: a set turning a little slower than 24).
+    pub rotation_rpm: Option<f64>,
+    /// Its antenna's azimuth at t = 0, degrees (default 0).
+    pub start_azimuth_deg: Option<f64>,
+    /// Its peak power, W (default 4000).
+    pub peak_power_w: Option<f64>,
+    /// Its pulse width, µs (default 0.3).
+    pub pulse_width_us: Option<f64>,
+    /// Its antenna's peak gain, dBi (default 25).
+    pub gain_dbi: Option<f64>,
+    /// Its azimuth beamwidth, degrees (default 3.9).
+    pub azimuth_beamwidth_deg: Option<f64>,
+    /// Its antenna's sidelobe floor, dB one-way (default −25).
+    pub sidelobe_db: Option<f64>,
 }

@@ -20,6 +20,7 @@
 
 pub mod clutter;
 pub mod clutter_map;
+pub mod interference;
 pub mod noise;
 pub mod targets;
 

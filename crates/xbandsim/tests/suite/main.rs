@@ -5,6 +5,7 @@
 mod common;
 
 mod antenna;
+mod artefacts;
 mod determinism;
 mod engine;
 mod environment;
