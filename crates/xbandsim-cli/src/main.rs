@@ -50,8 +50,9 @@ enum Command {
     /// Draw the figures as PNGs: fig2_antenna_pattern.png (the paper's Fig. 2, antenna
     /// pattern), fig3_signal_chain.png (Fig. 3, chirp, echoes, received and compressed
     /// signals), fig4_ppi_pulse_widths.png (Fig. 4, PPIs for 1, 20 and 50 us),
-    /// fig5_sea_clutter_rain.png (PPIs without and with sea clutter and rain) and
-    /// object_frames.png (each shape's object frame and aspect convention).
+    /// fig5_sea_clutter_rain.png (PPIs without and with sea clutter and rain),
+    /// object_frames.png (each shape's object frame and aspect convention) and
+    /// fig6_receiver_video.png (calibrated and receiver-video PPIs, one panel per artefact).
     Figures {
         /// Output directory (created if missing).
         #[arg(long)]

@@ -446,6 +446,7 @@ fn figures_are_drawn() {
         "fig2_antenna_pattern.png",
         "fig3_signal_chain.png",
         "fig4_ppi_pulse_widths.png",
+        "fig6_receiver_video.png",
     ] {
         let bytes = std::fs::read(dir.path().join(f)).unwrap();
         assert!(bytes.starts_with(b"\x89PNG") && bytes.len() > 10_000, "{f}");

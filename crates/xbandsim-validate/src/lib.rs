@@ -14,6 +14,7 @@ pub mod harness;
 pub mod motion;
 pub mod multipath;
 pub mod rcs;
+pub mod receiver;
 pub mod signal_chain;
 
 // The measuring helpers, for the library's tests that measure the same way.
@@ -138,5 +139,6 @@ pub fn run_all_with(on_check: &mut dyn FnMut(&CheckResult)) -> Vec<CheckResult> 
     motion::checks(&mut out);
     doppler::checks(&mut out);
     combined::checks(&mut out);
+    receiver::checks(&mut out);
     out.done
 }

@@ -9,6 +9,7 @@ use xbandsim::antenna::sinc2_pattern;
 use xbandsim::constants::linear_to_db;
 use xbandsim::echo::EchoGroups;
 use xbandsim::engine::Simulation;
+use xbandsim::products::frame_files::{frame_products, Images};
 use xbandsim::products::ppi::PpiSettings;
 use xbandsim::products::ppi::{colour_image, ScanConverter};
 use xbandsim::scene::{LoadedSpec, ObjectSpec, SceneSpec, ShapeName};
@@ -42,6 +43,8 @@ pub fn run(out: &Path, scene_path: &Path, seed: u64) -> Result<()> {
     crate::say!("wrote {}", out.join("fig5_sea_clutter_rain.png").display());
     object_frames(out)?;
     crate::say!("wrote {}", out.join("object_frames.png").display());
+    fig6(out, &dir.join("sea-state-4-rain.toml"), seed)?;
+    crate::say!("wrote {}", out.join("fig6_receiver_video.png").display());
     crate::say!("figures done in {:.1} s", t0.elapsed().as_secs_f64());
     Ok(())
 }
@@ -528,4 +531,130 @@ fn object_frames(out: &Path) -> Result<()> {
         }
         Ok(())
     })
+}
+
+/// Draws the pixel boxes `boxes` into `rgb` (side `size`) in yellow.
+fn draw_boxes(rgb: &mut [u8], size: u32, boxes: &[Option<[f64; 4]>]) {
+    let s = size as i64;
+    let mut put = |x: i64, y: i64| {
+        if (0..s).contains(&x) && (0..s).contains(&y) {
+            let k = ((y * s + x) * 3) as usize;
+            rgb[k..k + 3].copy_from_slice(&[255, 220, 0]);
+        }
+    };
+    for b in boxes.iter().flatten() {
+        let [x0, y0, x1, y1] = b.map(|v| v.round() as i64);
+        for x in x0..=x1 {
+            put(x, y0);
+            put(x, y1);
+        }
+        for y in y0..=y1 {
+            put(x0, y);
+            put(x1, y);
+        }
+    }
+}
+
+/// The calibrated PPI and the receiver video's PPI of a frame, the artefacts' boxes drawn
+/// on the video when `boxes` is set.
+fn calibrated_and_video(
+    spec: &SceneSpec,
+    dir: &Path,
+    size: u32,
+    seed: u64,
+    boxes: bool,
+) -> Result<(Vec<u8>, Vec<u8>)> {
+    let mut s = spec.clone();
+    s.display.image_size_px = Some(size);
+    let scene = Scene::from_spec_in(&s, dir)?;
+    let display = PpiSettings::from_spec(&s.display)?;
+    let sim = Simulation::new(scene);
+    let frame = sim.render(seed);
+    let p = frame_products(
+        sim.scene().radar(),
+        &display,
+        &frame,
+        Path::new("."),
+        "figure",
+        seed,
+        Images {
+            colour: true,
+            gray: false,
+        },
+    )?;
+    let truth: serde_json::Value = serde_json::from_slice(&p.truth_json)?;
+    let mut video = p.video_rgb.context("the scene has no [receiver] table")?;
+    if boxes {
+        let boxes: Vec<Option<[f64; 4]>> = truth["artefacts"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .flat_map(|a| a["ppi_boxes_px"].as_array().cloned().unwrap_or_default())
+            .map(|b| serde_json::from_value(b).ok())
+            .collect();
+        draw_boxes(&mut video, size, &boxes);
+    }
+    Ok((p.colour_rgb.context("colour image asked for")?, video))
+}
+
+/// Fig. 6 (ours): the calibrated PPI and the receiver's video of the same sea (sea state 4,
+/// rain) at typical control settings, and the artefacts: a ship's sidelobe echoes on an
+/// open array, another radar's interference (4096 sweeps, its PRF near a multiple of the
+/// sweep rate: the curved dotted lines) without and with rejection, their labels' boxes drawn
+/// in yellow.
+fn fig6(out: &Path, sea_scene: &Path, seed: u64) -> Result<()> {
+    let panel = 400u32;
+    let sea = LoadedSpec::read(sea_scene)?;
+    let (spec, dir) = (sea.spec(), sea.base_dir());
+    let receiver = |text: &str| -> Result<xbandsim::scene::ReceiverSpec> {
+        toml::from_str(text).context("figure receiver settings")
+    };
+    let mut s = spec.clone();
+    s.receiver = Some(receiver(
+        "stc = \"auto\"\nftc_time_constant_us = 0.5\ninterference_rejection = \"medium\"\nvideo_spokes = 2048\nvideo_samples = 512\n",
+    )?);
+    let (calibrated, video) = calibrated_and_video(&s, dir, panel, seed, false)?;
+    let mut images = vec![
+        ("calibrated (0 .. 60 dB over noise)".to_string(), calibrated),
+        ("receiver video: auto STC, FTC, 4 bits".to_string(), video),
+    ];
+    // A ship 1.1 km off an open array: its echo through the near sidelobes draws arcs.
+    let mut near: SceneSpec = toml::from_str(
+        "[radar]\npreset = \"magnetron-25kw-open-array\"\nrange_scale_nm = 0.75\n\
+         [environment]\nclutter = false\n[receiver]\nvideo_spokes = 2048\n\
+         [[object]]\nname = \"ship\"\nshape = \"point\"\nrcs_m2 = 30.0\nposition_m = [700.0, 900.0, 10.0]\n",
+    )
+    .context("figure scene")?;
+    near.display.range_ring_spacing_m = Some(250.0);
+    let (_, sidelobes) = calibrated_and_video(&near, dir, panel, seed, true)?;
+    images.push((
+        "artefact: sidelobe echoes (labelled)".to_string(),
+        sidelobes,
+    ));
+    let interfered = |rejection: &str| -> Result<Vec<u8>> {
+        let mut t: SceneSpec = toml::from_str(&format!(
+            "[radar]\npreset = \"magnetron-4kw-radome\"\nrange_scale_nm = 1.5\nspokes = 4096\n\
+             [environment]\nclutter = false\n\
+             [receiver]\nvideo_spokes = 2048\ninterference_rejection = \"{rejection}\"\n\
+             [[artefacts.interferer]]\nname = \"radar\"\nposition_m = [1500.0, 800.0, 8.0]\nprf_hz = 1648.2\n"
+        ))
+        .context("figure scene")?;
+        t.display.range_ring_spacing_m = Some(500.0);
+        Ok(calibrated_and_video(&t, dir, panel, seed, rejection == "off")?.1)
+    };
+    images.push((
+        "artefact: interference (labelled)".to_string(),
+        interfered("off")?,
+    ));
+    images.push((
+        "... with interference rejection".to_string(),
+        interfered("high")?,
+    ));
+    panel_grid(
+        &out.join("fig6_receiver_video.png"),
+        "Receiver video and artefacts (video levels 0 .. 15; artefact labels in yellow)",
+        &images,
+        panel,
+        3,
+    )
 }
