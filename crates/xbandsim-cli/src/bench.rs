@@ -195,6 +195,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         t * 1e3,
         "ms",
     );
+
     let mut big = spec.clone();
     big.radar.max_range_m = Some(3100.0);
     let big_scene = Scene::from_spec_in(&big, base)?;
@@ -249,6 +250,47 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         "  + sea clutter (K, SS 4) and a rain cell: added time",
         (t_sea - t_plain) * 1e3,
         "ms",
+    );
+
+    // 2b'. The receiver's video chain at its defaults (2048 x 512, 4 bits) with auto STC,
+    //      FTC and interference rejection on that sea-clutter frame (trace cached): its cost
+    //      over the frame, in the same run (issue: under 10 %).
+    let mut with_video = sea.clone();
+    with_video.receiver = Some(toml::from_str(
+        "stc = \"auto\"\nftc_time_constant_us = 0.5\ninterference_rejection = \"medium\"\n",
+    )?);
+    let video_sim = Simulation::new(Scene::from_spec_in(&with_video, base)?);
+    let (mut next_plain, mut next_video) = (1000, 1000);
+    let t_frame = median_s(a.repeats, || {
+        next_plain += 1;
+        std::hint::black_box(
+            cluttered
+                .run(&Request::new(1).frame(next_plain))
+                .expect("the scene's own scan runs"),
+        );
+    });
+    let t_video = median_s(a.repeats, || {
+        next_video += 1;
+        std::hint::black_box(
+            video_sim
+                .run(&Request::new(1).frame(next_video))
+                .expect("the scene's own scan runs"),
+        );
+    });
+    put(
+        "sea-clutter frame (K, SS 4, rain cell), trace cached",
+        t_frame * 1e3,
+        "ms",
+    );
+    put(
+        "  + receiver video (2048 x 512, auto STC, FTC, IR)",
+        t_video * 1e3,
+        "ms",
+    );
+    put(
+        "  receiver video's cost over that frame (same run)",
+        100.0 * (t_video / t_frame - 1.0),
+        "%",
     );
 
     // 2c. A pulse-by-pulse revolution (issue 9: faster than the radar turns): 24 rpm at a
@@ -423,6 +465,11 @@ fn dataset_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<
     count.insert("uniform_int".into(), toml::Value::try_from([1i64, 10])?);
     targets.insert("count".into(), toml::Value::Table(count));
     let one_to_ten = DatasetSpec::parse(&toml::to_string(&one_to_ten)?, Path::new("."))?;
+    // The shipped spec with the receiver's video chain at its defaults in every sample.
+    let with_video = DatasetSpec::parse(
+        &DETECTION_SPEC.replace("[scene.radar]", "[scene.receiver]\n\n[scene.radar]"),
+        Path::new("."),
+    )?;
     let n = DATASET_BENCH_SAMPLES;
     // Each run writes a fresh folder, and all are removed at the end: on ext4, files made
     // just after many were deleted cost the inode allocator a search past them
@@ -444,7 +491,7 @@ fn dataset_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<
         });
         n as f64 / t
     };
-    let (all, at_least_one) = (rate(&spec), rate(&one_to_ten));
+    let (all, at_least_one, video) = (rate(&spec), rate(&one_to_ten), rate(&with_video));
     for dir in dirs {
         let _ = std::fs::remove_dir_all(&dir);
     }
@@ -459,6 +506,16 @@ fn dataset_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<
         ),
         at_least_one,
         "frames/s",
+    );
+    put(
+        &format!("labelled 512^2 frames/s, detection.toml with [scene.receiver] ({n} samples)"),
+        video,
+        "frames/s",
+    );
+    put(
+        "receiver video's cost over the dataset rate (same run)",
+        100.0 * (all / video - 1.0),
+        "%",
     );
     // One core, stage by stage (a one-thread pool: the stages' own parallel loops too).
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;

@@ -153,8 +153,8 @@ pub struct Episode {
     display_db: Vec<f32>,
     refreshed: Vec<bool>,
     floor_db: f32,
-    /// The STC's gain per bin for this step's sea clutter level.
-    stc_gain: Vec<f32>,
+    /// The STC's attenuation per bin for this step's sea clutter level, dB.
+    stc_db: Vec<f32>,
     row: Vec<f32>,
     ppi_db: Vec<f32>,
     plot_scratch: PlotScratch,
@@ -189,7 +189,7 @@ impl Episode {
             display_db: Vec::new(),
             refreshed: Vec::new(),
             floor_db: Action::default().floor_db(),
-            stc_gain: Vec::new(),
+            stc_db: Vec::new(),
             row: Vec::new(),
             ppi_db: Vec::new(),
             plot_scratch: PlotScratch::default(),
@@ -259,7 +259,7 @@ impl Episode {
         self.display_db.resize(spokes * bins, f32::NEG_INFINITY);
         self.refreshed.clear();
         self.refreshed.resize(spokes, false);
-        self.stc_gain.resize(bins, 1.0);
+        self.stc_db.resize(bins, 0.0);
         self.row.resize(bins, 0.0);
         let outcome = self.revolution(&Action::default())?;
         // The warm-up revolution is frame 0; the agent's first step is frame 1.
@@ -409,8 +409,8 @@ impl Episode {
         let short_noise_db = radar.short_pulse_noise_db().unwrap_or(0.0) as f32;
         let join = radar.join_bin().min(bins);
         let law = STC_LAW[action.sea];
-        for (j, g) in self.stc_gain.iter_mut().enumerate() {
-            *g = 10f32.powf(-0.1 * stc_db(j as f64 * self.range_bin_m, law));
+        for (j, a) in self.stc_db.iter_mut().enumerate() {
+            *a = stc_db(j as f64 * self.range_bin_m, law);
         }
         let sample_s = 2.0 * self.range_bin_m / SPEED_OF_LIGHT_M_PER_S;
         let ftc = FTC_TIME_CONSTANT_US[action.rain].map(|tau_us| Ftc::new(tau_us * 1e-6, sample_s));
@@ -427,12 +427,10 @@ impl Episode {
                         .iter_mut()
                         .for_each(|v| *v -= short_noise_db);
                 }
-                // Linear power over the noise, then STC, the log amplifier and the FTC.
+                // STC, the log amplifier and the FTC.
                 let out = &mut self.display_db[k * bins..(k + 1) * bins];
-                for (o, &v) in out.iter_mut().zip(&self.row) {
-                    *o = 10f32.powf(0.1 * v);
-                }
-                sweep_log_video(out, &self.stc_gain, LOG_DYNAMIC_RANGE_DB, ftc);
+                out.copy_from_slice(&self.row);
+                sweep_log_video(out, &self.stc_db, LOG_DYNAMIC_RANGE_DB, ftc);
             }
         }
         self.floor_db = action.floor_db();

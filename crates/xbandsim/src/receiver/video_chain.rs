@@ -144,27 +144,25 @@ fn sample_bins(record: &PolarRecord, samples: usize) -> Vec<(usize, usize)> {
         .collect()
 }
 
-/// Auto STC: per sample, the attenuation that brings the median power over the sweeps down
-/// to `level_db` of log video (`10·log10(1 + p_med·g) = level`), none where the median is
-/// below it; then the running maximum from far to near, so that it never attenuates more far
-/// than near. `power` is sweeps × samples.
-fn auto_stc_db(power: &[f32], samples: usize, level_db: f32) -> Vec<f32> {
-    let sweeps = power.len() / samples;
-    let target = 10f32.powf(0.1 * level_db) - 1.0;
+/// Auto STC: per sample, the attenuation that brings the median over the sweeps down to
+/// `level_db` of log video (`10·log10(1 + p_med·g) = level`, so `A = P_med − 10·log10(10^{L/10}
+/// − 1)` in dB, the median taken on dB values: the median of a monotone map is the map of
+/// the median), none where the median is below it; then the running maximum from far to
+/// near, so that it never attenuates more far than near. `peak_db` is sweeps × samples, dB
+/// over the noise.
+fn auto_stc_db(peak_db: &[f32], samples: usize, level_db: f32) -> Vec<f32> {
+    let sweeps = peak_db.len() / samples;
+    let target_db = 10.0 * (10f32.powf(0.1 * level_db) - 1.0).log10();
     let mut attenuation: Vec<f32> = (0..samples)
         .into_par_iter()
         .map_init(
             || Vec::with_capacity(sweeps),
             |column, j| {
                 column.clear();
-                column.extend((0..sweeps).map(|k| power[k * samples + j]));
+                column.extend((0..sweeps).map(|k| peak_db[k * samples + j]));
                 let mid = sweeps / 2;
                 let (_, median, _) = column.select_nth_unstable_by(mid, f32::total_cmp);
-                if *median > target && target > 0.0 {
-                    10.0 * (*median / target).log10()
-                } else {
-                    0.0
-                }
+                (*median - target_db).max(0.0)
             },
         )
         .collect();
@@ -174,21 +172,50 @@ fn auto_stc_db(power: &[f32], samples: usize, level_db: f32) -> Vec<f32> {
     attenuation
 }
 
-/// One sweep's log video in place: `power` (linear over the noise, a sample each) times the
-/// STC's gain per sample, through the log amplifier saturating at `dynamic_range_db`, then the
-/// FTC when given. The per-sweep stages of [`run`], for a caller that refreshes sweeps one by
-/// one (the Gymnasium environments' display).
+/// `10·log10(1 + 10^{−d/10})` for d = k/64 dB, k = 0 … 64·60 (beyond 60 dB it is under
+/// 5·10⁻⁶ dB and taken as 0).
+fn softplus_table() -> &'static [f32] {
+    static TABLE: std::sync::OnceLock<Vec<f32>> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| {
+        (0..=64 * 60 + 1)
+            .map(|k| (10.0 * (1.0 + 10f64.powf(-(k as f64 / 64.0) / 10.0)).log10()) as f32)
+            .collect()
+    })
+}
+
+/// The log amplifier's output for an input `x_db` dB over the noise, without a logarithm:
+/// `10·log10(1 + 10^{x/10}) = max(x, 0) + 10·log10(1 + 10^{−|x|/10})`, the second term from a
+/// table of 1/64 dB steps interpolated linearly (within 2·10⁻⁵ dB of the exact value), then
+/// saturated at `dynamic_range_db`.
+#[inline]
+pub fn log_video_of_db(x_db: f32, dynamic_range_db: f32) -> f32 {
+    let table = softplus_table();
+    let d = x_db.abs() * 64.0;
+    let correction = if d < (64 * 60) as f32 {
+        let k = d as usize;
+        let t = d - k as f32;
+        table[k] + t * (table[k + 1] - table[k])
+    } else {
+        0.0
+    };
+    (x_db.max(0.0) + correction).min(dynamic_range_db)
+}
+
+/// One sweep's log video in place: `video_db` (the sweep's samples in dB over the noise)
+/// less the STC's attenuation per sample (`stc_db`), through the log amplifier saturating at
+/// `dynamic_range_db`, then the FTC when given. The per-sweep stages of [`run`], for a caller
+/// that refreshes sweeps one by one (the Gymnasium environments' display).
 pub fn sweep_log_video(
-    power: &mut [f32],
-    stc_gain: &[f32],
+    video_db: &mut [f32],
+    stc_db: &[f32],
     dynamic_range_db: f32,
     ftc: Option<Ftc>,
 ) {
-    for (p, g) in power.iter_mut().zip(stc_gain) {
-        *p = log_video_db(*p * g, dynamic_range_db);
+    for (v, a) in video_db.iter_mut().zip(stc_db) {
+        *v = log_video_of_db(*v - a, dynamic_range_db);
     }
     if let Some(f) = ftc {
-        f.apply(power);
+        f.apply(video_db);
     }
 }
 
@@ -229,15 +256,14 @@ pub fn run(
     let sweeps = record.spokes;
     let sample_m = record.range_m / n as f64;
     let bins = sample_bins(record, n);
-    // 1. Peak power over each sample's bins, linear over the noise.
-    let mut power = vec![0f32; sweeps * n];
-    power
+    // 1. The peak over each sample's bins, dB over the noise.
+    let mut video = vec![0f32; sweeps * n];
+    video
         .par_chunks_mut(n)
         .zip(record.db.par_chunks(record.bins))
         .for_each(|(out, row)| {
             for (o, &(lo, hi)) in out.iter_mut().zip(&bins) {
-                let peak = row[lo..=hi].iter().copied().fold(f32::MIN, f32::max);
-                *o = 10f32.powf(0.1 * peak);
+                *o = row[lo..=hi].iter().copied().fold(f32::MIN, f32::max);
             }
         });
     // 2. STC as a gain per sample.
@@ -250,17 +276,16 @@ pub fn run(
         } => (0..n)
             .map(|j| manual_stc_db((j as f64 + 0.5) * sample_m, level_db, range_m, law))
             .collect(),
-        Stc::Auto { level_db } => auto_stc_db(&power, n, level_db),
+        Stc::Auto { level_db } => auto_stc_db(&video, n, level_db),
     };
-    let stc_gain: Vec<f32> = stc_db.iter().map(|a| 10f32.powf(-0.1 * a)).collect();
     // 3–4. Log amplifier and FTC, sweep by sweep.
     let dt_s = 2.0 * sample_m / SPEED_OF_LIGHT_M_PER_S;
     let ftc = settings.ftc_time_constant_s.map(|tau| Ftc::new(tau, dt_s));
     let dynamic_range = settings.log_dynamic_range_db;
-    power
+    video
         .par_chunks_mut(n)
-        .for_each(|sweep| sweep_log_video(sweep, &stc_gain, dynamic_range, ftc));
-    let log_video = power;
+        .for_each(|sweep| sweep_log_video(sweep, &stc_db, dynamic_range, ftc));
+    let log_video = video;
     // 5. Interference rejection across sweeps.
     let log_video = if settings.interference_rejection == InterferenceRejection::Off {
         log_video
@@ -271,54 +296,29 @@ pub fn run(
         });
         out
     };
-    // 6. Onto the video spokes: the nearest sweep, and the peak of the sweeps nearest each.
+    // 6–8. Onto the video spokes (the nearest sweep, and the peak of the sweeps nearest
+    // each), echo averaging, gain and quantisation. Without averaging the sweeps are
+    // quantised first and sampled as levels: the quantiser is monotone, so the nearest
+    // sweep's level and the peak of levels are the level of the nearest sweep and of the
+    // peak — the same bytes for a fraction of the work.
     let spokes = settings.video_spokes;
-    let mut grid = vec![0f32; spokes * n];
-    grid.par_chunks_mut(n).enumerate().for_each(|(s, o)| {
-        let k = ((s as f64 * sweeps as f64 / spokes as f64).round() as usize) % sweeps;
-        o.copy_from_slice(&log_video[k * n..(k + 1) * n]);
-    });
-    if sweeps > spokes {
-        for k in 0..sweeps {
-            let s = ((k as f64 * spokes as f64 / sweeps as f64).round() as usize) % spokes;
-            let (o, v) = (
-                &mut grid[s * n..(s + 1) * n],
-                &log_video[k * n..(k + 1) * n],
-            );
-            for (a, &b) in o.iter_mut().zip(v) {
-                *a = a.max(b);
-            }
-        }
-    }
-    // 7. Echo averaging.
-    if let Some(h) = history {
-        if settings.echo_average_scans > 1 {
-            if h.mean_db.len() != grid.len() {
-                h.mean_db.clear();
-                h.scans = 0;
-            }
-            h.scans += 1;
-            if h.scans == 1 {
-                h.mean_db.clone_from(&grid);
-            } else {
-                let w = 1.0 / h.scans.min(settings.echo_average_scans) as f32;
-                for (m, g) in h.mean_db.iter_mut().zip(grid.iter_mut()) {
-                    *m += w * (*g - *m);
-                    *g = *m;
-                }
-            }
-        }
-    }
-    // 8. Gain and quantisation.
     let (threshold, span, max_level) = (
         settings.threshold_db(),
         settings.video_span_db,
         settings.max_level(),
     );
-    let mut levels: Vec<u8> = grid
-        .par_iter()
-        .map(|&v| quantise(v, threshold, span, max_level))
-        .collect();
+    let q = |v: f32| quantise(v, threshold, span, max_level);
+    let averaging = settings.echo_average_scans > 1 && history.is_some();
+    let mut levels = if averaging {
+        let mut grid = azimuth_sample(&log_video, sweeps, spokes, n, f32::max);
+        if let Some(h) = history {
+            echo_average(h, settings.echo_average_scans, &mut grid);
+        }
+        grid.par_iter().map(|&v| q(v)).collect()
+    } else {
+        let swept: Vec<u8> = log_video.par_iter().map(|&v| q(v)).collect();
+        azimuth_sample(&swept, sweeps, spokes, n, u8::max)
+    };
     // 9. Noise rejection.
     if settings.noise_rejection {
         let before = levels.clone();
@@ -342,6 +342,53 @@ pub fn run(
         threshold_db: threshold,
         level_step_db: span / f32::from(max_level),
         levels,
+    }
+}
+
+/// Rows of `sweeps × n` onto `spokes` rows: each the nearest sweep's row
+/// (`round(s·sweeps/spokes) mod sweeps`), and with more sweeps than spokes, the `peak` with
+/// every sweep whose nearest spoke it is.
+fn azimuth_sample<T: Copy + Default + Send + Sync>(
+    rows: &[T],
+    sweeps: usize,
+    spokes: usize,
+    n: usize,
+    peak: fn(T, T) -> T,
+) -> Vec<T> {
+    let mut grid = vec![T::default(); spokes * n];
+    grid.par_chunks_mut(n).enumerate().for_each(|(s, o)| {
+        let k = ((s as f64 * sweeps as f64 / spokes as f64).round() as usize) % sweeps;
+        o.copy_from_slice(&rows[k * n..(k + 1) * n]);
+    });
+    if sweeps > spokes {
+        for k in 0..sweeps {
+            let s = ((k as f64 * spokes as f64 / sweeps as f64).round() as usize) % spokes;
+            let (o, v) = (&mut grid[s * n..(s + 1) * n], &rows[k * n..(k + 1) * n]);
+            for (a, &b) in o.iter_mut().zip(v) {
+                *a = peak(*a, b);
+            }
+        }
+    }
+    grid
+}
+
+/// Echo averaging of this scan's log video `grid` into `history` over up to `scans` scans:
+/// the running mean with weight `1/min(n, scans)`, written back into `grid`.
+fn echo_average(history: &mut EchoHistory, scans: u32, grid: &mut [f32]) {
+    if history.mean_db.len() != grid.len() {
+        history.mean_db.clear();
+        history.scans = 0;
+    }
+    history.scans += 1;
+    if history.scans == 1 {
+        history.mean_db.clear();
+        history.mean_db.extend_from_slice(grid);
+        return;
+    }
+    let w = 1.0 / history.scans.min(scans) as f32;
+    for (m, g) in history.mean_db.iter_mut().zip(grid.iter_mut()) {
+        *m += w * (*g - *m);
+        *g = *m;
     }
 }
 
@@ -387,6 +434,18 @@ mod tests {
         assert!((log_video_db(1e6, 80.0) - 60.0).abs() < 1e-3);
         assert_eq!(log_video_db(1e12, 80.0), 80.0);
         assert!(log_video_db(1e-4, 80.0) < 1e-3);
+    }
+
+    /// The table-driven log amplifier against the exact `10·log10(1 + 10^{x/10})`.
+    #[test]
+    fn log_amplifier_of_db_matches_the_exact_curve() {
+        for i in 0..200_000 {
+            let x = -120.0 + i as f64 * 0.001;
+            let exact = 10.0 * (1.0 + 10f64.powf(x / 10.0)).log10();
+            let fast = f64::from(log_video_of_db(x as f32, 200.0));
+            assert!((fast - exact).abs() < 5e-5, "{x}: {fast} vs {exact}");
+        }
+        assert_eq!(log_video_of_db(95.0, 80.0), 80.0);
     }
 
     #[test]
