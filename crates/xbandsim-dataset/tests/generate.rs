@@ -779,3 +779,41 @@ fn specs_draw_presets_and_range_scales() {
     let out = tempfile::tempdir().unwrap();
     xbandsim_dataset::make_sample(&spec, out.path(), 5, 0).unwrap();
 }
+
+/// A spec can draw the receiver's controls and an artefact's settings: each sample's scene
+/// has the drawn gain, sea clutter mode and interferer PRF, and a sample writes its video.
+#[test]
+fn specs_draw_receiver_controls_and_artefacts() {
+    let text = SPEC
+        .replace(
+            "[scene.environment]",
+            "[scene.receiver]\nvideo_spokes = 120\n\n\
+         [[scene.artefacts.interferer]]\nposition_m = [300.0, 0.0, 6.0]\n\n[scene.environment]",
+        )
+        .replace(
+            "[vary]\n",
+            "[vary]\n\"receiver.gain_db\" = { uniform = [-6.0, 3.0] }\n\
+         \"receiver.stc\" = { choice = [\"off\", \"auto\"] }\n\
+         \"artefacts.interferer[0].prf_hz\" = { uniform = [900.0, 1900.0] }\n",
+        );
+    let spec = DatasetSpec::parse(&text, Path::new(".")).unwrap();
+    let mut modes = std::collections::BTreeSet::new();
+    for i in 0..12 {
+        let s = spec.sample(5, i).unwrap();
+        let built = xbandsim::model::Scene::from_toml_str(&s.scene_toml, "sample").unwrap();
+        let r = built.receiver().expect("the base scene's [receiver]");
+        assert!((-6.0..=3.0).contains(&r.gain_db), "{}", r.gain_db);
+        modes.insert(format!("{:?}", r.stc));
+        let prf = built.artefacts().interferers[0].prf_hz;
+        assert!((900.0..=1900.0).contains(&prf), "{prf}");
+    }
+    assert_eq!(modes.len(), 2, "{modes:?}");
+    let out = tempfile::tempdir().unwrap();
+    xbandsim_dataset::make_sample(&spec, out.path(), 5, 0).unwrap();
+    let dir = xbandsim_dataset::sample_dir(out.path(), 0);
+    assert!(
+        dir.join("video.npy").exists(),
+        "{:?}",
+        std::fs::read_dir(&dir).unwrap().collect::<Vec<_>>()
+    );
+}
