@@ -18,6 +18,7 @@ use crate::processing::sinks::{
 use crate::processing::{DopplerSpectra, SpokeScratch};
 use crate::rng::{uniform_phase_rad, FrameKey, Stream};
 use crate::schedule::{Dwell, Schedule};
+use crate::signal::beacons::Beacons;
 use crate::signal::clutter::SeaAndRainClutter;
 use crate::signal::interference::Interference;
 use crate::signal::targets::{FixedEchoes, MovingEchoes};
@@ -35,6 +36,8 @@ pub(crate) struct RevolutionSources<'a> {
     pub(crate) spectra: &'a [DopplerSpectra],
     /// Other radars' pulses (`[[artefacts.interferer]]`).
     pub(crate) interference: Interference<'a>,
+    /// Racons' and SARTs' answers.
+    pub(crate) beacons: Beacons<'a>,
 }
 
 impl RevolutionSources<'_> {
@@ -104,7 +107,7 @@ impl Simulation {
         }
         let (moving_earliest, any_strong) = sources.moving.add_weak(at, work, samples);
         earliest = earlier(earliest, moving_earliest);
-        let interfered = !sources.interference.is_empty();
+        let interfered = !sources.interference.is_empty() || !sources.beacons.is_empty();
         if earliest.is_none() && !interfered && self.is_silent() && !scratch.capture_received {
             // Nothing in and no noise: the matched filter's output is zero (the buffer is).
             return;
@@ -118,13 +121,20 @@ impl Simulation {
                 *s *= p;
             }
         }
-        // Other radars' pulses: their own phases, after this transmitter's.
+        // Other radars' pulses and the beacons' answers: their own phases, after this
+        // transmitter's.
         if interfered {
             let samples = &mut scratch.buffer[..record];
             earliest = earlier(
                 earliest,
                 sources
                     .interference
+                    .add_to_pulse(at, &mut scratch.sources, samples),
+            );
+            earliest = earlier(
+                earliest,
+                sources
+                    .beacons
                     .add_to_pulse(at, &mut scratch.sources, samples),
             );
         }

@@ -28,7 +28,7 @@ use crate::model::revolution::Revolution;
 use crate::model::{ProcessingMode, Scene};
 use crate::processing::sinks::DopplerPlan;
 use crate::processing::{DopplerSpectra, PulseCompressor, SpokeScratch};
-use crate::products::artefacts::{interference_artefacts, sidelobe_artefacts};
+use crate::products::artefacts::{beacon_artefacts, interference_artefacts, sidelobe_artefacts};
 use crate::products::labels::{object_truth, ObjectTruth};
 use crate::products::{Frame, FrameStats};
 use crate::receiver::stages::GainStc;
@@ -640,6 +640,17 @@ impl Simulation {
             artefacts.extend(interference_artefacts(
                 &sources.interference,
                 &names,
+                schedule,
+                self.compressor.record_len(),
+                radar.range_bin_m(),
+                self.compressor.num_bins(),
+            ));
+        }
+        let beacons = &self.scene.artefacts().beacons;
+        if !beacons.is_empty() {
+            artefacts.extend(beacon_artefacts(
+                &sources.beacons,
+                beacons,
                 schedule,
                 self.compressor.record_len(),
                 radar.range_bin_m(),

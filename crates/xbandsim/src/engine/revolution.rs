@@ -13,6 +13,7 @@ use crate::processing::DopplerSpectra;
 use crate::products::{DopplerCube, RadialVelocity};
 use crate::rng::FrameKey;
 use crate::schedule::Schedule;
+use crate::signal::beacons::Beacons;
 use crate::signal::clutter::{ClutterSpeckle, SeaAndRainClutter};
 use crate::signal::clutter_map::ClutterMap;
 use crate::signal::interference::Interference;
@@ -62,6 +63,18 @@ impl Simulation {
                 radar.wavelength_m(),
                 radar.noise_power_w(),
                 radar.sample_rate_hz(),
+                record,
+                self.compressor.pulse_len(),
+            ),
+            beacons: Beacons::new(
+                &self.scene.artefacts().beacons,
+                *radar.antenna(),
+                radar.position_m(),
+                radar.wavelength_m(),
+                radar.peak_power_w(),
+                radar.noise_power_w(),
+                radar.sample_rate_hz(),
+                receiver_bandwidth_hz(radar),
                 record,
                 self.compressor.pulse_len(),
             ),
@@ -234,5 +247,15 @@ impl Simulation {
             unambiguous_mps: radar.wavelength_m() * radar.prf_hz() / 4.0,
         });
         (polar, cube, radial_velocity)
+    }
+}
+
+/// The receiver's bandwidth: the chirp's sweep, or `1/T` for an unmodulated pulse.
+fn receiver_bandwidth_hz(radar: &crate::model::Radar) -> f64 {
+    let c = radar.chirp();
+    if c.bandwidth_hz > 0.0 {
+        c.bandwidth_hz
+    } else {
+        1.0 / c.pulse_width_s
     }
 }

@@ -1,10 +1,10 @@
 //! Model: the artefacts a scene switches on — other radars nearby whose pulses reach the
-//! receiver — validated from the scene file's `[artefacts]` table (docs/formats.md,
+//! receiver, racons and SARTs answering this radar — validated from the scene file's `[artefacts]` table (docs/formats.md,
 //! "[artefacts]"). `crate::signal::interference` adds their pulses.
 
 use crate::error::{Error, Problem, Result};
 use crate::model::checks::{finite, finite_vec, positive};
-use crate::scene::{ArtefactsSpec, InterfererSpec};
+use crate::scene::{ArtefactsSpec, BeaconSpec, InterfererSpec};
 use glam::DVec3;
 
 /// Another radar whose pulses reach this one's receiver.
@@ -46,11 +46,158 @@ impl Interferer {
     }
 }
 
+/// A transponder's kind and its answer.
+#[derive(Debug, Clone, PartialEq)]
+pub enum BeaconKind {
+    /// A racon: after `delay_s` it sends a Morse character over `length_s`, its marks
+    /// `(start, end)` as fractions of that length.
+    Racon {
+        /// The letter.
+        letter: char,
+        /// Its marks as fractions of the response's length.
+        marks: Vec<(f64, f64)>,
+        /// The response's length in time, s.
+        length_s: f64,
+        /// Its delay, s.
+        delay_s: f64,
+    },
+    /// A SART: 12 slow sweeps of [`SART_SWEEP_S`] through the band, each crossing this
+    /// radar's receiver once — 12 dots about 0.6 NM apart outward from it.
+    Sart,
+}
+
+/// A transponder answering this radar's pulses.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Beacon {
+    /// Its name.
+    pub name: String,
+    /// Racon or SART.
+    pub kind: BeaconKind,
+    /// Its antenna, ENU m.
+    pub position_m: DVec3,
+    /// Its EIRP, W.
+    pub eirp_w: f64,
+    /// The pulse power at it that triggers it, W.
+    pub sensitivity_w: f64,
+}
+
+/// A SART's slow sweep period, s: 12 of them make its answer (IMO performance standards for
+/// SARTs, resolution A.802(19): 12 dots 0.64 NM apart; the sweep 7.5 µs, as makers' manuals
+/// give it).
+pub const SART_SWEEP_S: f64 = 7.5e-6;
+
+/// A SART's dots.
+pub const SART_DOTS: usize = 12;
+
 /// The validated `[artefacts]` table.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Artefacts {
     /// Other radars nearby.
     pub interferers: Vec<Interferer>,
+    /// Racons and SARTs.
+    pub beacons: Vec<Beacon>,
+}
+
+/// International Morse code of a letter: `.` a dot, `-` a dash (ITU-R M.1677-1).
+fn morse(letter: char) -> Option<&'static str> {
+    const CODES: [&str; 26] = [
+        ".-", "-...", "-.-.", "-..", ".", "..-.", "--.", "....", "..", ".---", "-.-", ".-..", "--",
+        "-.", "---", ".--.", "--.-", ".-.", "...", "-", "..-", "...-", ".--", "-..-", "-.--",
+        "--..",
+    ];
+    let c = letter.to_ascii_uppercase();
+    c.is_ascii_uppercase()
+        .then(|| CODES[(c as u8 - b'A') as usize])
+}
+
+/// The marks of a Morse code as fractions of its length: a dot one unit, a dash three, one
+/// unit between them (ITU-R M.1677-1).
+pub fn morse_marks(code: &str) -> Vec<(f64, f64)> {
+    let units: usize = code
+        .chars()
+        .map(|c| if c == '-' { 3 } else { 1 })
+        .sum::<usize>()
+        + code.len().saturating_sub(1);
+    let mut t = 0usize;
+    let mut marks = Vec::new();
+    for c in code.chars() {
+        let len = if c == '-' { 3 } else { 1 };
+        marks.push((t as f64 / units as f64, (t + len) as f64 / units as f64));
+        t += len + 1;
+    }
+    marks
+}
+
+fn beacon(k: usize, s: &BeaconSpec, sart: bool) -> Result<Beacon> {
+    let table = if sart { "sart" } else { "racon" };
+    let f = |name: &str| format!("artefacts.{table}[{k}].{name}");
+    let Some(p) = s.position_m else {
+        return Err(Error::missing(
+            f("position_m"),
+            "a beacon needs its position, [east, north, up] m",
+        ));
+    };
+    let position_m = finite_vec(&f("position_m"), p)?;
+    let eirp_w = positive(
+        &f("eirp_w"),
+        s.eirp_w.unwrap_or(if sart { 0.4 } else { 1.0 }),
+    )?;
+    let sensitivity_dbm = finite(&f("sensitivity_dbm"), s.sensitivity_dbm.unwrap_or(-50.0))?;
+    let kind = if sart {
+        for (field, given) in [
+            ("morse", s.morse.is_some()),
+            ("length_nm", s.length_nm.is_some()),
+            ("delay_us", s.delay_us.is_some()),
+        ] {
+            if given {
+                return Err(Error::invalid(
+                    Problem::Conflict,
+                    f(field),
+                    "given",
+                    "a SART answers with its 12 dots: only a racon has a Morse letter, length and delay",
+                ));
+            }
+        }
+        BeaconKind::Sart
+    } else {
+        let text = s.morse.clone().unwrap_or_else(|| "K".into());
+        let mut chars = text.chars();
+        let code = match (chars.next(), chars.next()) {
+            (Some(letter), None) => morse(letter).map(|c| (letter, c)),
+            _ => None,
+        };
+        let Some((letter, code)) = code else {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                f("morse"),
+                format!("{text:?}"),
+                "must be one letter A–Z",
+            ));
+        };
+        let length_nm = positive(&f("length_nm"), s.length_nm.unwrap_or(1.0))?;
+        let delay_us = finite(&f("delay_us"), s.delay_us.unwrap_or(0.5))?;
+        if !(0.0..=100.0).contains(&delay_us) {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                f("delay_us"),
+                delay_us,
+                "must be between 0 and 100 µs",
+            ));
+        }
+        BeaconKind::Racon {
+            letter: letter.to_ascii_uppercase(),
+            marks: morse_marks(code),
+            length_s: length_nm * 1852.0 * 2.0 / crate::constants::SPEED_OF_LIGHT_M_PER_S,
+            delay_s: delay_us * 1e-6,
+        }
+    };
+    Ok(Beacon {
+        name: s.name.clone().unwrap_or_else(|| format!("{table}-{k}")),
+        kind,
+        position_m,
+        eirp_w,
+        sensitivity_w: 10f64.powf(sensitivity_dbm / 10.0) * 1e-3,
+    })
 }
 
 fn interferer(k: usize, s: &InterfererSpec) -> Result<Interferer> {
@@ -125,6 +272,13 @@ pub fn build_artefacts(s: &ArtefactsSpec) -> Result<Artefacts> {
             .iter()
             .enumerate()
             .map(|(k, i)| interferer(k, i))
+            .collect::<Result<_>>()?,
+        beacons: s
+            .racon
+            .iter()
+            .enumerate()
+            .map(|(k, b)| beacon(k, b, false))
+            .chain(s.sart.iter().enumerate().map(|(k, b)| beacon(k, b, true)))
             .collect::<Result<_>>()?,
     })
 }

@@ -17,7 +17,9 @@
 
 use super::labels::{EchoRegion, ObjectTruth, PolarBox};
 use crate::antenna::{wrap_angle_rad, Pattern};
+use crate::model::artefacts::{Beacon, BeaconKind};
 use crate::schedule::Schedule;
+use crate::signal::beacons::Beacons;
 use crate::signal::interference::Interference;
 use serde::Serialize;
 
@@ -35,6 +37,10 @@ pub enum ArtefactKind {
     SecondTrace,
     /// Another radar's pulses.
     Interference,
+    /// A racon's Morse character behind it.
+    Racon,
+    /// A SART's dots outward from it.
+    Sart,
 }
 
 /// One artefact of a frame.
@@ -193,6 +199,89 @@ pub fn interference_artefacts(
                         azimuth_rad: dwell.spoke as f64 * spoke_rad,
                         half_width_rad: spoke_rad / 2.0,
                     });
+                });
+            }
+        }
+        if !a.polar_boxes.is_empty() {
+            out.push(a);
+        }
+    }
+    out
+}
+
+/// The answers of the beacons `beacons` (as `seen`) to the pulses of `schedule`: one
+/// artefact per beacon, a box per spoke whose pulse triggers it, from its first mark to its
+/// last within the record (with the matched filter's spread, `N_T` samples either side); its
+/// level the strongest mark's `a²·N_T·min(D/N_T, 1)²`.
+pub fn beacon_artefacts(
+    seen: &Beacons,
+    beacons: &[Beacon],
+    schedule: &Schedule,
+    record_len: usize,
+    bin_m: f64,
+    num_bins: usize,
+) -> Vec<ArtefactTruth> {
+    let pulse_len = seen.pulse_len();
+    let spokes = schedule.spokes();
+    let spoke_rad = std::f64::consts::TAU / spokes as f64;
+    let mut out = Vec::new();
+    for (i, b) in beacons.iter().enumerate() {
+        let (kind, reason) = match &b.kind {
+            BeaconKind::Racon { letter, .. } => (
+                ArtefactKind::Racon,
+                format!(
+                    "the racon \"{}\" answers the radar's pulses with the Morse letter {letter} behind it",
+                    b.name
+                ),
+            ),
+            BeaconKind::Sart => (
+                ArtefactKind::Sart,
+                format!(
+                    "the SART \"{}\" answers the radar's pulses with 12 dots outward from it",
+                    b.name
+                ),
+            ),
+        };
+        let mut a = ArtefactTruth {
+            kind,
+            source: b.name.clone(),
+            reason,
+            expected_level_db: f64::MIN,
+            polar_boxes: Vec::new(),
+            ppi_boxes_px: Vec::new(),
+            regions: Vec::new(),
+        };
+        let mut boxed = vec![false; spokes];
+        for dwell in schedule.dwells() {
+            for pulse in &dwell.pulses {
+                let (mut lo, mut hi, mut best) = (usize::MAX, 0usize, f64::MIN);
+                seen.answer(i, pulse.azimuth_rad, |m| {
+                    let level_db = 10.0 * seen.peak_power(&m).log10();
+                    if level_db < SIDELOBE_LABEL_DB || m.first >= record_len {
+                        return;
+                    }
+                    lo = lo.min(m.first.saturating_sub(pulse_len));
+                    hi = hi.max(m.end.min(record_len) + pulse_len);
+                    best = best.max(level_db);
+                });
+                if lo >= num_bins || boxed[dwell.spoke] || best == f64::MIN {
+                    continue;
+                }
+                boxed[dwell.spoke] = true;
+                a.expected_level_db = a.expected_level_db.max(best);
+                let bin_max = hi.min(num_bins - 1);
+                a.polar_boxes.push(PolarBox {
+                    spoke_min: dwell.spoke,
+                    spoke_max: dwell.spoke,
+                    bin_min: lo,
+                    bin_max,
+                });
+                a.regions.push(EchoRegion {
+                    range_min_m: lo as f64 * bin_m,
+                    range_max_m: bin_max as f64 * bin_m,
+                    height_above_radar_m: 0.0,
+                    azimuth_rad: dwell.spoke as f64 * spoke_rad,
+                    half_width_rad: spoke_rad / 2.0,
                 });
             }
         }

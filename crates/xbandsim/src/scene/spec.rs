@@ -525,6 +525,32 @@ pub struct ArtefactsSpec {
     /// Other radars nearby (`[[artefacts.interferer]]`): their pulses reach the receiver.
     #[serde(default)]
     pub interferer: Vec<InterfererSpec>,
+    /// Radar beacons (`[[artefacts.racon]]`): a Morse character behind the beacon.
+    #[serde(default)]
+    pub racon: Vec<BeaconSpec>,
+    /// Search and rescue transponders (`[[artefacts.sart]]`): 12 dots outward.
+    #[serde(default)]
+    pub sart: Vec<BeaconSpec>,
+}
+
+/// `[[artefacts.racon]]` and `[[artefacts.sart]]`: a transponder answering this radar.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BeaconSpec {
+    /// Its name (default `racon-<k>` or `sart-<k>`).
+    pub name: Option<String>,
+    /// Its antenna, ENU m (required).
+    pub position_m: Option<[f64; 3]>,
+    /// Its effective isotropic radiated power, W (racon 1 W, SART 0.4 W).
+    pub eirp_w: Option<f64>,
+    /// The power of this radar's pulse at it that triggers it, dBm (−50).
+    pub sensitivity_dbm: Option<f64>,
+    /// Racon: the Morse letter it sends (default "K").
+    pub morse: Option<String>,
+    /// Racon: its response's length in range, NM (default 1).
+    pub length_nm: Option<f64>,
+    /// Racon: its delay before answering, µs (default 0.5).
+    pub delay_us: Option<f64>,
 }
 
 /// `[[artefacts.interferer]]`: another radar whose pulses reach this one's receiver.

@@ -18,6 +18,7 @@
 //! the float sums of every output byte, nothing physical — then hands the record to the
 //! receiver and the matched filter.
 
+pub mod beacons;
 pub mod clutter;
 pub mod clutter_map;
 pub mod interference;

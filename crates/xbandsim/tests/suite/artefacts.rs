@@ -113,3 +113,115 @@ fn interference_rejection_clears_the_labelled_interference() {
     assert!(off > 0.5, "without rejection {off:.2} of the hits show");
     assert!(high < 0.05, "with rejection {high:.2} of the hits show");
 }
+
+/// The runs of spoke `k`'s cells at 6 dB or more beyond bin `from`: (first bin, length).
+fn runs(f: &xbandsim::Frame, k: usize, from: usize) -> Vec<(usize, usize)> {
+    let row = &f.polar_db[k * f.range_bins..(k + 1) * f.range_bins];
+    let mut out: Vec<(usize, usize)> = Vec::new();
+    for j in from..f.range_bins {
+        if f64::from(row[j]) >= SIDELOBE_LABEL_DB {
+            match out.last_mut() {
+                Some((s, n)) if *s + *n == j => *n += 1,
+                _ => out.push((j, 1)),
+            }
+        }
+    }
+    out
+}
+
+fn beacon_scene(table: &str) -> String {
+    format!(
+        "{}{table}",
+        radar_block_no_noise(
+            "transmitter = \"magnetron\"\npulse_width_us = 0.3\nprf_hz = 2000.0\nspokes = 360\n\
+             max_range_m = 3000.0\nsample_rate_mhz = 20.0"
+        )
+    )
+}
+
+/// A racon 600 m north sending K (−·−) over 1 NM after 0.5 µs: on the spokes its beam
+/// triggers, three marks beyond it whose lengths go 3 : 1 : 3 (a dash three dots; ITU-R
+/// M.1677-1), the first 75 m (0.5 µs) behind it; every cell at 6 dB or more in the racon's
+/// label, whose level is the marks' peak within 0.1 dB; no answer where the beam is away.
+#[test]
+fn a_racon_answers_with_its_morse_letter_where_its_label_says() {
+    let (_, f) = render(
+        &beacon_scene("[[artefacts.racon]]\nname = \"fairway\"\nposition_m = [0.0, 600.0, 5.0]\nmorse = \"K\"\n"),
+        1,
+    );
+    let a: Vec<_> = f
+        .artefacts
+        .iter()
+        .filter(|a| a.kind == ArtefactKind::Racon)
+        .collect();
+    assert_eq!(a.len(), 1);
+    let a = a[0];
+    assert_eq!(a.source, "fairway");
+    let marks = runs(&f, 0, 0);
+    assert_eq!(marks.len(), 3, "{marks:?}");
+    let bin_m = f.range_bin_m;
+    // The matched filter widens each mark by about N_T − 1 = 5 bins.
+    let widths: Vec<f64> = marks.iter().map(|m| m.1 as f64 - 5.0).collect();
+    assert!((widths[0] / widths[1] - 3.0).abs() < 0.3, "{widths:?}");
+    assert!((widths[2] / widths[1] - 3.0).abs() < 0.3, "{widths:?}");
+    // The output starts N_T − 1 = 5 bins before the mark does.
+    let start_m = (marks[0].0 as f64 + 5.0) * bin_m;
+    assert!((start_m - 675.0).abs() < 2.0 * bin_m, "{start_m}");
+    let bins = f.range_bins;
+    let mut in_box = vec![false; f.spokes * bins];
+    for b in &a.polar_boxes {
+        for j in b.bin_min..=b.bin_max {
+            in_box[b.spoke_min * bins + j] = true;
+        }
+    }
+    let mut peak = f32::MIN;
+    for (i, &v) in f.polar_db.iter().enumerate() {
+        if f64::from(v) >= SIDELOBE_LABEL_DB {
+            assert!(
+                in_box[i],
+                "cell {} of spoke {} at {v:.1} dB unlabelled",
+                i % bins,
+                i / bins
+            );
+            peak = peak.max(v);
+        }
+    }
+    assert!(
+        (f64::from(peak) - a.expected_level_db).abs() < 0.1,
+        "{peak} vs {}",
+        a.expected_level_db
+    );
+    assert!(runs(&f, 180, 0).is_empty());
+}
+
+/// A SART 500 m north: dots every 7.5 µs (1124.2 m) outward from it, within a bin, and
+/// labelled; SART settings a racon has are refused naming the field.
+#[test]
+fn a_sart_answers_with_dots_every_seven_and_a_half_microseconds() {
+    let (_, f) = render(
+        &beacon_scene("[[artefacts.sart]]\nposition_m = [0.0, 500.0, 2.0]\n"),
+        1,
+    );
+    assert!(f
+        .artefacts
+        .iter()
+        .any(|a| a.kind == ArtefactKind::Sart && a.source == "sart-0"));
+    let dots = runs(&f, 0, 0);
+    assert_eq!(dots.len(), 3, "{dots:?}");
+    for w in dots.windows(2) {
+        let spacing_m = (w[1].0 as f64 - w[0].0 as f64) * f.range_bin_m;
+        assert!((spacing_m - 1124.2).abs() <= f.range_bin_m, "{spacing_m}");
+    }
+    let e = xbandsim::model::Scene::from_toml_str(
+        &beacon_scene("[[artefacts.sart]]\nposition_m = [0.0, 500.0, 2.0]\nmorse = \"K\"\n"),
+        "test",
+    )
+    .unwrap_err();
+    assert_eq!(e.field(), Some("artefacts.sart[0].morse"), "{e}");
+    let e = xbandsim::model::Scene::from_toml_str(
+        &beacon_scene("[[artefacts.racon]]\nposition_m = [0.0, 500.0, 2.0]\nmorse = \"KK\"\n"),
+        "test",
+    )
+    .unwrap_err();
+    assert_eq!(e.field(), Some("artefacts.racon[0].morse"), "{e}");
+}
