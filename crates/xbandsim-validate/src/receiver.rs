@@ -171,7 +171,33 @@ pub fn interference_left(level: &str) -> f64 {
     lit as f64 / a.polar_boxes.len() as f64
 }
 
+/// A target 9 km north at 20 kHz (unambiguous range 7494.8 m) with second-trace echoes on:
+/// (expected `R − c/(2·PRF)`, measured peak range, the bin), m.
+pub fn second_trace_range_m() -> (f64, f64, f64) {
+    let text = format!(
+        "{}[artefacts]\nsecond_trace = true\n{}",
+        radar_block_no_noise("prf_hz = 20000.0\nspokes = 90\nmax_range_m = 3000.0"),
+        point_north("far", 9000.0, 1.0e4)
+    );
+    let (_, f) = render_text(&text, 1);
+    let row = &f.polar_db[..f.range_bins];
+    let peak = (0..f.range_bins)
+        .max_by(|&a, &b| row[a].total_cmp(&row[b]))
+        .unwrap_or(0);
+    let expect = 9000.0 - xbandsim::constants::SPEED_OF_LIGHT_M_PER_S / (2.0 * 20_000.0);
+    (expect, peak as f64 * f.range_bin_m, f.range_bin_m)
+}
+
 pub(crate) fn checks(out: &mut Checks) {
+    let (e, m, bin) = second_trace_range_m();
+    out.push(check(
+        "artefacts: second-trace echo of a target at 9 km at R − c/(2·PRF) (PRF 20 kHz)",
+        e,
+        m,
+        "m",
+        Tolerance::Absolute(bin),
+        "Skolnik, Introduction to Radar Systems, 3rd ed., ch. 1 (unambiguous range); docs/physics.md §14",
+    ));
     for r in [300.0, 900.0, 1300.0] {
         let (e, m) = stc_attenuation_db(r);
         out.push(check(

@@ -184,6 +184,40 @@ impl EchoGroups {
         noise_rms_v: f64,
         kernel: &FractionalDelayKernel,
     ) -> EchoGroups {
+        EchoGroups::build_folded(
+            contributions,
+            antenna,
+            object_tilt_rad,
+            sample_rate_hz,
+            num_samples,
+            noise_rms_v,
+            kernel,
+            None,
+        )
+    }
+
+    /// As [`EchoGroups::build_tilted`]; with `fold_samples` (the pulse interval in samples,
+    /// `[artefacts] second_trace`), a contribution whose delay falls at or beyond the record
+    /// arrives after the next pulse: its delay less one interval, if that falls in the record
+    /// (a second-trace echo, docs/physics.md §14).
+    #[allow(clippy::too_many_arguments)]
+    pub fn build_folded(
+        contributions: &[Contribution],
+        antenna: &Antenna,
+        object_tilt_rad: &[f64],
+        sample_rate_hz: f64,
+        num_samples: usize,
+        noise_rms_v: f64,
+        kernel: &FractionalDelayKernel,
+        fold_samples: Option<f64>,
+    ) -> EchoGroups {
+        let delay_of = |c: &Contribution| -> f64 {
+            let d = c.delay_s() * sample_rate_hz;
+            match fold_samples {
+                Some(f) if d >= num_samples as f64 => d - f,
+                _ => d,
+            }
+        };
         let cell_rad = antenna.az_beamwidth_rad / AZIMUTH_CELLS_PER_BEAMWIDTH;
         let cells = (std::f64::consts::TAU / cell_rad).ceil() as u64;
         let key = |c: &Contribution| -> u64 {
@@ -196,7 +230,7 @@ impl EchoGroups {
         let mut order: Vec<(u64, u32)> = contributions
             .iter()
             .enumerate()
-            .filter(|(_, c)| c.delay_s() * sample_rate_hz < num_samples as f64)
+            .filter(|(_, c)| (0.0..num_samples as f64).contains(&delay_of(c)))
             .map(|(i, c)| (key(c), i as u32))
             .collect();
         sort_by_key_stable(&mut order);
@@ -225,7 +259,7 @@ impl EchoGroups {
             if pos == DROPPED {
                 continue;
             }
-            let (first, taps_at) = kernel.taps_index(c.delay_s() * sample_rate_hz);
+            let (first, taps_at) = kernel.taps_index(delay_of(c));
             let tilt = object_tilt_rad
                 .get(c.object as usize)
                 .copied()

@@ -28,7 +28,9 @@ use crate::model::revolution::Revolution;
 use crate::model::{ProcessingMode, Scene};
 use crate::processing::sinks::DopplerPlan;
 use crate::processing::{DopplerSpectra, PulseCompressor, SpokeScratch};
-use crate::products::artefacts::{beacon_artefacts, interference_artefacts, sidelobe_artefacts};
+use crate::products::artefacts::{
+    beacon_artefacts, interference_artefacts, second_trace_artefacts, sidelobe_artefacts,
+};
 use crate::products::labels::{object_truth, ObjectTruth};
 use crate::products::{Frame, FrameStats};
 use crate::receiver::stages::GainStc;
@@ -253,22 +255,24 @@ impl Simulation {
 
     /// Bins contributions into per-group impulse responses in noise-rms units.
     pub fn echo_groups(&self, set: &ScatterSet) -> EchoGroups {
+        self.echo_groups_tilted(set, &[])
+    }
+
+    /// The pulse interval in samples when second-trace echoes are on (the mean interval of
+    /// a staggered train).
+    fn fold_samples(&self) -> Option<f64> {
         let radar = self.scene.radar();
-        EchoGroups::build(
-            &set.contributions,
-            radar.antenna(),
-            radar.sample_rate_hz(),
-            self.compressor.record_len(),
-            radar.noise_power_w().sqrt(),
-            &self.kernel,
-        )
+        self.scene
+            .artefacts()
+            .second_trace
+            .then(|| radar.sample_rate_hz() / radar.prf_hz())
     }
 
     /// As [`Simulation::echo_groups`], with object i's elevation pattern raised by
     /// `object_tilt_rad[i]` (the own ship's roll and pitch when the beam crosses it).
     pub fn echo_groups_tilted(&self, set: &ScatterSet, object_tilt_rad: &[f64]) -> EchoGroups {
         let radar = self.scene.radar();
-        EchoGroups::build_tilted(
+        EchoGroups::build_folded(
             &set.contributions,
             radar.antenna(),
             object_tilt_rad,
@@ -276,6 +280,7 @@ impl Simulation {
             self.compressor.record_len(),
             radar.noise_power_w().sqrt(),
             &self.kernel,
+            self.fold_samples(),
         )
     }
 
@@ -642,6 +647,16 @@ impl Simulation {
                 &names,
                 schedule,
                 self.compressor.record_len(),
+                radar.range_bin_m(),
+                self.compressor.num_bins(),
+            ));
+        }
+        if self.scene.artefacts().second_trace {
+            artefacts.extend(second_trace_artefacts(
+                &truth,
+                crate::constants::SPEED_OF_LIGHT_M_PER_S / (2.0 * radar.prf_hz()),
+                radar.max_range_m(),
+                radar.spokes(),
                 radar.range_bin_m(),
                 self.compressor.num_bins(),
             ));

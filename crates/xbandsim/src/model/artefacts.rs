@@ -92,6 +92,8 @@ pub const SART_DOTS: usize = 12;
 /// The validated `[artefacts]` table.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Artefacts {
+    /// Second-trace echoes on.
+    pub second_trace: bool,
     /// Other radars nearby.
     pub interferers: Vec<Interferer>,
     /// Racons and SARTs.
@@ -267,6 +269,7 @@ fn interferer(k: usize, s: &InterfererSpec) -> Result<Interferer> {
 /// Validates `[artefacts]`.
 pub fn build_artefacts(s: &ArtefactsSpec) -> Result<Artefacts> {
     Ok(Artefacts {
+        second_trace: s.second_trace.unwrap_or(false),
         interferers: s
             .interferer
             .iter()

@@ -291,3 +291,50 @@ pub fn beacon_artefacts(
     }
     out
 }
+
+/// The second-trace echoes among `objects`: each object beyond the recorded range whose echo
+/// arrives after the next pulse (`[artefacts] second_trace`) appears `c/(2·PRF)` nearer, at
+/// `R − c/(2·PRF)`; one artefact per object whose expected SNR is at least
+/// [`SIDELOBE_LABEL_DB`], its box its echo region moved in by the unambiguous range.
+pub fn second_trace_artefacts(
+    objects: &[ObjectTruth],
+    unambiguous_m: f64,
+    max_range_m: f64,
+    spokes: usize,
+    bin_m: f64,
+    num_bins: usize,
+) -> Vec<ArtefactTruth> {
+    let mut out = Vec::new();
+    for o in objects {
+        let (Some(snr_db), Some(region)) = (o.expected_snr_db, o.far_region) else {
+            continue;
+        };
+        if snr_db < SIDELOBE_LABEL_DB {
+            continue;
+        }
+        let folded = EchoRegion {
+            range_min_m: (region.range_min_m - unambiguous_m).max(0.0),
+            range_max_m: region.range_max_m - unambiguous_m,
+            ..region
+        };
+        if folded.range_max_m <= 0.0 || folded.range_min_m >= max_range_m {
+            continue;
+        }
+        let Some(polar_box) = folded.polar_box(bin_m, num_bins, spokes) else {
+            continue;
+        };
+        out.push(ArtefactTruth {
+            kind: ArtefactKind::SecondTrace,
+            source: o.name.clone(),
+            reason: format!(
+                "\"{}\" at {:.0} m is beyond the unambiguous range {:.0} m: its echo arrives after the next pulse and shows {:.0} m nearer",
+                o.name, o.range_m, unambiguous_m, unambiguous_m
+            ),
+            expected_level_db: snr_db,
+            polar_boxes: vec![polar_box],
+            ppi_boxes_px: Vec::new(),
+            regions: vec![folded],
+        });
+    }
+    out
+}

@@ -240,6 +240,10 @@ pub struct ObjectTruth {
     /// Where its echo can lie (None when it leaves no echo); products draw boxes from it.
     #[serde(skip)]
     pub echo_region: Option<EchoRegion>,
+    /// Where its echo would lie were the record long enough (objects beyond the recorded
+    /// range only): second-trace echoes are drawn from it.
+    #[serde(skip)]
+    pub far_region: Option<EchoRegion>,
     /// `footprint_m` from the antenna, `[east, north]` m (for products' pixel coordinates).
     #[serde(skip)]
     pub footprint_from_radar_m: [[f64; 2]; 4],
@@ -511,7 +515,7 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
                 }
                 _ => (0.0, resolution_m),
             };
-            let echo_region = visibility.has_echo().then(|| {
+            let region = || {
                 EchoRegion::new(
                     rel,
                     az,
@@ -521,7 +525,9 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
                     (near_m, far_m),
                     ant.az_beamwidth_rad,
                 )
-            });
+            };
+            let echo_region = visibility.has_echo().then(region);
+            let far_region = (visibility == Visibility::BeyondMaxRange).then(region);
             let polar_box =
                 echo_region.and_then(|e| e.polar_box(bin_m, radar.num_range_bins(), spokes));
             let (size_m, footprint_m) =
@@ -562,6 +568,7 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
                 footprint_m,
                 ppi_footprint_px: None,
                 echo_region,
+                far_region,
                 footprint_from_radar_m,
             }
         })

@@ -522,6 +522,9 @@ pub struct ReceiverSpec {
 #[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ArtefactsSpec {
+    /// Second-trace echoes: objects beyond the unambiguous range `c/(2·prf)` echo in the next
+    /// pulse's record (default false: they are beyond the recorded range and leave none).
+    pub second_trace: Option<bool>,
     /// Other radars nearby (`[[artefacts.interferer]]`): their pulses reach the receiver.
     #[serde(default)]
     pub interferer: Vec<InterfererSpec>,

@@ -225,3 +225,47 @@ fn a_sart_answers_with_dots_every_seven_and_a_half_microseconds() {
     .unwrap_err();
     assert_eq!(e.field(), Some("artefacts.racon[0].morse"), "{e}");
 }
+
+/// Second-trace echoes: at 20 kHz (unambiguous range c/(2·PRF) = 7494.8 m) a target 9 km
+/// north, beyond the 3 km record, echoes at `R − c/(2·PRF)` = 1505.2 m within one bin with
+/// `[artefacts] second_trace`, labelled there as a `second_trace` artefact; without it there
+/// is no echo and no label.
+#[test]
+fn second_trace_echoes_land_at_r_minus_the_unambiguous_range() {
+    let text = |on: bool| {
+        format!(
+            "{}[artefacts]\nsecond_trace = {on}\n{}",
+            radar_block_no_noise("prf_hz = 20000.0\nspokes = 90\nmax_range_m = 3000.0"),
+            crate::common::point_north("far", 9000.0, 1.0e4)
+        )
+    };
+    let (_, f) = render(&text(true), 1);
+    let row = &f.polar_db[..f.range_bins];
+    let peak = (0..f.range_bins)
+        .max_by(|&a, &b| row[a].total_cmp(&row[b]))
+        .unwrap();
+    let expect_m = 9000.0 - 299_792_458.0 / (2.0 * 20_000.0);
+    assert!(
+        (peak as f64 * f.range_bin_m - expect_m).abs() <= f.range_bin_m,
+        "peak at {} m, expected {expect_m} m",
+        peak as f64 * f.range_bin_m
+    );
+    assert!(row[peak] > 20.0, "{}", row[peak]);
+    let a: Vec<_> = f
+        .artefacts
+        .iter()
+        .filter(|a| a.kind == ArtefactKind::SecondTrace)
+        .collect();
+    assert_eq!(a.len(), 1);
+    let b = a[0].polar_boxes[0];
+    assert!(b.bin_min <= peak && peak <= b.bin_max, "{b:?} vs {peak}");
+    assert!(b.spoke_indices(f.spokes).any(|k| k == 0));
+    let (_, off) = render(&text(false), 1);
+    assert!(off.polar_db[..off.range_bins]
+        .iter()
+        .all(|&v| f64::from(v) < SIDELOBE_LABEL_DB));
+    assert!(off
+        .artefacts
+        .iter()
+        .all(|a| a.kind != ArtefactKind::SecondTrace));
+}

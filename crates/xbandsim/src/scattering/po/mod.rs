@@ -227,7 +227,16 @@ pub fn out_of_sight(scene: &Scene, obj: &SceneObject) -> bool {
     let radius = obj.shape().bounding_radius_m();
     let nearest_m = (centre - radar.position_m()).length() - radius;
     let ground_m = ((centre - radar.position_m()).truncate().length() - radius).max(0.0);
-    nearest_m > radar.max_range_m() + radar.eclipse_range_m()
+    // With second-trace echoes an object up to one unambiguous range beyond the record
+    // still echoes (in the next pulse's record).
+    let reach_m = radar.max_range_m()
+        + radar.eclipse_range_m()
+        + if scene.artefacts().second_trace {
+            crate::constants::SPEED_OF_LIGHT_M_PER_S / (2.0 * radar.prf_hz())
+        } else {
+            0.0
+        };
+    nearest_m > reach_m
         || (scene.environment().earth_curvature()
             && !crate::propagation::above_horizon(
                 radar.position_m().z,
