@@ -140,7 +140,7 @@ pub fn interference_level_db() -> (f64, f64) {
                 .fold(f32::MIN, f32::max)
         })
         .fold(f32::MIN, f32::max);
-    (a.expected_level_db, f64::from(peak))
+    (a.expected_level_db.unwrap_or(f64::NAN), f64::from(peak))
 }
 
 /// The share of an interferer's labelled pulses still in the video after interference

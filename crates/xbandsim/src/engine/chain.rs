@@ -138,6 +138,14 @@ impl Simulation {
                     .add_to_pulse(at, &mut scratch.sources, samples),
             );
         }
+        // The own ship's structure in the beam: everything received through a blind sector
+        // loses its two-way loss (the noise, the receiver's own, does not).
+        let blocked = self.blind_factor(at.pulse.azimuth_rad);
+        if let Some(f) = blocked {
+            for s in &mut scratch.buffer[..record] {
+                *s *= f as f32;
+            }
+        }
         let rx = &self.receiver;
         let in_blanking = rx.echo_in_blanking(earliest);
         let fused = !self
@@ -154,6 +162,9 @@ impl Simulation {
                 };
                 if let Some(p) = start {
                     a.phase *= p;
+                }
+                if let Some(f) = blocked {
+                    a.phase *= f;
                 }
                 // The whole buffer: it goes through an FFT.
                 scratch.moving.fill(Complex32::new(0.0, 0.0));
@@ -249,6 +260,18 @@ impl Simulation {
 
     /// A magnetron pulse's random start phase factor `exp(jφ)`, φ uniform in (0, 2π) from the
     /// pulse's `TransmitPhase` stream; None for a solid-state set (coherent pulses).
+    /// The amplitude factor `10^{−L/20}` of the blind sectors' two-way loss L at antenna
+    /// azimuth `azimuth_rad` (None outside every sector).
+    fn blind_factor(&self, azimuth_rad: f64) -> Option<f64> {
+        let sectors = &self.scene.artefacts().blind_sectors;
+        if sectors.is_empty() {
+            return None;
+        }
+        let heading = self.scene.own_ship().map_or(0.0, |s| s.heading_rad());
+        let loss_db = crate::model::artefacts::blind_loss_db(sectors, azimuth_rad, heading);
+        (loss_db > 0.0).then(|| 10f64.powf(-loss_db / 20.0))
+    }
+
     fn start_phase(&self, at: &PulseAt) -> Option<num_complex::Complex64> {
         (self.scene.radar().transmitter() == Transmitter::Magnetron).then(|| {
             let mut rng = at.key.pulse(at.pulse.number, Stream::TransmitPhase).rng();

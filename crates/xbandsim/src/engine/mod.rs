@@ -29,7 +29,8 @@ use crate::model::{ProcessingMode, Scene};
 use crate::processing::sinks::DopplerPlan;
 use crate::processing::{DopplerSpectra, PulseCompressor, SpokeScratch};
 use crate::products::artefacts::{
-    beacon_artefacts, interference_artefacts, second_trace_artefacts, sidelobe_artefacts,
+    beacon_artefacts, blind_sector_artefacts, interference_artefacts, second_trace_artefacts,
+    sidelobe_artefacts,
 };
 use crate::products::labels::{object_truth, ObjectTruth};
 use crate::products::{Frame, FrameStats};
@@ -661,6 +662,13 @@ impl Simulation {
                 self.compressor.num_bins(),
             ));
         }
+        artefacts.extend(blind_sector_artefacts(
+            &self.scene.artefacts().blind_sectors,
+            revolution.own_ship().map_or(0.0, |s| s.heading_rad),
+            radar.spokes(),
+            radar.range_bin_m(),
+            self.compressor.num_bins(),
+        ));
         let beacons = &self.scene.artefacts().beacons;
         if !beacons.is_empty() {
             artefacts.extend(beacon_artefacts(

@@ -4,7 +4,7 @@
 
 use crate::error::{Error, Problem, Result};
 use crate::model::checks::{finite, finite_vec, positive};
-use crate::scene::{ArtefactsSpec, BeaconSpec, InterfererSpec};
+use crate::scene::{ArtefactsSpec, BeaconSpec, BlindSectorSpec, InterfererSpec};
 use glam::DVec3;
 
 /// Another radar whose pulses reach this one's receiver.
@@ -98,6 +98,79 @@ pub struct Artefacts {
     pub interferers: Vec<Interferer>,
     /// Racons and SARTs.
     pub beacons: Vec<Beacon>,
+    /// Blind sectors behind the own ship's structure.
+    pub blind_sectors: Vec<BlindSector>,
+}
+
+/// A sector of bearings relative to the bow in which the own ship's structure blocks the beam.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BlindSector {
+    /// What stands there.
+    pub name: String,
+    /// Start, rad clockwise from the bow, in [0, 2π).
+    pub from_rad: f64,
+    /// Width, rad (0 < width < 2π).
+    pub width_rad: f64,
+    /// Two-way loss through it, dB.
+    pub loss_db: f64,
+}
+
+impl BlindSector {
+    /// Whether the relative bearing `relative_rad` (from the bow) lies in it.
+    pub fn contains(&self, relative_rad: f64) -> bool {
+        (relative_rad - self.from_rad).rem_euclid(std::f64::consts::TAU) < self.width_rad
+    }
+}
+
+/// The two-way loss, dB, of the blind sectors `sectors` at true bearing `bearing_rad` for a
+/// bow heading `heading_rad` (the sum where sectors overlap).
+pub fn blind_loss_db(sectors: &[BlindSector], bearing_rad: f64, heading_rad: f64) -> f64 {
+    sectors
+        .iter()
+        .filter(|s| s.contains(bearing_rad - heading_rad))
+        .map(|s| s.loss_db)
+        .sum()
+}
+
+fn blind_sector(k: usize, s: &BlindSectorSpec) -> Result<BlindSector> {
+    let f = |name: &str| format!("artefacts.blind_sector[{k}].{name}");
+    let (Some(from), Some(to)) = (s.from_deg, s.to_deg) else {
+        let missing = if s.from_deg.is_none() {
+            "from_deg"
+        } else {
+            "to_deg"
+        };
+        return Err(Error::missing(
+            f(missing),
+            "a blind sector needs from_deg and to_deg, degrees clockwise from the bow",
+        ));
+    };
+    let from = finite(&f("from_deg"), from)?;
+    let to = finite(&f("to_deg"), to)?;
+    let width = (to - from).rem_euclid(360.0);
+    if width == 0.0 {
+        return Err(Error::invalid(
+            Problem::Conflict,
+            f("to_deg"),
+            to,
+            format!("the sector from {from}° to {to}° is empty"),
+        ));
+    }
+    let loss_db = finite(&f("loss_db"), s.loss_db.unwrap_or(20.0))?;
+    if !(0.0..=200.0).contains(&loss_db) {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            f("loss_db"),
+            loss_db,
+            "must be between 0 and 200 dB",
+        ));
+    }
+    Ok(BlindSector {
+        name: s.name.clone().unwrap_or_else(|| format!("sector-{k}")),
+        from_rad: from.rem_euclid(360.0).to_radians(),
+        width_rad: width.to_radians(),
+        loss_db,
+    })
 }
 
 /// International Morse code of a letter: `.` a dot, `-` a dash (ITU-R M.1677-1).
@@ -282,6 +355,12 @@ pub fn build_artefacts(s: &ArtefactsSpec) -> Result<Artefacts> {
             .enumerate()
             .map(|(k, b)| beacon(k, b, false))
             .chain(s.sart.iter().enumerate().map(|(k, b)| beacon(k, b, true)))
+            .collect::<Result<_>>()?,
+        blind_sectors: s
+            .blind_sector
+            .iter()
+            .enumerate()
+            .map(|(k, b)| blind_sector(k, b))
             .collect::<Result<_>>()?,
     })
 }

@@ -41,6 +41,8 @@ pub enum ArtefactKind {
     Racon,
     /// A SART's dots outward from it.
     Sart,
+    /// A sector behind the own ship's structure, where every echo is weakened.
+    BlindSector,
 }
 
 /// One artefact of a frame.
@@ -52,8 +54,10 @@ pub struct ArtefactTruth {
     pub source: String,
     /// Why it is there, in words.
     pub reason: String,
-    /// Its expected level, dB over the noise (the strongest of its cells).
-    pub expected_level_db: f64,
+    /// Its expected level, dB over the noise (the strongest of its cells); null for a blind
+    /// sector, which weakens echoes rather than making one (its loss is in its reason and in
+    /// each object's `losses.blind_sector`).
+    pub expected_level_db: Option<f64>,
     /// Its boxes in the polar record.
     pub polar_boxes: Vec<PolarBox>,
     /// Its boxes in the PPI, `[x_min, y_min, x_max, y_max]` px, each null when outside the
@@ -130,7 +134,7 @@ pub fn sidelobe_artefacts(
                     wrap_angle_rad((first + len - 1) as f64 * spoke_rad - az).to_degrees(),
                     o.azimuth_deg
                 ),
-                expected_level_db: best,
+                expected_level_db: Some(best),
                 polar_boxes: vec![polar_box],
                 ppi_boxes_px: Vec::new(),
                 regions: vec![run],
@@ -162,7 +166,7 @@ pub fn interference_artefacts(
             reason: format!(
                 "pulses of the radar \"{name}\" (another transmitter), landing at ranges that walk from sweep to sweep"
             ),
-            expected_level_db: f64::MIN,
+            expected_level_db: None,
             polar_boxes: Vec::new(),
             ppi_boxes_px: Vec::new(),
             regions: Vec::new(),
@@ -185,7 +189,8 @@ pub fn interference_artefacts(
                     }
                     let bin_min = first.max(0) as usize;
                     let bin_max = (last as usize).min(num_bins - 1);
-                    a.expected_level_db = a.expected_level_db.max(level_db);
+                    a.expected_level_db =
+                        Some(a.expected_level_db.map_or(level_db, |l| l.max(level_db)));
                     a.polar_boxes.push(PolarBox {
                         spoke_min: dwell.spoke,
                         spoke_max: dwell.spoke,
@@ -246,7 +251,7 @@ pub fn beacon_artefacts(
             kind,
             source: b.name.clone(),
             reason,
-            expected_level_db: f64::MIN,
+            expected_level_db: None,
             polar_boxes: Vec::new(),
             ppi_boxes_px: Vec::new(),
             regions: Vec::new(),
@@ -268,7 +273,7 @@ pub fn beacon_artefacts(
                     continue;
                 }
                 boxed[dwell.spoke] = true;
-                a.expected_level_db = a.expected_level_db.max(best);
+                a.expected_level_db = Some(a.expected_level_db.map_or(best, |l| l.max(best)));
                 let bin_max = hi.min(num_bins - 1);
                 a.polar_boxes.push(PolarBox {
                     spoke_min: dwell.spoke,
@@ -330,11 +335,62 @@ pub fn second_trace_artefacts(
                 "\"{}\" at {:.0} m is beyond the unambiguous range {:.0} m: its echo arrives after the next pulse and shows {:.0} m nearer",
                 o.name, o.range_m, unambiguous_m, unambiguous_m
             ),
-            expected_level_db: snr_db,
+            expected_level_db: Some(snr_db),
             polar_boxes: vec![polar_box],
             ppi_boxes_px: Vec::new(),
             regions: vec![folded],
         });
     }
     out
+}
+
+/// The blind sectors of the own ship (`[[artefacts.blind_sector]]`) at bow heading
+/// `heading_rad`: one artefact each, its box the sector's spokes over the whole record.
+pub fn blind_sector_artefacts(
+    sectors: &[crate::model::artefacts::BlindSector],
+    heading_rad: f64,
+    spokes: usize,
+    bin_m: f64,
+    num_bins: usize,
+) -> Vec<ArtefactTruth> {
+    let spoke_rad = std::f64::consts::TAU / spokes as f64;
+    sectors
+        .iter()
+        .filter_map(|s| {
+            let inside: Vec<usize> = (0..spokes)
+                .filter(|&k| s.contains(k as f64 * spoke_rad - heading_rad))
+                .collect();
+            let first = *inside.iter().find(|&&k| {
+                !s.contains((k + spokes - 1) as f64 * spoke_rad - heading_rad) || inside.len() == spokes
+            })?;
+            let region = EchoRegion {
+                range_min_m: 0.0,
+                range_max_m: (num_bins - 1) as f64 * bin_m,
+                height_above_radar_m: 0.0,
+                azimuth_rad: (heading_rad + s.from_rad + s.width_rad / 2.0)
+                    .rem_euclid(std::f64::consts::TAU),
+                half_width_rad: s.width_rad / 2.0,
+            };
+            Some(ArtefactTruth {
+                kind: ArtefactKind::BlindSector,
+                source: s.name.clone(),
+                reason: format!(
+                    "the own ship's {} stands in the beam from {:.1}° to {:.1}° off the bow: echoes there lose {:.1} dB",
+                    s.name,
+                    s.from_rad.to_degrees(),
+                    (s.from_rad + s.width_rad).to_degrees().rem_euclid(360.0),
+                    s.loss_db
+                ),
+                expected_level_db: None,
+                polar_boxes: vec![PolarBox {
+                    spoke_min: first,
+                    spoke_max: (first + inside.len() - 1) % spokes,
+                    bin_min: 0,
+                    bin_max: num_bins - 1,
+                }],
+                ppi_boxes_px: Vec::new(),
+                regions: vec![region],
+            })
+        })
+        .collect()
 }

@@ -104,6 +104,9 @@ pub struct EchoLosses {
     /// Eclipsing: `−20·log10(received fraction)` of the matched-filter peak; null when
     /// nothing is received (total eclipse).
     pub eclipse: Option<f64>,
+    /// The own ship's structure in the beam: the two-way loss of the blind sectors
+    /// (`[[artefacts.blind_sector]]`) its bearing lies in (0 in none).
+    pub blind_sector: f64,
 }
 
 /// Radial speeds below this, either way, class an object as stationary: 3 knots, about
@@ -455,6 +458,11 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
                 atmosphere: loss_db(scene.environment().attenuation_power(range_m)),
                 rain: rain_two_way_loss_db(radar, scene.environment(), o.position_m()),
                 eclipse: (eclipse_fraction > 0.0).then(|| loss_db(eclipse_fraction.powi(2))),
+                blind_sector: crate::model::artefacts::blind_loss_db(
+                    &scene.artefacts().blind_sectors,
+                    az,
+                    revolution.own_ship().map_or(0.0, |s| s.heading_rad),
+                ),
             };
             let snr_unclipped_db = rcs.map(|s| {
                 linear_to_db(radar.point_target_snr_for_pulse(s, range_m, *pulse_width_s))
@@ -463,6 +471,7 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
                     - losses.elevation_pattern
                     - losses.atmosphere
                     - losses.rain
+                    - losses.blind_sector
             });
             let snr_db =
                 snr_unclipped_db.and_then(|s| losses.eclipse.map(|eclipse_db| s - eclipse_db));

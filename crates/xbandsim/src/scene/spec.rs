@@ -528,6 +528,10 @@ pub struct ArtefactsSpec {
     /// Other radars nearby (`[[artefacts.interferer]]`): their pulses reach the receiver.
     #[serde(default)]
     pub interferer: Vec<InterfererSpec>,
+    /// Blind and shadow sectors behind the own ship's masts and funnels
+    /// (`[[artefacts.blind_sector]]`).
+    #[serde(default)]
+    pub blind_sector: Vec<BlindSectorSpec>,
     /// Radar beacons (`[[artefacts.racon]]`): a Morse character behind the beacon.
     #[serde(default)]
     pub racon: Vec<BeaconSpec>,
@@ -580,4 +584,19 @@ pub struct InterfererSpec {
     pub azimuth_beamwidth_deg: Option<f64>,
     /// Its antenna's sidelobe floor, dB one-way (default −25).
     pub sidelobe_db: Option<f64>,
+}
+
+/// `[[artefacts.blind_sector]]`: a sector of bearings, relative to the own ship's bow, in which
+/// the ship's own structure (a mast, a funnel) stands in the beam.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BlindSectorSpec {
+    /// What stands there (default `sector-<k>`).
+    pub name: Option<String>,
+    /// Where it starts, degrees clockwise from the bow (required).
+    pub from_deg: Option<f64>,
+    /// Where it ends, degrees clockwise from the bow (required; may wrap through the bow).
+    pub to_deg: Option<f64>,
+    /// Two-way loss of everything received through it, dB (default 20).
+    pub loss_db: Option<f64>,
 }
