@@ -623,6 +623,8 @@ mod tests {
             peak_gain_linear: 1000.0,
             tilt_rad: 0.01,
             azimuth_taper: None,
+            azimuth_table: None,
+            elevation_table: None,
         };
         let (fs, num_samples, noise) = (30e6, 600usize, 3e-6);
         let kernel = FractionalDelayKernel::new();
@@ -744,6 +746,8 @@ mod tests {
             peak_gain_linear: 1000.0,
             tilt_rad: 0.0,
             azimuth_taper: None,
+            azimuth_table: None,
+            elevation_table: None,
         };
         let min = crate::engine::MIN_GROUP_AMPLITUDE;
         let u_to_rad = antenna.az_beamwidth_rad / crate::antenna::SINC_BEAMWIDTH_FACTOR;
@@ -799,6 +803,8 @@ mod tests {
             peak_gain_linear: 1000.0,
             tilt_rad: 0.0,
             azimuth_taper: None,
+            azimuth_table: None,
+            elevation_table: None,
         };
         for i in 0..20_000 {
             let az = 0.3 + i as f64 * 3.1e-4;

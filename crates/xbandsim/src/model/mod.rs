@@ -231,7 +231,7 @@ impl Scene {
     /// Validates a parsed scene description whose mesh files are relative to `base_dir`. The
     /// `[display]` table is not part of the model (see [`crate::products::ppi::PpiSettings`]).
     pub fn from_spec_in(spec: &SceneSpec, base_dir: &Path) -> Result<Scene> {
-        let radar = radar::build_radar(&spec.radar, spec.environment.polarisation)?;
+        let radar = radar::build_radar(&spec.radar, spec.environment.polarisation, base_dir)?;
         let environment = environment::build_environment(
             &spec.environment,
             radar.carrier_freq_hz(),

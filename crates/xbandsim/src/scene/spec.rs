@@ -187,6 +187,12 @@ pub struct RadarSpec {
     pub elevation_beamwidth_deg: Option<f64>,
     /// Beam axis elevation above horizontal, degrees.
     pub tilt_deg: Option<f64>,
+    /// A measured azimuth cut, CSV `angle_deg,gain_db` (relative to the scene file): sets the
+    /// azimuth pattern and beamwidth.
+    pub azimuth_pattern_file: Option<String>,
+    /// A measured elevation cut, CSV `angle_deg,gain_db` (angles from the beam axis): sets the
+    /// elevation pattern and beamwidth.
+    pub elevation_pattern_file: Option<String>,
     /// The azimuth pattern: "sinc2" (a uniform aperture) or "taylor" (a tapered array over
     /// the whole circle, with `sidelobe_db`, `pattern_nbar`, `far_sidelobe_db`, `back_lobe_db`).
     pub antenna_pattern: Option<AntennaPatternName>,

@@ -177,3 +177,65 @@ fn sidelobe_echoes_are_labelled_as_artefacts() {
     }
     assert!(labelled.iter().filter(|&&l| l).count() >= 4);
 }
+
+/// A measured azimuth cut from a CSV file (here the Taylor −23 dB pattern written out at
+/// 0.05° rows, as a range would measure it): the radar takes its beamwidth from it, and a
+/// strong target's echo off its bearing follows the cut's two-way level within 0.05 dB.
+/// A beamwidth given beside the file, or a file that is not a cut, is refused naming the
+/// field.
+#[test]
+fn a_measured_pattern_cut_from_csv_shapes_the_echoes() {
+    use xbandsim::antenna::Tapered;
+    let taylor = Tapered::new(f64::to_radians(1.1), -23.0, 5, -30.0, -35.0);
+    let mut csv = String::from("# a measured azimuth cut\nangle_deg,gain_db\n");
+    for i in 0..=7200 {
+        let a = -180.0 + i as f64 * 0.05;
+        csv.push_str(&format!(
+            "{a},{}\n",
+            10.0 * taylor.value(a.to_radians()).log10()
+        ));
+    }
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("cut.csv"), &csv).unwrap();
+    std::fs::write(dir.path().join("bad.csv"), "angle,gain\n0,0\n").unwrap();
+    let scene_text = |extra: &str| {
+        format!(
+            "{}{}",
+            radar_block_no_noise(&format!(
+                "spokes = 360\nmax_range_m = 1500.0\nazimuth_pattern_file = \"cut.csv\"\n{extra}"
+            )),
+            point_north("ship", 600.0, 1.0e5)
+        )
+    };
+    let load = |text: &str| {
+        xbandsim::LoadedSpec::from_toml(text, "test", dir.path()).and_then(|s| s.build())
+    };
+    let scene = load(&scene_text("")).unwrap();
+    let bw = scene.radar().antenna().az_beamwidth_rad.to_degrees();
+    assert!((bw - 1.1).abs() < 0.02, "{bw}");
+    let pattern = scene.radar().antenna().azimuth();
+    let sim = xbandsim::Simulation::new(scene);
+    let f = sim.render(1);
+    let peak = |k: usize| {
+        f64::from(
+            f.polar_db[k * f.range_bins..(k + 1) * f.range_bins]
+                .iter()
+                .copied()
+                .fold(f32::MIN, f32::max),
+        )
+    };
+    for k in [3usize, 10, 40, 180] {
+        let expect = 2.0 * linear_to_db(pattern.value(f64::to_radians(k as f64)));
+        let got = peak(k) - peak(0);
+        assert!(
+            (got - expect).abs() < 0.05,
+            "spoke {k}: {got:.3} vs {expect:.3}"
+        );
+    }
+    let e = load(&scene_text("azimuth_beamwidth_deg = 2.0")).unwrap_err();
+    assert_eq!(e.field(), Some("radar.azimuth_beamwidth_deg"), "{e}");
+    let e = load(&scene_text("").replace("cut.csv", "bad.csv")).unwrap_err();
+    assert_eq!(e.field(), Some("radar.azimuth_pattern_file"), "{e}");
+    let e = load(&scene_text("").replace("cut.csv", "missing.csv")).unwrap_err();
+    assert_eq!(e.field(), Some("radar.azimuth_pattern_file"), "{e}");
+}

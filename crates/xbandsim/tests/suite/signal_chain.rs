@@ -280,6 +280,8 @@ fn echo_synthesis_equals_delayed_chirps() {
         peak_gain_linear: 100.0,
         tilt_rad: 0.0,
         azimuth_taper: None,
+        azimuth_table: None,
+        elevation_table: None,
     };
     let groups = EchoGroups::build(
         &contributions,

@@ -4,7 +4,7 @@
 
 use super::preset::RadarDefaults;
 use super::*;
-use crate::antenna::{uniform_aperture_gain, Antenna, Tapered, MAX_TAYLOR_NBAR};
+use crate::antenna::{uniform_aperture_gain, Antenna, PatternTable, Tapered, MAX_TAYLOR_NBAR};
 use crate::choice::Transmitter;
 use crate::constants::*;
 use crate::error::{Error, Problem, Result};
@@ -18,6 +18,7 @@ use crate::waveform::{LfmChirp, Window};
 pub(in crate::model) fn build_radar(
     s: &RadarSpec,
     environment_polarisation: Option<Polarisation>,
+    base_dir: &std::path::Path,
 ) -> Result<Radar> {
     let d = RadarDefaults::of(s)?;
     let preset = d.preset;
@@ -89,16 +90,61 @@ pub(in crate::model) fn build_radar(
             "a loss must be 0 dB or more",
         ));
     }
-    let az_bw_deg = positive(
-        "radar.azimuth_beamwidth_deg",
-        s.azimuth_beamwidth_deg
-            .unwrap_or(preset.azimuth_beamwidth_deg),
+    let azimuth_table = pattern_table(
+        "radar.azimuth_pattern_file",
+        s.azimuth_pattern_file.as_deref(),
+        base_dir,
     )?;
-    let el_bw_deg = positive(
-        "radar.elevation_beamwidth_deg",
-        s.elevation_beamwidth_deg
-            .unwrap_or(preset.elevation_beamwidth_deg),
+    let elevation_table = pattern_table(
+        "radar.elevation_pattern_file",
+        s.elevation_pattern_file.as_deref(),
+        base_dir,
     )?;
+    for (table, field, given) in [
+        (
+            azimuth_table,
+            "radar.azimuth_beamwidth_deg",
+            s.azimuth_beamwidth_deg,
+        ),
+        (
+            elevation_table,
+            "radar.elevation_beamwidth_deg",
+            s.elevation_beamwidth_deg,
+        ),
+    ] {
+        if let (Some(_), Some(v)) = (table, given) {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                field,
+                v,
+                "a measured pattern file sets the beamwidth: leave it out",
+            ));
+        }
+    }
+    if azimuth_table.is_some() && s.antenna_pattern.is_some() {
+        return Err(Error::invalid(
+            Problem::Conflict,
+            "radar.antenna_pattern",
+            "given",
+            "radar.azimuth_pattern_file is the azimuth pattern: leave antenna_pattern out",
+        ));
+    }
+    let az_bw_deg = match azimuth_table {
+        Some(t) => t.beamwidth_3db_rad().to_degrees(),
+        None => positive(
+            "radar.azimuth_beamwidth_deg",
+            s.azimuth_beamwidth_deg
+                .unwrap_or(preset.azimuth_beamwidth_deg),
+        )?,
+    };
+    let el_bw_deg = match elevation_table {
+        Some(t) => t.beamwidth_3db_rad().to_degrees(),
+        None => positive(
+            "radar.elevation_beamwidth_deg",
+            s.elevation_beamwidth_deg
+                .unwrap_or(preset.elevation_beamwidth_deg),
+        )?,
+    };
     if az_bw_deg >= 180.0 {
         return Err(Error::invalid(
             Problem::OutOfRange,
@@ -321,7 +367,9 @@ pub(in crate::model) fn build_radar(
             el_beamwidth_rad: el_bw,
             peak_gain_linear,
             tilt_rad: tilt_deg.to_radians(),
-            azimuth_taper,
+            azimuth_taper: azimuth_taper.filter(|_| azimuth_table.is_none()),
+            azimuth_table,
+            elevation_table,
         },
         scan: Scan {
             prf_hz,
@@ -456,6 +504,41 @@ fn build_azimuth_taper(
         floor_db,
         back_db,
     )))
+}
+
+/// Reads and interns the pattern cut `file` (relative to `base_dir`) named by `field`.
+fn pattern_table(
+    field: &str,
+    file: Option<&str>,
+    base_dir: &std::path::Path,
+) -> Result<Option<&'static PatternTable>> {
+    let Some(file) = file else { return Ok(None) };
+    let path = base_dir.join(file);
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        Error::unusable(
+            field,
+            format!("\"{file}\""),
+            "cannot be read",
+            Error::io(&path, e),
+        )
+    })?;
+    let table = PatternTable::parse(&text).map_err(|why| {
+        Error::invalid(
+            Problem::Unusable,
+            field,
+            format!("\"{file}\""),
+            format!("is not a pattern cut: {why}"),
+        )
+    })?;
+    if table.beamwidth_3db_rad() <= 0.0 {
+        return Err(Error::invalid(
+            Problem::Unusable,
+            field,
+            format!("\"{file}\""),
+            "its main lobe is narrower than the 0.01° grid",
+        ));
+    }
+    Ok(Some(PatternTable::intern(table)))
 }
 
 fn fmt_list(values: &[f64]) -> String {

@@ -34,6 +34,8 @@ pub enum Pattern {
     /// A tapered aperture's pattern over the whole circle ([`Tapered`]): Taylor's n̄ line
     /// source in front, a floor under its far sidelobes and a back lobe behind.
     Tapered(Tapered),
+    /// A measured cut from a CSV file ([`PatternTable`]).
+    Table(&'static PatternTable),
 }
 
 /// The tapered patterns made last, by their inputs' bits.
@@ -216,6 +218,7 @@ impl Pattern {
         match *self {
             Pattern::Sinc2 { beamwidth_3db_rad } => sinc2_pattern(off_axis_rad, beamwidth_3db_rad),
             Pattern::Tapered(ref t) => t.value(off_axis_rad),
+            Pattern::Table(t) => t.value(off_axis_rad),
         }
     }
 
@@ -230,6 +233,7 @@ impl Pattern {
                 (SINC_BEAMWIDTH_FACTOR * off_axis_rad / beamwidth_3db_rad).abs()
             }
             Pattern::Tapered(ref t) => t.inverse_voltage_envelope(off_axis_rad),
+            Pattern::Table(t) => t.inverse_voltage_envelope(off_axis_rad),
         }
     }
 
@@ -241,6 +245,7 @@ impl Pattern {
                 (2.0 * std::f64::consts::PI / 3.0) * beamwidth_3db_rad / SINC_BEAMWIDTH_FACTOR
             }
             Pattern::Tapered(ref t) => t.two_way_integral_rad,
+            Pattern::Table(t) => t.two_way_integral_rad(),
         }
     }
 
@@ -251,6 +256,7 @@ impl Pattern {
                 std::f64::consts::PI * beamwidth_3db_rad / SINC_BEAMWIDTH_FACTOR
             }
             Pattern::Tapered(ref t) => t.first_null_rad,
+            Pattern::Table(t) => t.first_null_rad(),
         }
     }
 }
@@ -270,6 +276,10 @@ pub struct Antenna {
     pub tilt_rad: f64,
     /// The azimuth plane's tapered pattern (None: the uniform aperture's sinc²).
     pub azimuth_taper: Option<Tapered>,
+    /// The azimuth plane's measured cut (it takes precedence).
+    pub azimuth_table: Option<&'static PatternTable>,
+    /// The elevation plane's measured cut (None: sinc²).
+    pub elevation_table: Option<&'static PatternTable>,
 }
 
 /// One-way normalised sinc² power pattern of one plane at `off_axis_rad` from boresight.
@@ -290,6 +300,9 @@ pub fn uniform_aperture_gain(az_beamwidth_rad: f64, el_beamwidth_rad: f64) -> f6
         / (az_beamwidth_rad * el_beamwidth_rad)
 }
 
+pub mod table;
+pub use table::PatternTable;
+
 /// Wraps an angle difference into (−π, π].
 #[inline]
 pub fn wrap_angle_rad(angle_rad: f64) -> f64 {
@@ -305,16 +318,20 @@ impl Antenna {
     /// The azimuth plane's pattern.
     #[inline]
     pub fn azimuth(&self) -> Pattern {
-        match self.azimuth_taper {
-            None => Pattern::sinc2(self.az_beamwidth_rad),
-            Some(t) => Pattern::Tapered(t),
+        match (self.azimuth_table, self.azimuth_taper) {
+            (Some(t), _) => Pattern::Table(t),
+            (None, Some(t)) => Pattern::Tapered(t),
+            (None, None) => Pattern::sinc2(self.az_beamwidth_rad),
         }
     }
 
     /// The elevation plane's pattern.
     #[inline]
     pub fn elevation(&self) -> Pattern {
-        Pattern::sinc2(self.el_beamwidth_rad)
+        match self.elevation_table {
+            Some(t) => Pattern::Table(t),
+            None => Pattern::sinc2(self.el_beamwidth_rad),
+        }
     }
 
     /// One-way normalised azimuth power pattern at `delta_az_rad` off the beam axis.
