@@ -676,7 +676,6 @@ impl Env {
     }
 }
 
-/// Choices per action component and their names (docs/rl.md).
 /// Reads a spoke stream (`spokes.bin`): its spokes a revolution and, per record, angle,
 /// heading (None without an own ship), range, bits, time and levels.
 #[pyfunction]
@@ -724,6 +723,7 @@ fn read_spokes<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyDic
     Ok(out)
 }
 
+/// Choices per action component and their names (docs/rl.md).
 #[pyfunction]
 fn action_space() -> (Vec<u32>, Vec<&'static str>) {
     (

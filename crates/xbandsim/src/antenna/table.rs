@@ -105,8 +105,13 @@ impl PatternTable {
         };
         let half_right = walk(1, &|_, v| v < 0.5);
         let half_left = walk(-1, &|_, v| v < 0.5);
-        let null_right = walk(1, &|v, next| next > v);
-        let null_left = walk(-1, &|v, next| next > v);
+        // The first minimum once the main lobe is 10 dB down (a ripple on its shoulder is not
+        // a null).
+        let null_right = walk(1, &|v, next| v < 0.1 && next > v);
+        let null_left = walk(-1, &|v, next| v < 0.1 && next > v);
+        if half_left + half_right >= std::f64::consts::PI {
+            return Err("it never falls 3 dB under its peak".into());
+        }
         Ok(PatternTable {
             values,
             degree_max,

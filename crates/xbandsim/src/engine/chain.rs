@@ -121,6 +121,15 @@ impl Simulation {
                 *s *= p;
             }
         }
+        // The own ship's structure in the beam: this radar's echoes through a blind sector
+        // lose its two-way loss (the noise, the receiver's own, does not; other transmitters
+        // cross it once, in their sources).
+        let blocked = self.blind_factor(at.pulse.azimuth_rad);
+        if let Some(f) = blocked {
+            for s in &mut scratch.buffer[..record] {
+                *s *= f as f32;
+            }
+        }
         // Other radars' pulses and the beacons' answers: their own phases, after this
         // transmitter's.
         if interfered {
@@ -137,14 +146,6 @@ impl Simulation {
                     .beacons
                     .add_to_pulse(at, &mut scratch.sources, samples),
             );
-        }
-        // The own ship's structure in the beam: everything received through a blind sector
-        // loses its two-way loss (the noise, the receiver's own, does not).
-        let blocked = self.blind_factor(at.pulse.azimuth_rad);
-        if let Some(f) = blocked {
-            for s in &mut scratch.buffer[..record] {
-                *s *= f as f32;
-            }
         }
         let rx = &self.receiver;
         let in_blanking = rx.echo_in_blanking(earliest);
@@ -258,8 +259,6 @@ impl Simulation {
         );
     }
 
-    /// A magnetron pulse's random start phase factor `exp(jφ)`, φ uniform in (0, 2π) from the
-    /// pulse's `TransmitPhase` stream; None for a solid-state set (coherent pulses).
     /// The amplitude factor `10^{−L/20}` of the blind sectors' two-way loss L at antenna
     /// azimuth `azimuth_rad` (None outside every sector).
     fn blind_factor(&self, azimuth_rad: f64) -> Option<f64> {
@@ -272,6 +271,8 @@ impl Simulation {
         (loss_db > 0.0).then(|| 10f64.powf(-loss_db / 20.0))
     }
 
+    /// A magnetron pulse's random start phase factor `exp(jφ)`, φ uniform in (0, 2π) from the
+    /// pulse's `TransmitPhase` stream; None for a solid-state set (coherent pulses).
     fn start_phase(&self, at: &PulseAt) -> Option<num_complex::Complex64> {
         (self.scene.radar().transmitter() == Transmitter::Magnetron).then(|| {
             let mut rng = at.key.pulse(at.pulse.number, Stream::TransmitPhase).rng();

@@ -70,6 +70,9 @@ pub struct Simulation {
     /// The receiver's video chain runs when the scene has one (off in
     /// [`Simulation::targets_only`], whose record is for masks).
     video: bool,
+    /// Other transmitters (interferers, racons, SARTs) are sources (off in
+    /// [`Simulation::targets_only`]).
+    artefact_sources: bool,
 }
 
 /// The short pulse's receive channel in combined pulse mode (docs/physics.md §11): its own
@@ -156,6 +159,7 @@ impl Simulation {
             clutter: true,
             spokes_rendered: None,
             video: true,
+            artefact_sources: true,
         }
     }
 
@@ -164,7 +168,8 @@ impl Simulation {
         !self.receiver.noise() && self.short.as_ref().is_none_or(|c| !c.receiver.noise())
     }
 
-    /// The same simulation without thermal noise, sea and rain clutter or video: its frames
+    /// The same simulation without thermal noise, sea and rain clutter, other transmitters
+    /// or video: its frames
     /// hold the objects' echoes alone as the receiver records them (blanked, compressed,
     /// integrated; the same schedule, pulses and motion) — the target-only render from which
     /// the dataset draws its masks (docs/formats.md, "Dataset labels"). It shares this
@@ -177,6 +182,7 @@ impl Simulation {
         }
         s.clutter = false;
         s.video = false;
+        s.artefact_sources = false;
         s
     }
 
@@ -622,7 +628,18 @@ impl Simulation {
             .iter()
             .map(|m| self.compressor.doppler_spectra(m.doppler_hz, fs))
             .collect();
-        let sources = self.sources(&traced.groups, clutter.as_ref(), speckle, &movers, &spectra);
+        let placement = revolution::Placement {
+            antenna_m: revolution.scene().radar().position_m(),
+            heading_rad: revolution.own_ship().map_or(0.0, |s| s.heading_rad),
+        };
+        let sources = self.sources(
+            &traced.groups,
+            clutter.as_ref(),
+            speckle,
+            &movers,
+            &spectra,
+            placement,
+        );
         let skip = match mode {
             ProcessingMode::Spoke => self.spokes_rendered.as_deref(),
             // Pulse mode renders every spoke.
@@ -633,15 +650,21 @@ impl Simulation {
         let synthesis_s = t1.elapsed().as_secs_f64();
         let truth = object_truth(revolution, &traced.set, &traced.bvh);
         let radar = self.scene.radar();
+        let blind = crate::model::artefacts::BlindView {
+            sectors: &self.scene.artefacts().blind_sectors,
+            heading_rad: revolution.own_ship().map_or(0.0, |s| s.heading_rad),
+        };
         let mut artefacts = sidelobe_artefacts(
             &truth,
             &radar.antenna().azimuth(),
+            &blind,
             radar.spokes(),
             radar.range_bin_m(),
             self.compressor.num_bins(),
         );
         let interferers = &self.scene.artefacts().interferers;
-        if !interferers.is_empty() {
+        // (The target-only render has no other transmitters, and labels none.)
+        if !interferers.is_empty() && self.artefact_sources {
             let names: Vec<String> = interferers.iter().map(|i| i.name.clone()).collect();
             artefacts.extend(interference_artefacts(
                 &sources.interference,
@@ -656,6 +679,11 @@ impl Simulation {
             artefacts.extend(second_trace_artefacts(
                 &truth,
                 crate::constants::SPEED_OF_LIGHT_M_PER_S / (2.0 * radar.prf_hz()),
+                if radar.receiver_blanking() {
+                    radar.eclipse_range_m()
+                } else {
+                    0.0
+                },
                 radar.max_range_m(),
                 radar.spokes(),
                 radar.range_bin_m(),
@@ -670,7 +698,7 @@ impl Simulation {
             self.compressor.num_bins(),
         ));
         let beacons = &self.scene.artefacts().beacons;
-        if !beacons.is_empty() {
+        if !beacons.is_empty() && self.artefact_sources {
             artefacts.extend(beacon_artefacts(
                 &sources.beacons,
                 beacons,

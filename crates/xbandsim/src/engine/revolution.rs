@@ -6,6 +6,7 @@
 use super::chain::{RevolutionSources, SinkPlan};
 use super::{iq, Outputs, Simulation};
 use crate::echo::EchoGroups;
+use crate::model::artefacts::BlindView;
 use crate::model::revolution::Revolution;
 use crate::model::{ProcessingMode, Radar};
 use crate::processing::sinks::{SpokeRows, VelocityRows};
@@ -26,7 +27,11 @@ impl Simulation {
         groups: &'a EchoGroups,
         clutter: Option<&'a ClutterMap>,
     ) -> RevolutionSources<'a> {
-        self.sources(groups, clutter, ClutterSpeckle::PerPulse, &[], &[])
+        let at = Placement {
+            antenna_m: self.scene.radar().position_m(),
+            heading_rad: self.scene.own_ship().map_or(0.0, |s| s.heading_rad()),
+        };
+        self.sources(groups, clutter, ClutterSpeckle::PerPulse, &[], &[], at)
     }
 
     pub(super) fn sources<'a>(
@@ -36,7 +41,19 @@ impl Simulation {
         speckle: ClutterSpeckle,
         movers: &'a [Mover],
         spectra: &'a [DopplerSpectra],
+        at: Placement,
     ) -> RevolutionSources<'a> {
+        // The target-only render (masks) has no other transmitters.
+        let artefacts = self.scene.artefacts();
+        let (interferers, beacons) = if self.artefact_sources {
+            (&artefacts.interferers[..], &artefacts.beacons[..])
+        } else {
+            (&[][..], &[][..])
+        };
+        let blind = BlindView {
+            sectors: &artefacts.blind_sectors,
+            heading_rad: at.heading_rad,
+        };
         let radar = self.scene.radar();
         let record = self.compressor.record_len();
         RevolutionSources {
@@ -57,9 +74,10 @@ impl Simulation {
             ),
             spectra,
             interference: Interference::new(
-                &self.scene.artefacts().interferers,
+                interferers,
                 *radar.antenna(),
-                radar.position_m(),
+                at.antenna_m,
+                blind,
                 radar.wavelength_m(),
                 radar.noise_power_w(),
                 radar.sample_rate_hz(),
@@ -67,9 +85,10 @@ impl Simulation {
                 self.compressor.pulse_len(),
             ),
             beacons: Beacons::new(
-                &self.scene.artefacts().beacons,
+                beacons,
                 *radar.antenna(),
-                radar.position_m(),
+                at.antenna_m,
+                blind,
                 radar.wavelength_m(),
                 radar.peak_power_w(),
                 radar.noise_power_w(),
@@ -258,4 +277,12 @@ fn receiver_bandwidth_hz(radar: &crate::model::Radar) -> f64 {
     } else {
         1.0 / c.pulse_width_s
     }
+}
+
+/// Where the antenna is for a revolution's other transmitters: its phase centre at the
+/// revolution's start and the own ship's heading (for the blind sectors).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Placement {
+    pub(super) antenna_m: glam::DVec3,
+    pub(super) heading_rad: f64,
 }

@@ -122,6 +122,31 @@ impl BlindSector {
     }
 }
 
+/// The blind sectors as a revolution sees them: the sectors and the bow's heading.
+#[derive(Debug, Clone, Copy)]
+pub struct BlindView<'a> {
+    /// The sectors.
+    pub sectors: &'a [BlindSector],
+    /// The bow's heading, rad.
+    pub heading_rad: f64,
+}
+
+impl BlindView<'_> {
+    /// The two-way loss at antenna azimuth `azimuth_rad`, dB.
+    pub fn two_way_loss_db(&self, azimuth_rad: f64) -> f64 {
+        blind_loss_db(self.sectors, azimuth_rad, self.heading_rad)
+    }
+
+    /// The one-way power factor `10^{−L/20}` at antenna azimuth `azimuth_rad`: a path that
+    /// crosses the structure once (another transmitter's pulse, a beacon's trigger or answer).
+    pub fn one_way_power_factor(&self, azimuth_rad: f64) -> f64 {
+        if self.sectors.is_empty() {
+            return 1.0;
+        }
+        10f64.powf(-self.two_way_loss_db(azimuth_rad) / 20.0)
+    }
+}
+
 /// The two-way loss, dB, of the blind sectors `sectors` at true bearing `bearing_rad` for a
 /// bow heading `heading_rad` (the sum where sectors overlap).
 pub fn blind_loss_db(sectors: &[BlindSector], bearing_rad: f64, heading_rad: f64) -> f64 {
@@ -250,6 +275,14 @@ fn beacon(k: usize, s: &BeaconSpec, sart: bool) -> Result<Beacon> {
             ));
         };
         let length_nm = positive(&f("length_nm"), s.length_nm.unwrap_or(1.0))?;
+        if length_nm > 10.0 {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                f("length_nm"),
+                length_nm,
+                "must be at most 10 NM",
+            ));
+        }
         let delay_us = finite(&f("delay_us"), s.delay_us.unwrap_or(0.5))?;
         if !(0.0..=100.0).contains(&delay_us) {
             return Err(Error::invalid(
@@ -315,6 +348,14 @@ fn interferer(k: usize, s: &InterfererSpec) -> Result<Interferer> {
         ));
     }
     let prf_hz = positive(&f("prf_hz"), s.prf_hz.unwrap_or(1000.0))?;
+    if prf_hz > 100_000.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            f("prf_hz"),
+            prf_hz,
+            "must be at most 100 kHz",
+        ));
+    }
     let pulse_width_us = positive(&f("pulse_width_us"), s.pulse_width_us.unwrap_or(0.3))?;
     if pulse_width_us * 1e-6 >= 1.0 / prf_hz {
         return Err(Error::invalid(

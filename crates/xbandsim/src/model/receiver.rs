@@ -195,9 +195,9 @@ impl VideoSettings {
                     level_db: in_range(
                         "receiver.stc_auto_level_db",
                         s.stc_auto_level_db.unwrap_or(3.0),
-                        0.0,
+                        0.1,
                         60.0,
-                        "must be between 0 and 60 dB over the noise",
+                        "must be between 0.1 and 60 dB over the noise",
                     )? as f32,
                 }
             }

@@ -68,11 +68,12 @@ pub struct ArtefactTruth {
     pub regions: Vec<EchoRegion>,
 }
 
-/// The sidelobe echoes of `objects` for the azimuth `pattern` on `spokes` spokes, with range
-/// bins `bin_m` apart up to `num_bins`.
+/// The sidelobe echoes of `objects` for the azimuth `pattern` (and the own ship's blind
+/// sectors `blind`) on `spokes` spokes, with range bins `bin_m` apart up to `num_bins`.
 pub fn sidelobe_artefacts(
     objects: &[ObjectTruth],
     pattern: &Pattern,
+    blind: &crate::model::artefacts::BlindView,
     spokes: usize,
     bin_m: f64,
     num_bins: usize,
@@ -90,7 +91,9 @@ pub fn sidelobe_artefacts(
             if off.abs() <= null + region.half_width_rad {
                 return None;
             }
-            let l = snr_db + 20.0 * pattern.value(off).max(1e-300).log10();
+            // The blind sectors at the spoke's azimuth, not the object's bearing.
+            let l = snr_db + o.losses_db.blind_sector - blind.two_way_loss_db(k as f64 * spoke_rad)
+                + 20.0 * pattern.value(off).max(1e-300).log10();
             (l >= SIDELOBE_LABEL_DB).then_some(l)
         };
         let marked: Vec<Option<f64>> = (0..spokes).map(level).collect();
@@ -256,10 +259,10 @@ pub fn beacon_artefacts(
             ppi_boxes_px: Vec::new(),
             regions: Vec::new(),
         };
-        let mut boxed = vec![false; spokes];
         for dwell in schedule.dwells() {
+            // The dwell's pulses together: the box spans them all, the level is the highest.
+            let (mut lo, mut hi, mut best) = (usize::MAX, 0usize, f64::MIN);
             for pulse in &dwell.pulses {
-                let (mut lo, mut hi, mut best) = (usize::MAX, 0usize, f64::MIN);
                 seen.answer(i, pulse.azimuth_rad, |m| {
                     let level_db = 10.0 * seen.peak_power(&m).log10();
                     if level_db < SIDELOBE_LABEL_DB || m.first >= record_len {
@@ -269,10 +272,11 @@ pub fn beacon_artefacts(
                     hi = hi.max(m.end.min(record_len) + pulse_len);
                     best = best.max(level_db);
                 });
-                if lo >= num_bins || boxed[dwell.spoke] || best == f64::MIN {
+            }
+            {
+                if lo >= num_bins || best == f64::MIN {
                     continue;
                 }
-                boxed[dwell.spoke] = true;
                 a.expected_level_db = Some(a.expected_level_db.map_or(best, |l| l.max(best)));
                 let bin_max = hi.min(num_bins - 1);
                 a.polar_boxes.push(PolarBox {
@@ -300,10 +304,13 @@ pub fn beacon_artefacts(
 /// The second-trace echoes among `objects`: each object beyond the recorded range whose echo
 /// arrives after the next pulse (`[artefacts] second_trace`) appears `c/(2·PRF)` nearer, at
 /// `R − c/(2·PRF)`; one artefact per object whose expected SNR is at least
-/// [`SIDELOBE_LABEL_DB`], its box its echo region moved in by the unambiguous range.
+/// [`SIDELOBE_LABEL_DB`], its box its echo region moved in by the unambiguous range (none when
+/// that lies wholly inside the blanked `eclipse_m`; partly inside, its level is the unblanked
+/// one, an upper bound).
 pub fn second_trace_artefacts(
     objects: &[ObjectTruth],
     unambiguous_m: f64,
+    eclipse_m: f64,
     max_range_m: f64,
     spokes: usize,
     bin_m: f64,
@@ -322,7 +329,8 @@ pub fn second_trace_artefacts(
             range_max_m: region.range_max_m - unambiguous_m,
             ..region
         };
-        if folded.range_max_m <= 0.0 || folded.range_min_m >= max_range_m {
+        // Nothing where the receiver is blanked (inside c·T/2) or beyond the record.
+        if folded.range_max_m <= eclipse_m || folded.range_min_m >= max_range_m {
             continue;
         }
         let Some(polar_box) = folded.polar_box(bin_m, num_bins, spokes) else {

@@ -14,7 +14,7 @@
 use super::{PulseAt, Source, SourceScratch};
 use crate::antenna::Antenna;
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
-use crate::model::artefacts::{Beacon, BeaconKind, SART_DOTS, SART_SWEEP_S};
+use crate::model::artefacts::{Beacon, BeaconKind, BlindView, SART_DOTS, SART_SWEEP_S};
 use glam::DVec3;
 use num_complex::Complex32;
 
@@ -38,6 +38,7 @@ pub struct Beacons<'a> {
     beacons: &'a [Beacon],
     antenna: Antenna,
     radar_position_m: DVec3,
+    blind: BlindView<'a>,
     wavelength_m: f64,
     peak_power_w: f64,
     noise_power_w: f64,
@@ -48,7 +49,8 @@ pub struct Beacons<'a> {
 }
 
 impl<'a> Beacons<'a> {
-    /// `beacons` seen by a radar with `antenna` at `radar_position_m`, its wavelength, peak
+    /// `beacons` seen by a radar with `antenna` at `radar_position_m` (and the own ship's
+    /// blind sectors `blind`, crossed once each way), its wavelength, peak
     /// power, noise power per sample, sample rate, receiver bandwidth (the sweep, or 1/T),
     /// record and pulse lengths (samples).
     #[allow(clippy::too_many_arguments)]
@@ -56,6 +58,7 @@ impl<'a> Beacons<'a> {
         beacons: &'a [Beacon],
         antenna: Antenna,
         radar_position_m: DVec3,
+        blind: BlindView<'a>,
         wavelength_m: f64,
         peak_power_w: f64,
         noise_power_w: f64,
@@ -68,6 +71,7 @@ impl<'a> Beacons<'a> {
             beacons,
             antenna,
             radar_position_m,
+            blind,
             wavelength_m,
             peak_power_w,
             noise_power_w,
@@ -98,7 +102,8 @@ impl<'a> Beacons<'a> {
         let elevation = (d.z / range_m).asin();
         let gain = self.antenna.peak_gain_linear
             * self.antenna.azimuth_pattern(bearing - azimuth_rad)
-            * self.antenna.elevation_pattern(elevation);
+            * self.antenna.elevation_pattern(elevation)
+            * self.blind.one_way_power_factor(azimuth_rad);
         let friis = (self.wavelength_m / (4.0 * std::f64::consts::PI * range_m)).powi(2);
         if self.peak_power_w * gain * friis < b.sensitivity_w {
             return;

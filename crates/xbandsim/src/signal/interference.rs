@@ -16,7 +16,7 @@
 use super::{PulseAt, Source, SourceScratch};
 use crate::antenna::Antenna;
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
-use crate::model::artefacts::Interferer;
+use crate::model::artefacts::{BlindView, Interferer};
 use crate::rng::splitmix64;
 use glam::DVec3;
 use num_complex::Complex32;
@@ -39,6 +39,7 @@ pub struct Interference<'a> {
     interferers: &'a [Interferer],
     antenna: Antenna,
     radar_position_m: DVec3,
+    blind: BlindView<'a>,
     wavelength_m: f64,
     noise_power_w: f64,
     sample_rate_hz: f64,
@@ -47,13 +48,15 @@ pub struct Interference<'a> {
 }
 
 impl<'a> Interference<'a> {
-    /// `interferers` reaching a radar at `radar_position_m` with `antenna`, wavelength,
+    /// `interferers` reaching a radar at `radar_position_m` with `antenna` (and the own ship's
+    /// blind sectors `blind`, crossed once), wavelength,
     /// noise power per sample, sample rate, record length and this radar's pulse length
     /// (samples).
     pub fn new(
         interferers: &'a [Interferer],
         antenna: Antenna,
         radar_position_m: DVec3,
+        blind: BlindView<'a>,
         wavelength_m: f64,
         noise_power_w: f64,
         sample_rate_hz: f64,
@@ -64,6 +67,7 @@ impl<'a> Interference<'a> {
             interferers,
             antenna,
             radar_position_m,
+            blind,
             wavelength_m,
             noise_power_w,
             sample_rate_hz,
@@ -104,7 +108,8 @@ impl<'a> Interference<'a> {
         let elevation = (d.z / range_m).asin();
         let our_gain = self.antenna.peak_gain_linear
             * self.antenna.azimuth_pattern(bearing - azimuth_rad)
-            * self.antenna.elevation_pattern(elevation);
+            * self.antenna.elevation_pattern(elevation)
+            * self.blind.one_way_power_factor(azimuth_rad);
         let fs = self.sample_rate_hz;
         let delay_s = range_m / SPEED_OF_LIGHT_M_PER_S;
         let width = ((it.pulse_width_s * fs).round() as usize).max(1);

@@ -95,6 +95,15 @@ fn bad_scales_and_pulses_are_refused_naming_the_field() {
         assert_eq!(e.field(), Some(field), "{e}");
         assert_eq!(e.problem(), Some(problem), "{e}");
     }
+    // Another transmitter or beam on a preset gets its own sweep, sample rate and gain.
+    let r = build(
+        "preset = \"magnetron-25kw-open-array\"\nrange_scale_nm = 12\ntransmitter = \"solid_state\"",
+    )
+    .unwrap();
+    assert!(r.radar().sample_rate_hz() >= 50e6);
+    build("preset = \"magnetron-25kw-open-array\"\nazimuth_beamwidth_deg = 3.0").unwrap();
+    let e = build("azimuth_beamwidth_deg = 0.01").unwrap_err();
+    assert_eq!(e.field(), Some("radar.azimuth_beamwidth_deg"), "{e}");
     let e = build("range_scale_nm = 5").unwrap_err();
     assert!(e.to_string().contains("0.125, 0.25"), "{e}");
 }

@@ -213,6 +213,11 @@ fn bad_controls_are_refused_naming_the_field() {
             "receiver.echo_average_scans",
             Problem::OutOfRange,
         ),
+        (
+            "stc = \"auto\"\nstc_auto_level_db = 0.0",
+            "receiver.stc_auto_level_db",
+            Problem::OutOfRange,
+        ),
     ] {
         let text = format!("{}[receiver]\n{line}\n", radar_block(""));
         let e = xbandsim::model::Scene::from_toml_str(&text, "test").unwrap_err();

@@ -145,6 +145,26 @@ pub(in crate::model) fn build_radar(
                 .unwrap_or(preset.elevation_beamwidth_deg),
         )?,
     };
+    for (field, bw) in [
+        ("radar.azimuth_beamwidth_deg", az_bw_deg),
+        ("radar.elevation_beamwidth_deg", el_bw_deg),
+    ] {
+        if bw < 0.05 {
+            // The echo groups' azimuth cells (a tenth of the beam) must number under 2²⁰.
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                if field.starts_with("radar.azimuth") && azimuth_table.is_some() {
+                    "radar.azimuth_pattern_file"
+                } else if field.starts_with("radar.elevation") && elevation_table.is_some() {
+                    "radar.elevation_pattern_file"
+                } else {
+                    field
+                },
+                bw,
+                "the beamwidth must be at least 0.05°",
+            ));
+        }
+    }
     if az_bw_deg >= 180.0 {
         return Err(Error::invalid(
             Problem::OutOfRange,
@@ -175,7 +195,13 @@ pub(in crate::model) fn build_radar(
     // A lossless aperture with these beamwidths cannot exceed 4π/(θaz·θel) (Balanis,
     // Antenna Theory, §2.6, with Kraus's approximation; the uniform aperture reaches 0.78 of it).
     let max_gain_dbi = 10.0 * (4.0 * std::f64::consts::PI / (az_bw * el_bw)).log10();
-    let peak_gain_linear = match s.gain_dbi.or(preset.gain_dbi) {
+    // The preset's gain goes with the preset's beam: another beam gets its own.
+    let preset_beam = s.azimuth_beamwidth_deg.is_none()
+        && s.elevation_beamwidth_deg.is_none()
+        && azimuth_table.is_none()
+        && elevation_table.is_none();
+    let preset_gain = preset.gain_dbi.filter(|_| preset_beam);
+    let peak_gain_linear = match s.gain_dbi.or(preset_gain) {
         Some(g) => {
             let g = finite("radar.gain_dbi", g)?;
             if !(0.0..=max_gain_dbi + 1.0).contains(&g) {
@@ -298,7 +324,7 @@ pub(in crate::model) fn build_radar(
             "radar.max_range_m",
             max_range_m,
             format!(
-                "beyond the unambiguous range: max_range_m plus the pulse's c·T/2 must stay within c/2 times {interval} = {:.1} km (echoes from farther arrive after the next pulse, which is not modelled); lower max_range_m or prf_hz",
+                "beyond the unambiguous range: max_range_m plus the pulse's c·T/2 must stay within c/2 times {interval} = {:.1} km (the record is one pulse interval; echoes from farther arrive after the next pulse: [artefacts] second_trace draws them); lower max_range_m or prf_hz",
                 unambiguous_m / 1000.0
             ),
         ));

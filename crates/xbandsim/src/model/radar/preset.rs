@@ -397,6 +397,17 @@ impl RadarDefaults {
             .find(|p| p.length == length)
             .expect("every scale's pulses are in the preset's pulse table");
         let max_range_m = nm * NAUTICAL_MILE_M;
+        // A transmitter other than the preset's changes the sweep the scale samples: a
+        // solid-state set on a magnetron preset sweeps 50 MHz, a magnetron none.
+        let bandwidth_mhz = match s.transmitter {
+            Some(Transmitter::SolidState) if pulse.bandwidth_mhz == 0.0 => 50.0,
+            Some(Transmitter::Magnetron) => 0.0,
+            _ => pulse.bandwidth_mhz,
+        };
+        let sampled = PulseRow {
+            bandwidth_mhz,
+            ..pulse
+        };
         Ok(RadarDefaults {
             preset,
             range_scale_nm: Some(nm),
@@ -404,8 +415,8 @@ impl RadarDefaults {
             max_range_m,
             pulse_width_us: pulse.width_us,
             prf_hz: pulse.prf_hz,
-            bandwidth_mhz: pulse.bandwidth_mhz,
-            sample_rate_mhz: scale_sample_rate_mhz(&pulse, max_range_m),
+            bandwidth_mhz,
+            sample_rate_mhz: scale_sample_rate_mhz(&sampled, max_range_m),
         })
     }
 }
