@@ -211,7 +211,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     );
 
     // 2b. Sea clutter (K, NRL, sea state 4) and a rain cell on a 360 x 2048 frame: the added
-    //     cost over the same frame without them (issue: under 50 ms).
+    //     cost over the same frame without them (target: under 50 ms).
     let mut sea = spec.clone();
     sea.radar.max_range_m = Some(2048.0 * 1.499);
     sea.environment.clutter = Some(false);
@@ -254,7 +254,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
 
     // 2b'. The receiver's video chain at its defaults (2048 x 512, 4 bits) with auto STC,
     //      FTC and interference rejection on that sea-clutter frame (trace cached): its cost
-    //      over the frame, in the same run (issue: under 10 %).
+    //      over the frame, in the same run (target: under 10 %).
     let mut with_video = sea.clone();
     with_video.receiver = Some(toml::from_str(
         "stc = \"auto\"\nftc_time_constant_us = 0.5\ninterference_rejection = \"medium\"\n",
@@ -293,7 +293,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         "%",
     );
 
-    // 2c. A pulse-by-pulse revolution (issue 9: faster than the radar turns): 24 rpm at a
+    // 2c. A pulse-by-pulse revolution (target: faster than the radar turns): 24 rpm at a
     //     2 kHz PRF (5000 pulses), 2048+ range samples, K sea clutter with Doppler, a target
     //     moving, the Doppler cube; against the 2.5 s the antenna takes for it.
     let mut pulse = spec.clone();
@@ -338,7 +338,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         "x real time",
     );
 
-    // 2d. The same revolution with everything issue 9 adds on top: combined pulses (a short
+    // 2d. The same revolution with everything pulse mode offers on top: combined pulses (a short
     //     pulse inside the long one's eclipse), a 4:5 staggered PRF, the own ship under way
     //     and rolling, and every cell's pulse-pair velocity.
     let mut full = pulse.clone();
@@ -398,7 +398,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
             "ms",
         );
     }
-    // 4. RCS of the ~10 k-triangle vessel mesh over 360 aspects (issue: under 10 s).
+    // 4. RCS of the ~10 k-triangle vessel mesh over 360 aspects (target: under 10 s).
     let vessel = xbandsim::geometry::mesh::vessel(30.0, 128);
     let triangles = vessel.triangles.len();
     let object = xbandsim::model::SceneObject::new(
@@ -428,7 +428,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         t,
         "s",
     );
-    // 5. Labelled dataset frames (issue 10): datasets/detection.toml (512 x 512 gray PPI, 0-10
+    // 5. Labelled dataset frames: datasets/detection.toml (512 x 512 gray PPI, 0-10
     //    library targets, sea clutter, rain in a third), written with labels and manifests;
     //    then the same with 1-10 targets (no empty frames).
     dataset_rows(a.repeats.min(3), &mut put)?;
