@@ -68,6 +68,35 @@ pub struct ArtefactTruth {
     pub regions: Vec<EchoRegion>,
 }
 
+impl ArtefactTruth {
+    /// Adds a box on spoke `spoke` over bins `bin_min ..= bin_max`, raising the level to
+    /// `level_db` (spokes `spoke_rad` apart, bins `bin_m`).
+    fn add_spoke_box(
+        &mut self,
+        spoke: usize,
+        bin_min: usize,
+        bin_max: usize,
+        level_db: f64,
+        spoke_rad: f64,
+        bin_m: f64,
+    ) {
+        self.expected_level_db = Some(self.expected_level_db.map_or(level_db, |l| l.max(level_db)));
+        self.polar_boxes.push(PolarBox {
+            spoke_min: spoke,
+            spoke_max: spoke,
+            bin_min,
+            bin_max,
+        });
+        self.regions.push(EchoRegion {
+            range_min_m: bin_min as f64 * bin_m,
+            range_max_m: bin_max as f64 * bin_m,
+            height_above_radar_m: 0.0,
+            azimuth_rad: spoke as f64 * spoke_rad,
+            half_width_rad: spoke_rad / 2.0,
+        });
+    }
+}
+
 /// The sidelobe echoes of `objects` for the azimuth `pattern` (and the own ship's blind
 /// sectors `blind`) on `spokes` spokes, with range bins `bin_m` apart up to `num_bins`.
 pub fn sidelobe_artefacts(
@@ -190,23 +219,14 @@ pub fn interference_artefacts(
                     if first >= num_bins as i64 {
                         return;
                     }
-                    let bin_min = first.max(0) as usize;
-                    let bin_max = (last as usize).min(num_bins - 1);
-                    a.expected_level_db =
-                        Some(a.expected_level_db.map_or(level_db, |l| l.max(level_db)));
-                    a.polar_boxes.push(PolarBox {
-                        spoke_min: dwell.spoke,
-                        spoke_max: dwell.spoke,
-                        bin_min,
-                        bin_max,
-                    });
-                    a.regions.push(EchoRegion {
-                        range_min_m: bin_min as f64 * bin_m,
-                        range_max_m: bin_max as f64 * bin_m,
-                        height_above_radar_m: 0.0,
-                        azimuth_rad: dwell.spoke as f64 * spoke_rad,
-                        half_width_rad: spoke_rad / 2.0,
-                    });
+                    a.add_spoke_box(
+                        dwell.spoke,
+                        first.max(0) as usize,
+                        (last as usize).min(num_bins - 1),
+                        level_db,
+                        spoke_rad,
+                        bin_m,
+                    );
                 });
             }
         }
@@ -273,26 +293,17 @@ pub fn beacon_artefacts(
                     best = best.max(level_db);
                 });
             }
-            {
-                if lo >= num_bins || best == f64::MIN {
-                    continue;
-                }
-                a.expected_level_db = Some(a.expected_level_db.map_or(best, |l| l.max(best)));
-                let bin_max = hi.min(num_bins - 1);
-                a.polar_boxes.push(PolarBox {
-                    spoke_min: dwell.spoke,
-                    spoke_max: dwell.spoke,
-                    bin_min: lo,
-                    bin_max,
-                });
-                a.regions.push(EchoRegion {
-                    range_min_m: lo as f64 * bin_m,
-                    range_max_m: bin_max as f64 * bin_m,
-                    height_above_radar_m: 0.0,
-                    azimuth_rad: dwell.spoke as f64 * spoke_rad,
-                    half_width_rad: spoke_rad / 2.0,
-                });
+            if lo >= num_bins || best == f64::MIN {
+                continue;
             }
+            a.add_spoke_box(
+                dwell.spoke,
+                lo,
+                hi.min(num_bins - 1),
+                best,
+                spoke_rad,
+                bin_m,
+            );
         }
         if !a.polar_boxes.is_empty() {
             out.push(a);

@@ -11,7 +11,7 @@
 //! and matched filter it peaks at `a²·N_T` (the energy a receiver matched to T takes from a
 //! signal of at least its length; an upper bound for a chirped receiver).
 
-use super::{PulseAt, Source, SourceScratch};
+use super::{OneWayLink, PulseAt, Source, SourceScratch};
 use crate::antenna::Antenna;
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
 use crate::model::artefacts::{Beacon, BeaconKind, BlindView, SART_DOTS, SART_SWEEP_S};
@@ -96,19 +96,19 @@ impl<'a> Beacons<'a> {
     /// when the pulse does not trigger it), calling `each` with each.
     pub fn answer(&self, i: usize, azimuth_rad: f64, mut each: impl FnMut(Mark)) {
         let b = &self.beacons[i];
-        let d = b.position_m - self.radar_position_m;
-        let range_m = d.length().max(1.0);
-        let bearing = d.x.atan2(d.y);
-        let elevation = (d.z / range_m).asin();
-        let gain = self.antenna.peak_gain_linear
-            * self.antenna.azimuth_pattern(bearing - azimuth_rad)
-            * self.antenna.elevation_pattern(elevation)
-            * self.blind.one_way_power_factor(azimuth_rad);
-        let friis = (self.wavelength_m / (4.0 * std::f64::consts::PI * range_m)).powi(2);
-        if self.peak_power_w * gain * friis < b.sensitivity_w {
+        let link = OneWayLink::new(
+            b.position_m,
+            self.radar_position_m,
+            &self.antenna,
+            &self.blind,
+            azimuth_rad,
+            self.wavelength_m,
+        );
+        if self.peak_power_w * link.gain_times_spreading < b.sensitivity_w {
             return;
         }
-        let amplitude = (b.eirp_w * gain * friis / self.noise_power_w).sqrt() as f32;
+        let range_m = link.range_m;
+        let amplitude = (b.eirp_w * link.gain_times_spreading / self.noise_power_w).sqrt() as f32;
         let fs = self.sample_rate_hz;
         let arrival_s = 2.0 * range_m / SPEED_OF_LIGHT_M_PER_S;
         let mut mark = |t0: f64, t1: f64| {

@@ -13,7 +13,7 @@
 //! from sweep to sweep its pulses walk in range: the curved dotted spokes of interference,
 //! which sweep-to-sweep correlation (the receiver's interference rejection) removes.
 
-use super::{PulseAt, Source, SourceScratch};
+use super::{OneWayLink, PulseAt, Source, SourceScratch};
 use crate::antenna::Antenna;
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
 use crate::model::artefacts::{BlindView, Interferer};
@@ -102,29 +102,28 @@ impl<'a> Interference<'a> {
         mut each: impl FnMut(InterferingPulse),
     ) {
         let it = &self.interferers[i];
-        let d = it.position_m - self.radar_position_m;
-        let range_m = d.length().max(1.0);
-        let bearing = d.x.atan2(d.y);
-        let elevation = (d.z / range_m).asin();
-        let our_gain = self.antenna.peak_gain_linear
-            * self.antenna.azimuth_pattern(bearing - azimuth_rad)
-            * self.antenna.elevation_pattern(elevation)
-            * self.blind.one_way_power_factor(azimuth_rad);
+        let link = OneWayLink::new(
+            it.position_m,
+            self.radar_position_m,
+            &self.antenna,
+            &self.blind,
+            azimuth_rad,
+            self.wavelength_m,
+        );
+        let range_m = link.range_m;
         let fs = self.sample_rate_hz;
         let delay_s = range_m / SPEED_OF_LIGHT_M_PER_S;
         let width = ((it.pulse_width_s * fs).round() as usize).max(1);
         let record_s = self.record_len as f64 / fs;
         let lo = ((time_s - delay_s - it.pulse_width_s) * it.prf_hz).ceil() as i64;
         let hi = ((time_s + record_s - delay_s) * it.prf_hz).floor() as i64;
-        let friis = (self.wavelength_m / (4.0 * std::f64::consts::PI * range_m)).powi(2);
-        let back_bearing = bearing + std::f64::consts::PI;
+        let back_bearing = link.bearing_rad + std::f64::consts::PI;
         for m in lo..=hi {
             let t_m = m as f64 / it.prf_hz;
             let power_w = it.peak_power_w
                 * it.peak_gain_linear
                 * it.pattern_toward(back_bearing, t_m)
-                * our_gain
-                * friis;
+                * link.gain_times_spreading;
             let amplitude = (power_w / self.noise_power_w).sqrt() as f32;
             each(InterferingPulse {
                 first_sample: ((t_m + delay_s - time_s) * fs).round() as i64,

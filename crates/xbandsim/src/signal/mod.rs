@@ -91,6 +91,48 @@ impl SourceScratch {
     }
 }
 
+/// A one-way path between this radar's antenna and another transmitter (an interfering
+/// radar, a beacon): its range, bearing, and this antenna's gain toward it for a beam at a
+/// given azimuth — `G0·Gn(Δaz)·Gn_el(el)` times the blind sectors' one-way loss — with the
+/// Friis spreading `(λ/4πR)²` (docs/physics.md §14).
+#[derive(Debug, Clone, Copy)]
+pub struct OneWayLink {
+    /// Range, m (at least 1 m).
+    pub range_m: f64,
+    /// Gain of this antenna toward it times the spreading, for the beam given.
+    pub gain_times_spreading: f64,
+    /// Its bearing from this antenna, rad (nautical).
+    pub bearing_rad: f64,
+}
+
+impl OneWayLink {
+    /// The link to `position_m` from an antenna at `antenna_m` with `antenna` (beam at
+    /// `beam_azimuth_rad`), `blind` sectors and wavelength `wavelength_m`.
+    pub fn new(
+        position_m: glam::DVec3,
+        antenna_m: glam::DVec3,
+        antenna: &crate::antenna::Antenna,
+        blind: &crate::model::artefacts::BlindView,
+        beam_azimuth_rad: f64,
+        wavelength_m: f64,
+    ) -> OneWayLink {
+        let d = position_m - antenna_m;
+        let range_m = d.length().max(1.0);
+        let bearing_rad = d.x.atan2(d.y);
+        let elevation = (d.z / range_m).asin();
+        let gain = antenna.peak_gain_linear
+            * antenna.azimuth_pattern(bearing_rad - beam_azimuth_rad)
+            * antenna.elevation_pattern(elevation)
+            * blind.one_way_power_factor(beam_azimuth_rad);
+        let spreading = (wavelength_m / (4.0 * std::f64::consts::PI * range_m)).powi(2);
+        OneWayLink {
+            range_m,
+            gain_times_spreading: gain * spreading,
+            bearing_rad,
+        }
+    }
+}
+
 /// The earlier of two earliest samples.
 #[inline]
 pub(crate) fn earlier(a: Option<usize>, b: Option<usize>) -> Option<usize> {
