@@ -3,7 +3,7 @@
 //! amplifier and threshold against the noise's exceedance, a sidelobe echo against the
 //! two-way pattern, an interferer's pulse against its label, interference rejection.
 
-use crate::harness::{point_north, radar_block, radar_block_no_noise, render_text};
+use crate::harness::{argmax, point_north, radar_block, radar_block_no_noise, render_text, spoke};
 use crate::{check, Checks, Tolerance};
 use xbandsim::products::artefacts::ArtefactKind;
 use xbandsim::receiver::stages::Ftc;
@@ -11,14 +11,9 @@ use xbandsim::receiver::video_chain::manual_stc_db;
 
 const BOLE: &str = "Bole, Wall & Norris, Radar and ARPA Manual, 3rd ed., 2014 (receiver controls); docs/physics.md §13";
 
-/// The peak of spoke `k`'s row of a record, dB.
-fn row_peak(polar_db: &[f32], bins: usize, k: usize) -> f64 {
-    f64::from(
-        polar_db[k * bins..(k + 1) * bins]
-            .iter()
-            .copied()
-            .fold(f32::MIN, f32::max),
-    )
+/// The peak of spoke `k`'s row of a frame's record, dB.
+fn row_peak(frame: &xbandsim::Frame, k: usize) -> f64 {
+    f64::from(argmax(spoke(frame, k)).1)
 }
 
 /// Manual STC's attenuation of a point target at `range_m` measured in 8-bit video (0.078 dB
@@ -30,7 +25,7 @@ pub fn stc_attenuation_db(range_m: f64) -> (f64, f64) {
         point_north("p", range_m, 3.0)
     );
     let (_, calibrated) = render_text(&base, 3);
-    let echo_db = row_peak(&calibrated.polar_db, calibrated.range_bins, 0);
+    let echo_db = row_peak(&calibrated, 0);
     let gain_db = 6.0 - (echo_db - 16.0);
     let video = |stc: &str| {
         let text = format!(
@@ -101,8 +96,7 @@ pub fn sidelobe_echo_db(off_deg: usize) -> (f64, f64) {
     let (sim, f) = render_text(&text, 1);
     let pattern = sim.scene().radar().antenna().azimuth();
     let expect = 20.0 * pattern.value((off_deg as f64).to_radians()).log10();
-    let measured =
-        row_peak(&f.polar_db, f.range_bins, off_deg) - row_peak(&f.polar_db, f.range_bins, 0);
+    let measured = row_peak(&f, off_deg) - row_peak(&f, 0);
     (expect, measured)
 }
 
@@ -180,10 +174,7 @@ pub fn second_trace_range_m() -> (f64, f64, f64) {
         point_north("far", 9000.0, 1.0e4)
     );
     let (_, f) = render_text(&text, 1);
-    let row = &f.polar_db[..f.range_bins];
-    let peak = (0..f.range_bins)
-        .max_by(|&a, &b| row[a].total_cmp(&row[b]))
-        .unwrap_or(0);
+    let (peak, _) = argmax(spoke(&f, 0));
     let expect = 9000.0 - xbandsim::constants::SPEED_OF_LIGHT_M_PER_S / (2.0 * 20_000.0);
     (expect, peak as f64 * f.range_bin_m, f.range_bin_m)
 }

@@ -19,6 +19,7 @@ use crate::signal::clutter::{ClutterSpeckle, SeaAndRainClutter};
 use crate::signal::clutter_map::ClutterMap;
 use crate::signal::interference::Interference;
 use crate::signal::targets::{FilterReach, FixedEchoes, Mover, MovingEchoes};
+use crate::signal::ThisRadar;
 
 impl Simulation {
     /// The sources of the spoke-mode chain: every echo group fixed, fresh speckle.
@@ -50,11 +51,22 @@ impl Simulation {
         } else {
             (&[][..], &[][..])
         };
-        let blind = BlindView {
-            sectors: &artefacts.blind_sectors,
-            heading_rad: at.heading_rad,
-        };
         let radar = self.scene.radar();
+        let this = ThisRadar {
+            antenna: *radar.antenna(),
+            position_m: at.antenna_m,
+            blind: BlindView {
+                sectors: &artefacts.blind_sectors,
+                heading_rad: at.heading_rad,
+            },
+            wavelength_m: radar.wavelength_m(),
+            peak_power_w: radar.peak_power_w(),
+            noise_power_w: radar.noise_power_w(),
+            sample_rate_hz: radar.sample_rate_hz(),
+            bandwidth_hz: receiver_bandwidth_hz(radar),
+            record_len: self.compressor.record_len(),
+            pulse_len: self.compressor.pulse_len().max(1),
+        };
         let record = self.compressor.record_len();
         RevolutionSources {
             fixed: FixedEchoes::new(groups, *radar.antenna(), record, movers),
@@ -73,30 +85,8 @@ impl Simulation {
                 radar.wavelength_m(),
             ),
             spectra,
-            interference: Interference::new(
-                interferers,
-                *radar.antenna(),
-                at.antenna_m,
-                blind,
-                radar.wavelength_m(),
-                radar.noise_power_w(),
-                radar.sample_rate_hz(),
-                record,
-                self.compressor.pulse_len(),
-            ),
-            beacons: Beacons::new(
-                beacons,
-                *radar.antenna(),
-                at.antenna_m,
-                blind,
-                radar.wavelength_m(),
-                radar.peak_power_w(),
-                radar.noise_power_w(),
-                radar.sample_rate_hz(),
-                receiver_bandwidth_hz(radar),
-                record,
-                self.compressor.pulse_len(),
-            ),
+            interference: Interference::new(interferers, this),
+            beacons: Beacons::new(beacons, this),
         }
     }
 

@@ -11,11 +11,9 @@
 //! and matched filter it peaks at `a²·N_T` (the energy a receiver matched to T takes from a
 //! signal of at least its length; an upper bound for a chirped receiver).
 
-use super::{OneWayLink, PulseAt, Source, SourceScratch};
-use crate::antenna::Antenna;
+use super::{PulseAt, Source, SourceScratch, ThisRadar};
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
-use crate::model::artefacts::{Beacon, BeaconKind, BlindView, SART_DOTS, SART_SWEEP_S};
-use glam::DVec3;
+use crate::model::artefacts::{Beacon, BeaconKind, SART_DOTS, SART_SWEEP_S};
 use num_complex::Complex32;
 
 /// A SART's slow sweep rate through its 9.2–9.5 GHz band, Hz/s.
@@ -36,50 +34,13 @@ pub struct Mark {
 /// The scene's transponders as this radar sees them.
 pub struct Beacons<'a> {
     beacons: &'a [Beacon],
-    antenna: Antenna,
-    radar_position_m: DVec3,
-    blind: BlindView<'a>,
-    wavelength_m: f64,
-    peak_power_w: f64,
-    noise_power_w: f64,
-    sample_rate_hz: f64,
-    receiver_bandwidth_hz: f64,
-    record_len: usize,
-    pulse_len: usize,
+    radar: ThisRadar<'a>,
 }
 
 impl<'a> Beacons<'a> {
-    /// `beacons` seen by a radar with `antenna` at `radar_position_m` (and the own ship's
-    /// blind sectors `blind`, crossed once each way), its wavelength, peak
-    /// power, noise power per sample, sample rate, receiver bandwidth (the sweep, or 1/T),
-    /// record and pulse lengths (samples).
-    #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        beacons: &'a [Beacon],
-        antenna: Antenna,
-        radar_position_m: DVec3,
-        blind: BlindView<'a>,
-        wavelength_m: f64,
-        peak_power_w: f64,
-        noise_power_w: f64,
-        sample_rate_hz: f64,
-        receiver_bandwidth_hz: f64,
-        record_len: usize,
-        pulse_len: usize,
-    ) -> Beacons<'a> {
-        Beacons {
-            beacons,
-            antenna,
-            radar_position_m,
-            blind,
-            wavelength_m,
-            peak_power_w,
-            noise_power_w,
-            sample_rate_hz,
-            receiver_bandwidth_hz,
-            record_len,
-            pulse_len: pulse_len.max(1),
-        }
+    /// `beacons` as `radar` meets them.
+    pub fn new(beacons: &'a [Beacon], radar: ThisRadar<'a>) -> Beacons<'a> {
+        Beacons { beacons, radar }
     }
 
     /// Whether there is any beacon.
@@ -89,27 +50,21 @@ impl<'a> Beacons<'a> {
 
     /// This radar's pulse, samples.
     pub fn pulse_len(&self) -> usize {
-        self.pulse_len
+        self.radar.pulse_len
     }
 
     /// The marks of beacon `i`'s answer to a pulse with the antenna at `azimuth_rad` (none
     /// when the pulse does not trigger it), calling `each` with each.
     pub fn answer(&self, i: usize, azimuth_rad: f64, mut each: impl FnMut(Mark)) {
         let b = &self.beacons[i];
-        let link = OneWayLink::new(
-            b.position_m,
-            self.radar_position_m,
-            &self.antenna,
-            &self.blind,
-            azimuth_rad,
-            self.wavelength_m,
-        );
-        if self.peak_power_w * link.gain_times_spreading < b.sensitivity_w {
+        let link = self.radar.link(b.position_m, azimuth_rad);
+        if self.radar.peak_power_w * link.gain_times_spreading < b.sensitivity_w {
             return;
         }
         let range_m = link.range_m;
-        let amplitude = (b.eirp_w * link.gain_times_spreading / self.noise_power_w).sqrt() as f32;
-        let fs = self.sample_rate_hz;
+        let amplitude =
+            (b.eirp_w * link.gain_times_spreading / self.radar.noise_power_w).sqrt() as f32;
+        let fs = self.radar.sample_rate_hz;
         let arrival_s = 2.0 * range_m / SPEED_OF_LIGHT_M_PER_S;
         let mut mark = |t0: f64, t1: f64| {
             let first = (t0 * fs).round() as usize;
@@ -133,7 +88,7 @@ impl<'a> Beacons<'a> {
                 }
             }
             BeaconKind::Sart => {
-                let dot_s = self.receiver_bandwidth_hz / SART_SWEEP_RATE_HZ_PER_S;
+                let dot_s = self.radar.bandwidth_hz / SART_SWEEP_RATE_HZ_PER_S;
                 for k in 0..SART_DOTS {
                     let t0 = arrival_s + k as f64 * SART_SWEEP_S;
                     mark(t0, t0 + dot_s);
@@ -145,8 +100,8 @@ impl<'a> Beacons<'a> {
     /// The matched filter's peak power of a mark over the noise, `a²·N_T·min(D/N_T, 1)²` for a
     /// mark of D samples.
     pub fn peak_power(&self, m: &Mark) -> f64 {
-        let fill = ((m.end - m.first) as f64 / self.pulse_len as f64).min(1.0);
-        f64::from(m.amplitude).powi(2) * self.pulse_len as f64 * fill * fill
+        let fill = ((m.end - m.first) as f64 / self.radar.pulse_len as f64).min(1.0);
+        f64::from(m.amplitude).powi(2) * self.radar.pulse_len as f64 * fill * fill
     }
 }
 
@@ -157,9 +112,9 @@ impl Source for Beacons<'_> {
         _scratch: &mut SourceScratch,
         samples: &mut [Complex32],
     ) -> Option<usize> {
-        let record = &mut samples[..self.record_len];
+        let record = &mut samples[..self.radar.record_len];
         let mut earliest: Option<usize> = None;
-        let scale = 1.0 / self.pulse_len as f32;
+        let scale = 1.0 / self.radar.pulse_len as f32;
         for i in 0..self.beacons.len() {
             self.answer(i, at.pulse.azimuth_rad, |m| {
                 let end = m.end.min(record.len());

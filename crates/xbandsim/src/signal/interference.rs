@@ -13,12 +13,10 @@
 //! from sweep to sweep its pulses walk in range: the curved dotted spokes of interference,
 //! which sweep-to-sweep correlation (the receiver's interference rejection) removes.
 
-use super::{OneWayLink, PulseAt, Source, SourceScratch};
-use crate::antenna::Antenna;
+use super::{PulseAt, Source, SourceScratch, ThisRadar};
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
-use crate::model::artefacts::{BlindView, Interferer};
+use crate::model::artefacts::Interferer;
 use crate::rng::splitmix64;
-use glam::DVec3;
 use num_complex::Complex32;
 
 /// One interfering pulse in a record.
@@ -37,59 +35,29 @@ pub struct InterferingPulse {
 /// The interferers of a scene as seen by this radar.
 pub struct Interference<'a> {
     interferers: &'a [Interferer],
-    antenna: Antenna,
-    radar_position_m: DVec3,
-    blind: BlindView<'a>,
-    wavelength_m: f64,
-    noise_power_w: f64,
-    sample_rate_hz: f64,
-    record_len: usize,
-    pulse_len: usize,
+    radar: ThisRadar<'a>,
 }
 
 impl<'a> Interference<'a> {
-    /// `interferers` reaching a radar at `radar_position_m` with `antenna` (and the own ship's
-    /// blind sectors `blind`, crossed once), wavelength,
-    /// noise power per sample, sample rate, record length and this radar's pulse length
-    /// (samples).
-    pub fn new(
-        interferers: &'a [Interferer],
-        antenna: Antenna,
-        radar_position_m: DVec3,
-        blind: BlindView<'a>,
-        wavelength_m: f64,
-        noise_power_w: f64,
-        sample_rate_hz: f64,
-        record_len: usize,
-        pulse_len: usize,
-    ) -> Interference<'a> {
-        Interference {
-            interferers,
-            antenna,
-            radar_position_m,
-            blind,
-            wavelength_m,
-            noise_power_w,
-            sample_rate_hz,
-            record_len,
-            pulse_len: pulse_len.max(1),
-        }
-    }
-
-    /// This radar's pulse, samples.
-    pub fn pulse_len(&self) -> usize {
-        self.pulse_len
-    }
-
-    /// The matched filter's peak power of `p` over the noise, `a²·min(n, N_T)²/N_T`.
-    pub fn peak_power(&self, p: &InterferingPulse) -> f64 {
-        let overlap = p.samples.min(self.pulse_len) as f64;
-        f64::from(p.amplitude).powi(2) * overlap * overlap / self.pulse_len as f64
+    /// `interferers` as `radar` meets them.
+    pub fn new(interferers: &'a [Interferer], radar: ThisRadar<'a>) -> Interference<'a> {
+        Interference { interferers, radar }
     }
 
     /// Whether there is any interferer.
     pub fn is_empty(&self) -> bool {
         self.interferers.is_empty()
+    }
+
+    /// This radar's pulse, samples.
+    pub fn pulse_len(&self) -> usize {
+        self.radar.pulse_len
+    }
+
+    /// The matched filter's peak power of `p` over the noise, `a²·min(n, N_T)²/N_T`.
+    pub fn peak_power(&self, p: &InterferingPulse) -> f64 {
+        let overlap = p.samples.min(self.radar.pulse_len) as f64;
+        f64::from(p.amplitude).powi(2) * overlap * overlap / self.radar.pulse_len as f64
     }
 
     /// The pulses of interferer `i` that land in the record of a pulse fired at `time_s` with
@@ -102,19 +70,12 @@ impl<'a> Interference<'a> {
         mut each: impl FnMut(InterferingPulse),
     ) {
         let it = &self.interferers[i];
-        let link = OneWayLink::new(
-            it.position_m,
-            self.radar_position_m,
-            &self.antenna,
-            &self.blind,
-            azimuth_rad,
-            self.wavelength_m,
-        );
+        let link = self.radar.link(it.position_m, azimuth_rad);
         let range_m = link.range_m;
-        let fs = self.sample_rate_hz;
+        let fs = self.radar.sample_rate_hz;
         let delay_s = range_m / SPEED_OF_LIGHT_M_PER_S;
         let width = ((it.pulse_width_s * fs).round() as usize).max(1);
-        let record_s = self.record_len as f64 / fs;
+        let record_s = self.radar.record_len as f64 / fs;
         let lo = ((time_s - delay_s - it.pulse_width_s) * it.prf_hz).ceil() as i64;
         let hi = ((time_s + record_s - delay_s) * it.prf_hz).floor() as i64;
         let back_bearing = link.bearing_rad + std::f64::consts::PI;
@@ -124,7 +85,7 @@ impl<'a> Interference<'a> {
                 * it.peak_gain_linear
                 * it.pattern_toward(back_bearing, t_m)
                 * link.gain_times_spreading;
-            let amplitude = (power_w / self.noise_power_w).sqrt() as f32;
+            let amplitude = (power_w / self.radar.noise_power_w).sqrt() as f32;
             each(InterferingPulse {
                 first_sample: ((t_m + delay_s - time_s) * fs).round() as i64,
                 samples: width,
@@ -148,14 +109,15 @@ impl Source for Interference<'_> {
         _scratch: &mut SourceScratch,
         samples: &mut [Complex32],
     ) -> Option<usize> {
-        let record = &mut samples[..self.record_len];
+        let record = &mut samples[..self.radar.record_len];
         let mut earliest: Option<usize> = None;
         for i in 0..self.interferers.len() {
             self.pulses_in_record(i, at.pulse.time_s, at.pulse.azimuth_rad, |p| {
                 if p.first_sample < 0 || p.first_sample as usize >= record.len() {
                     return;
                 }
-                let overlap = p.samples.min(self.pulse_len) as f32 / self.pulse_len as f32;
+                let overlap =
+                    p.samples.min(self.radar.pulse_len) as f32 / self.radar.pulse_len as f32;
                 let phase = Self::phase(i, p.number);
                 let start = p.first_sample as usize;
                 record[start] += Complex32::from_polar(p.amplitude * overlap, phase as f32);

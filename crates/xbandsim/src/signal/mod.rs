@@ -91,6 +91,47 @@ impl SourceScratch {
     }
 }
 
+/// This radar as another transmitter's signal meets it: its antenna and where it stands,
+/// the own ship's blind sectors, its wavelength, peak power, noise power per sample, sample
+/// rate, receiver bandwidth (the sweep, or 1/T), record and pulse lengths (samples).
+#[derive(Debug, Clone, Copy)]
+pub struct ThisRadar<'a> {
+    /// Its antenna.
+    pub antenna: crate::antenna::Antenna,
+    /// Its antenna's phase centre, ENU m.
+    pub position_m: glam::DVec3,
+    /// The own ship's blind sectors.
+    pub blind: crate::model::artefacts::BlindView<'a>,
+    /// Wavelength, m.
+    pub wavelength_m: f64,
+    /// Peak transmit power, W.
+    pub peak_power_w: f64,
+    /// Noise power per sample, W.
+    pub noise_power_w: f64,
+    /// Sample rate, Hz.
+    pub sample_rate_hz: f64,
+    /// Receiver bandwidth, Hz.
+    pub bandwidth_hz: f64,
+    /// Record length, samples.
+    pub record_len: usize,
+    /// Pulse length, samples (at least 1).
+    pub pulse_len: usize,
+}
+
+impl ThisRadar<'_> {
+    /// The one-way link to `position_m` with the beam at `beam_azimuth_rad`.
+    pub fn link(&self, position_m: glam::DVec3, beam_azimuth_rad: f64) -> OneWayLink {
+        OneWayLink::new(
+            position_m,
+            self.position_m,
+            &self.antenna,
+            &self.blind,
+            beam_azimuth_rad,
+            self.wavelength_m,
+        )
+    }
+}
+
 /// A one-way path between this radar's antenna and another transmitter (an interfering
 /// radar, a beacon): its range, bearing, and this antenna's gain toward it for a beam at a
 /// given azimuth — `G0·Gn(Δaz)·Gn_el(el)` times the blind sectors' one-way loss — with the
