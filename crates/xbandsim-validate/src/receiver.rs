@@ -1,7 +1,8 @@
 //! Checks of the receiver's video chain and the artefacts (docs/physics.md §13, §14) through
 //! the real pipeline: the STC's attenuation against its law, the FTC's step response, the log
 //! amplifier and threshold against the noise's exceedance, a sidelobe echo against the
-//! two-way pattern, an interferer's pulse against its label, interference rejection.
+//! two-way pattern, an interferer's pulse against its label, interference rejection, and the
+//! levels of multiple and indirect echoes.
 
 use crate::harness::{argmax, point_north, radar_block, radar_block_no_noise, render_text, spoke};
 use crate::{check, Checks, Tolerance};
@@ -179,7 +180,87 @@ pub fn second_trace_range_m() -> (f64, f64, f64) {
     (expect, peak as f64 * f.range_bin_m, f.range_bin_m)
 }
 
+/// The radar of the own-ship path scenes: 360 spokes, 1.5 km, noise off.
+const OWN_SHIP_RADAR: &str = "spokes = 360\nmax_range_m = 1500.0";
+
+/// The range bin of the own-ship path scenes' radar, m.
+pub fn own_ship_paths_bin_m() -> f64 {
+    xbandsim::model::Scene::from_toml_str(&radar_block_no_noise(OWN_SHIP_RADAR), "validation")
+        .expect("validation scene is valid")
+        .radar()
+        .range_bin_m()
+}
+
+/// A 10⁴ m² target 250 bins due east (`east`, abeam and parallel: a point's bow points north)
+/// or due north (ahead) of an own ship heading north, with multiple echoes on (6 dB per round
+/// trip, up to order 3, any length).
+pub fn multiple_echo_scene(east: bool) -> String {
+    let r_m = 250.0 * own_ship_paths_bin_m();
+    let (x, y) = if east { (r_m, 0.0) } else { (0.0, r_m) };
+    format!(
+        "{}[own_ship]\nheading_deg = 0.0\ncourse_deg = 0.0\n\
+         [artefacts.multiple_echoes]\nround_trip_loss_db = 6.0\nmax_order = 3\nmin_length_m = 0.0\n\
+         [[object]]\nname = \"tanker\"\nshape = \"point\"\nrcs_m2 = 1.0e4\nposition_m = [{x}, {y}, 4.0]\n",
+        radar_block_no_noise(OWN_SHIP_RADAR)
+    )
+}
+
+/// The order-`n` multiple echo of [`multiple_echo_scene`]: (`20·log10 n + (n−1)·6`, the
+/// measured drop from the direct echo's peak at 250 bins to the peak near `250·n`), dB.
+pub fn multiple_echo_drop_db(n: usize) -> (f64, f64) {
+    let (_, f) = render_text(&multiple_echo_scene(true), 1);
+    let row = spoke(&f, 90);
+    let direct = f64::from(row[250]);
+    let (_, peak) = argmax(&row[250 * n - 3..250 * n + 4]);
+    let expected = 20.0 * (n as f64).log10() + (n - 1) as f64 * 6.0;
+    (expected, direct - f64::from(peak))
+}
+
+/// A 100 m² target 100 bins dead ahead of an own ship heading north whose funnel, 10 bins aft
+/// (sector 170°–190°, 20 dB), scatters `indirect_db = −10` dB of the beam each way.
+pub fn indirect_echo_scene() -> String {
+    let bin_m = own_ship_paths_bin_m();
+    format!(
+        "{}[own_ship]\nheading_deg = 0.0\ncourse_deg = 0.0\n\
+         [[artefacts.blind_sector]]\nname = \"funnel\"\nfrom_deg = 170.0\nto_deg = 190.0\n\
+         loss_db = 20.0\nindirect_db = -10.0\ndistance_m = {}\n{}",
+        radar_block_no_noise(OWN_SHIP_RADAR),
+        10.0 * bin_m,
+        point_north("buoy", 100.0 * bin_m, 100.0)
+    )
+}
+
+/// The indirect echo of [`indirect_echo_scene`]: (2 × 10 dB, the measured drop from the
+/// direct echo's peak at bin 100 on spoke 0 to the peak at bin 120, `R + 2d`, on spoke 180),
+/// dB.
+pub fn indirect_echo_drop_db() -> (f64, f64) {
+    let (_, f) = render_text(&indirect_echo_scene(), 1);
+    let direct = f64::from(spoke(&f, 0)[100]);
+    let (_, peak) = argmax(&spoke(&f, 180)[117..124]);
+    (20.0, direct - f64::from(peak))
+}
+
 pub(crate) fn checks(out: &mut Checks) {
+    for n in [2usize, 3] {
+        let (e, m) = multiple_echo_drop_db(n);
+        out.push(check(
+            &format!("artefacts: multiple echo of order {n} of a ship abeam, below the direct echo"),
+            e,
+            m,
+            "dB",
+            Tolerance::Absolute(0.1),
+            "image method for two parallel mirror sides; JRC JMA-3300 manual §3.4.4; docs/physics.md §14",
+        ));
+    }
+    let (e, m) = indirect_echo_drop_db();
+    out.push(check(
+        "artefacts: indirect echo via a funnel (indirect_db −10) below the direct echo",
+        e,
+        m,
+        "dB",
+        Tolerance::Absolute(0.1),
+        "two passes via the structure; JRC JMA-3300 manual §3.4; docs/physics.md §14",
+    ));
     let (e, m, bin) = second_trace_range_m();
     out.push(check(
         "artefacts: second-trace echo of a target at 9 km at R − c/(2·PRF) (PRF 20 kHz)",

@@ -43,7 +43,12 @@ pub fn run(out: &Path, scene_path: &Path, seed: u64) -> Result<()> {
     crate::say!("wrote {}", out.join("fig5_sea_clutter_rain.png").display());
     object_frames(out)?;
     crate::say!("wrote {}", out.join("object_frames.png").display());
-    fig6(out, &dir.join("sea-state-4-rain.toml"), seed)?;
+    fig6(
+        out,
+        &dir.join("harbour-calm.toml"),
+        &dir.join("sea-state-4-rain.toml"),
+        seed,
+    )?;
     crate::say!("wrote {}", out.join("fig6_receiver_video.png").display());
     crate::say!("figures done in {:.1} s", t0.elapsed().as_secs_f64());
     Ok(())
@@ -597,27 +602,44 @@ fn calibrated_and_video(
     Ok((p.colour_rgb.context("colour image asked for")?, video))
 }
 
-/// Fig. 6 (ours): the calibrated PPI and the receiver's video of the same sea (sea state 4,
-/// rain) at typical control settings, and the artefacts: a ship's sidelobe echoes on an
+/// Fig. 6 (ours): the calibrated PPI and the receiver's video of the same scene at typical
+/// control settings — the harbour approach, and a sea at state 4 with rain — and the
+/// artefacts: a ship's sidelobe echoes on an
 /// open array, another radar's interference (4096 sweeps, its PRF near a multiple of the
-/// sweep rate: the curved dotted lines) without and with rejection, their labels' boxes drawn
-/// in yellow.
-fn fig6(out: &Path, sea_scene: &Path, seed: u64) -> Result<()> {
+/// sweep rate: the curved dotted lines) without and with rejection, a second-trace echo, a
+/// racon, a SART, a funnel's blind sector with its indirect echo and a ship abeam's multiple
+/// echoes, their labels' boxes drawn in yellow.
+fn fig6(out: &Path, harbour_scene: &Path, sea_scene: &Path, seed: u64) -> Result<()> {
     let panel = 400u32;
-    let sea = LoadedSpec::read(sea_scene)?;
-    let (spec, dir) = (sea.spec(), sea.base_dir());
     let receiver = |text: &str| -> Result<xbandsim::scene::ReceiverSpec> {
         toml::from_str(text).context("figure receiver settings")
     };
+    // The harbour approach at a harbour's settings: manual STC over the near water, no FTC.
+    let harbour = LoadedSpec::read(harbour_scene)?;
+    let mut s = harbour.spec().clone();
+    s.receiver = Some(receiver(
+        "stc = \"manual\"\nstc_level_db = 15.0\nstc_range_m = 600.0\ninterference_rejection = \"low\"\nvideo_spokes = 2048\nvideo_samples = 512\n",
+    )?);
+    let (calibrated, video) = calibrated_and_video(&s, harbour.base_dir(), panel, seed, false)?;
+    let mut images = vec![
+        (
+            "harbour: calibrated (0 .. 60 dB over noise)".to_string(),
+            calibrated,
+        ),
+        (
+            "harbour: receiver video, manual STC, 4 bits".to_string(),
+            video,
+        ),
+    ];
+    let sea = LoadedSpec::read(sea_scene)?;
+    let (spec, dir) = (sea.spec(), sea.base_dir());
     let mut s = spec.clone();
     s.receiver = Some(receiver(
         "stc = \"auto\"\nftc_time_constant_us = 0.5\ninterference_rejection = \"medium\"\nvideo_spokes = 2048\nvideo_samples = 512\n",
     )?);
     let (calibrated, video) = calibrated_and_video(&s, dir, panel, seed, false)?;
-    let mut images = vec![
-        ("calibrated (0 .. 60 dB over noise)".to_string(), calibrated),
-        ("receiver video: auto STC, FTC, 4 bits".to_string(), video),
-    ];
+    images.push(("sea state 4, rain: calibrated".to_string(), calibrated));
+    images.push(("sea state 4, rain: video, auto STC, FTC".to_string(), video));
     // A ship 1.1 km off an open array: its echo through the near sidelobes draws arcs.
     let mut near: SceneSpec = toml::from_str(
         "[radar]\npreset = \"magnetron-25kw-open-array\"\nrange_scale_nm = 0.75\n\
@@ -650,11 +672,73 @@ fn fig6(out: &Path, sea_scene: &Path, seed: u64) -> Result<()> {
         "... with interference rejection".to_string(),
         interfered("high")?,
     ));
+    // One panel per other artefact, each with its labels' boxes.
+    let artefact = |text: &str, ring_m: f64| -> Result<Vec<u8>> {
+        let mut t: SceneSpec = toml::from_str(text).context("figure scene")?;
+        t.display.range_ring_spacing_m = Some(ring_m);
+        Ok(calibrated_and_video(&t, dir, panel, seed, true)?.1)
+    };
+    let quiet = "[environment]\nclutter = false\n[receiver]\nvideo_spokes = 2048\n";
+    let radome = "[radar]\npreset = \"magnetron-4kw-radome\"\nrange_scale_nm = 1.5\n";
+    images.push((
+        "artefact: second trace (9 km ship, 7.5 km unambiguous)".to_string(),
+        artefact(
+            &format!(
+                "[radar]\nprf_hz = 20000.0\nmax_range_m = 3000.0\n{quiet}\
+                 [artefacts]\nsecond_trace = true\n\
+                 [[object]]\nname = \"far ship\"\nshape = \"point\"\nrcs_m2 = 1.0e6\nposition_m = [3000.0, 8500.0, 10.0]\n"
+            ),
+            1000.0,
+        )?,
+    ));
+    images.push((
+        "artefact: racon K".to_string(),
+        artefact(
+            &format!(
+                "{radome}{quiet}[[artefacts.racon]]\nname = \"racon\"\nposition_m = [-600.0, 900.0, 6.0]\nmorse = \"K\"\nlength_nm = 0.5\n"
+            ),
+            500.0,
+        )?,
+    ));
+    images.push((
+        "artefact: SART (12 dots)".to_string(),
+        artefact(
+            &format!(
+                "[radar]\npreset = \"magnetron-4kw-radome\"\nrange_scale_nm = 6.0\n{quiet}\
+                 [[artefacts.sart]]\nname = \"sart\"\nposition_m = [1200.0, 800.0, 1.0]\n"
+            ),
+            2000.0,
+        )?,
+    ));
+    images.push((
+        "artefact: funnel's blind sector and indirect echo".to_string(),
+        artefact(
+            &format!(
+                "{radome}{quiet}[own_ship]\nheading_deg = 0.0\ncourse_deg = 0.0\n\
+                 [[artefacts.blind_sector]]\nname = \"funnel\"\nfrom_deg = 165.0\nto_deg = 195.0\n\
+                 loss_db = 20.0\nindirect_db = -8.0\ndistance_m = 15.0\n\
+                 [[object]]\nname = \"ship ahead\"\nshape = \"point\"\nrcs_m2 = 3.0e4\nposition_m = [150.0, 1200.0, 10.0]\n\
+                 [[object]]\nname = \"buoy astern\"\nshape = \"point\"\nrcs_m2 = 30.0\nposition_m = [-60.0, -1500.0, 2.0]\n"
+            ),
+            500.0,
+        )?,
+    ));
+    images.push((
+        "artefact: multiple echoes of a ship abeam".to_string(),
+        artefact(
+            &format!(
+                "{radome}{quiet}[own_ship]\nheading_deg = 0.0\ncourse_deg = 0.0\n\
+                 [artefacts.multiple_echoes]\nmax_order = 4\n\
+                 [[object]]\nname = \"tanker\"\nshape = \"vessel\"\nlength_m = 150.0\nposition_m = [700.0, 0.0, 0.0]\n"
+            ),
+            500.0,
+        )?,
+    ));
     panel_grid(
         &out.join("fig6_receiver_video.png"),
         "Receiver video and artefacts (video levels 0 .. 15; artefact labels in yellow)",
         &images,
         panel,
-        3,
+        4,
     )
 }

@@ -29,16 +29,16 @@ use crate::model::{ProcessingMode, Scene};
 use crate::processing::sinks::DopplerPlan;
 use crate::processing::{DopplerSpectra, PulseCompressor, SpokeScratch};
 use crate::products::artefacts::{
-    beacon_artefacts, blind_sector_artefacts, interference_artefacts, second_trace_artefacts,
-    sidelobe_artefacts,
+    beacon_artefacts, blind_sector_artefacts, indirect_echo_artefacts, interference_artefacts,
+    multiple_echo_artefacts, second_trace_artefacts, sidelobe_artefacts,
 };
-use crate::products::labels::{object_truth, ObjectTruth};
+use crate::products::labels::{eclipse_loss_db_at, object_truth, ObjectTruth};
 use crate::products::{Frame, FrameStats};
 use crate::receiver::stages::GainStc;
 use crate::receiver::video_chain::{self, PolarRecord};
 use crate::receiver::Receiver;
 use crate::rng::{FrameKey, Stream};
-use crate::scattering::{trace_scene, ScatterSet};
+use crate::scattering::{trace_scene, via_own_ship, Contribution, ScatterSet};
 use crate::signal::clutter::{ClutterSpeckle, SeaAndRainClutter};
 use crate::signal::clutter_map::ClutterMap;
 use crate::signal::PulseAt;
@@ -265,22 +265,44 @@ impl Simulation {
         self.echo_groups_tilted(set, &[])
     }
 
-    /// The pulse interval in samples when second-trace echoes are on (the mean interval of
-    /// a staggered train).
+    /// The pulse interval in samples when second-trace echoes are on and the train is not
+    /// staggered (a staggered train's folds are drawn by
+    /// [`crate::scattering::via_own_ship::fold_staggered`]).
     fn fold_samples(&self) -> Option<f64> {
         let radar = self.scene.radar();
-        self.scene
-            .artefacts()
-            .second_trace
+        (self.scene.artefacts().second_trace && !radar.scan().stagger().is_staggered())
             .then(|| radar.sample_rate_hz() / radar.prf_hz())
     }
 
     /// As [`Simulation::echo_groups`], with object i's elevation pattern raised by
     /// `object_tilt_rad[i]` (the own ship's roll and pitch when the beam crosses it).
     pub fn echo_groups_tilted(&self, set: &ScatterSet, object_tilt_rad: &[f64]) -> EchoGroups {
+        self.echo_groups_of(&set.contributions, object_tilt_rad)
+    }
+
+    /// Groups `contributions` (a traced set's, with any paths via the own ship), folding
+    /// second-trace echoes when they are on.
+    fn echo_groups_of(
+        &self,
+        contributions: &[Contribution],
+        object_tilt_rad: &[f64],
+    ) -> EchoGroups {
         let radar = self.scene.radar();
+        let stagger = radar.scan().stagger();
+        let staggered_folds;
+        let contributions = if self.scene.artefacts().second_trace && stagger.is_staggered() {
+            let record_s = self.compressor.record_len() as f64 / radar.sample_rate_hz();
+            staggered_folds = crate::scattering::via_own_ship::fold_staggered(
+                contributions,
+                record_s,
+                stagger.intervals_s(),
+            );
+            &staggered_folds[..]
+        } else {
+            contributions
+        };
         EchoGroups::build_folded(
-            &set.contributions,
+            contributions,
             radar.antenna(),
             object_tilt_rad,
             radar.sample_rate_hz(),
@@ -544,15 +566,42 @@ impl Simulation {
         self.cache.get_or_trace(start_time_s, still, || {
             let (world, _) = self.world.traced(start_time_s, lead_s);
             let revolution = Revolution::with_lead(&self.scene, start_time_s, lead_s);
-            let groups = if revolution.deck_moves() {
-                let tilts: Vec<f64> = revolution
+            let tilts: Vec<f64> = if revolution.deck_moves() {
+                revolution
                     .objects()
                     .iter()
                     .map(|o| o.beam_tilt_rad)
-                    .collect();
-                self.echo_groups_tilted(&world.set, &tilts)
+                    .collect()
             } else {
-                self.echo_groups(&world.set)
+                Vec::new()
+            };
+            let artefacts = self.scene.artefacts();
+            let groups = if artefacts.has_paths_via_own_ship() {
+                let heading_rad = revolution.own_ship().map_or(0.0, |s| s.heading_rad);
+                let abeam = artefacts
+                    .multiple_echoes
+                    .as_ref()
+                    .map_or_else(Vec::new, |m| {
+                        via_own_ship::abeam_objects(revolution.scene(), heading_rad, m)
+                    });
+                let view = via_own_ship::OwnShipView {
+                    heading_rad,
+                    artefacts,
+                    abeam: &abeam,
+                    wavelength_m: self.scene.radar().wavelength_m(),
+                    two_way_attenuation_db_per_km: self
+                        .scene
+                        .environment()
+                        .two_way_attenuation_db_per_km(),
+                };
+                let mut all = world.set.contributions.clone();
+                all.extend(via_own_ship::paths_via_own_ship(
+                    &world.set.contributions,
+                    &view,
+                ));
+                self.echo_groups_of(&all, &tilts)
+            } else {
+                self.echo_groups_of(&world.set.contributions, &tilts)
             };
             Traced {
                 revolution,
@@ -662,6 +711,8 @@ impl Simulation {
             radar.range_bin_m(),
             self.compressor.num_bins(),
         );
+        // Echoes an artefact shows away from their objects (products::artefacts::echo_image).
+        let mut images: Vec<ObjectTruth> = Vec::new();
         let interferers = &self.scene.artefacts().interferers;
         // (The target-only render has no other transmitters, and labels none.)
         if !interferers.is_empty() && self.artefact_sources {
@@ -676,9 +727,17 @@ impl Simulation {
             ));
         }
         if self.scene.artefacts().second_trace {
+            let c = crate::constants::SPEED_OF_LIGHT_M_PER_S;
+            let folds_m: Vec<f64> = if radar.scan().stagger().is_staggered() {
+                let intervals = radar.scan().stagger().intervals_s();
+                intervals.iter().map(|t| c * t / 2.0).collect()
+            } else {
+                vec![c / (2.0 * radar.prf_hz())]
+            };
             artefacts.extend(second_trace_artefacts(
                 &truth,
-                crate::constants::SPEED_OF_LIGHT_M_PER_S / (2.0 * radar.prf_hz()),
+                &mut images,
+                &folds_m,
                 if radar.receiver_blanking() {
                     radar.eclipse_range_m()
                 } else {
@@ -690,6 +749,47 @@ impl Simulation {
                 self.compressor.num_bins(),
             ));
         }
+        let heading_rad = revolution.own_ship().map_or(0.0, |s| s.heading_rad);
+        // What an echo shown at another range loses there: the eclipse at that range and the
+        // atmosphere over its extra two-way path.
+        let attenuation_db_per_km = self.scene.environment().two_way_attenuation_db_per_km();
+        let shown_loss_db = |range_m: f64, extra_path_m: f64| {
+            eclipse_loss_db_at(radar, range_m)
+                .map(|e| e + attenuation_db_per_km * extra_path_m / 2000.0)
+        };
+        artefacts.extend(indirect_echo_artefacts(
+            &truth,
+            &mut images,
+            &shown_loss_db,
+            &self.scene.artefacts().blind_sectors,
+            heading_rad,
+            radar.antenna().az_beamwidth_rad,
+            radar.spokes(),
+            radar.range_bin_m(),
+            self.compressor.num_bins(),
+        ));
+        if let Some(multiple) = &self.scene.artefacts().multiple_echoes {
+            let abeam = via_own_ship::abeam_objects(revolution.scene(), heading_rad, multiple);
+            artefacts.extend(multiple_echo_artefacts(
+                &truth,
+                &mut images,
+                &shown_loss_db,
+                &abeam,
+                multiple,
+                radar.spokes(),
+                radar.range_bin_m(),
+                self.compressor.num_bins(),
+            ));
+        }
+        // The echoes shown away from their objects reach other spokes through the sidelobes too.
+        artefacts.extend(sidelobe_artefacts(
+            &images,
+            &radar.antenna().azimuth(),
+            &blind,
+            radar.spokes(),
+            radar.range_bin_m(),
+            self.compressor.num_bins(),
+        ));
         artefacts.extend(blind_sector_artefacts(
             &self.scene.artefacts().blind_sectors,
             revolution.own_ship().map_or(0.0, |s| s.heading_rad),

@@ -4,7 +4,9 @@
 
 use crate::error::{Error, Problem, Result};
 use crate::model::checks::{finite, finite_vec, positive};
-use crate::scene::{ArtefactsSpec, BeaconSpec, BlindSectorSpec, InterfererSpec};
+use crate::scene::{
+    ArtefactsSpec, BeaconSpec, BlindSectorSpec, InterfererSpec, MultipleEchoesSpec,
+};
 use glam::DVec3;
 
 /// Another radar whose pulses reach this one's receiver.
@@ -100,6 +102,68 @@ pub struct Artefacts {
     pub beacons: Vec<Beacon>,
     /// Blind sectors behind the own ship's structure.
     pub blind_sectors: Vec<BlindSector>,
+    /// Multiple echoes between the own ship's side and a ship abeam.
+    pub multiple_echoes: Option<MultipleEchoes>,
+}
+
+impl Artefacts {
+    /// Whether any echo takes a path via the own ship (indirect or multiple echoes,
+    /// `crate::scattering::via_own_ship`).
+    pub fn has_paths_via_own_ship(&self) -> bool {
+        self.multiple_echoes.is_some() || self.blind_sectors.iter().any(|s| s.indirect.is_some())
+    }
+}
+
+/// Multiple echoes (docs/physics.md §14): a ship abeam whose side is parallel to the own
+/// ship's sends part of its echo back from the own ship's side; each round trip more shows it
+/// again at `n·R` on its bearing, `20·log10 n + (n−1)·L` dB weaker (both sides flat mirrors
+/// in each other's near field, the image method).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MultipleEchoes {
+    /// Power lost on each extra round trip, dB (≥ 0).
+    pub round_trip_loss_db: f64,
+    /// The highest order drawn (≥ 2).
+    pub max_order: u32,
+    /// How far from abeam and from parallel the sides may be, rad.
+    pub abeam_tolerance_rad: f64,
+    /// The shortest ship that bounces it, m along its bow axis.
+    pub min_length_m: f64,
+}
+
+impl MultipleEchoes {
+    /// Whether a ship at true bearing `bearing_rad` from the antenna, heading `heading_rad`,
+    /// `length_m` long, lies abeam of an own ship heading `own_heading_rad` with its side
+    /// parallel (both within the tolerance) and is long enough.
+    pub fn applies(
+        &self,
+        own_heading_rad: f64,
+        bearing_rad: f64,
+        heading_rad: f64,
+        length_m: f64,
+    ) -> bool {
+        let off_beam = |relative: f64| {
+            (crate::antenna::wrap_angle_rad(relative).abs() - std::f64::consts::FRAC_PI_2).abs()
+        };
+        length_m >= self.min_length_m
+            && off_beam(bearing_rad - own_heading_rad) <= self.abeam_tolerance_rad
+            && off_beam(bearing_rad - heading_rad) <= self.abeam_tolerance_rad
+    }
+
+    /// The power of the order-`n` echo relative to the direct one, dB:
+    /// `−20·log10 n − (n−1)·L`.
+    pub fn relative_level_db(&self, n: u32) -> f64 {
+        -20.0 * (n as f64).log10() - (n - 1) as f64 * self.round_trip_loss_db
+    }
+}
+
+/// The indirect echoes of a structure (docs/physics.md §14): with the beam on it, the power
+/// fraction `indirect_db` it scatters toward another bearing, on the way out and back.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Indirect {
+    /// Power scattered toward other bearings on each pass, dB (≤ 0).
+    pub power_db: f64,
+    /// The structure's horizontal distance from the antenna, m.
+    pub distance_m: f64,
 }
 
 /// A sector of bearings relative to the bow in which the own ship's structure blocks the beam.
@@ -113,9 +177,17 @@ pub struct BlindSector {
     pub width_rad: f64,
     /// Two-way loss through it, dB.
     pub loss_db: f64,
+    /// Its indirect echoes, when it makes them.
+    pub indirect: Option<Indirect>,
 }
 
 impl BlindSector {
+    /// The bearing of its middle relative to the bow, rad: where the beam meets the
+    /// structure, and where its indirect echoes show.
+    pub fn centre_rad(&self) -> f64 {
+        (self.from_rad + self.width_rad / 2.0).rem_euclid(std::f64::consts::TAU)
+    }
+
     /// Whether the relative bearing `relative_rad` (from the bow) lies in it.
     pub fn contains(&self, relative_rad: f64) -> bool {
         (relative_rad - self.from_rad).rem_euclid(std::f64::consts::TAU) < self.width_rad
@@ -190,11 +262,51 @@ fn blind_sector(k: usize, s: &BlindSectorSpec) -> Result<BlindSector> {
             "must be between 0 and 200 dB",
         ));
     }
+    let indirect = match (s.indirect_db, s.distance_m) {
+        (None, None) => None,
+        (None, Some(_)) => return Err(Error::invalid(
+            Problem::Conflict,
+            f("distance_m"),
+            "given",
+            "the structure's distance is only used by its indirect echoes: give indirect_db too",
+        )),
+        (Some(_), None) => {
+            return Err(Error::missing(
+                f("distance_m"),
+                "indirect echoes need the structure's horizontal distance from the antenna, m",
+            ))
+        }
+        (Some(power_db), Some(distance_m)) => {
+            let power_db = finite(&f("indirect_db"), power_db)?;
+            if !(-60.0..=0.0).contains(&power_db) {
+                return Err(Error::invalid(
+                    Problem::OutOfRange,
+                    f("indirect_db"),
+                    power_db,
+                    "must be between -60 and 0 dB (a fraction of the power on the structure)",
+                ));
+            }
+            let distance_m = positive(&f("distance_m"), distance_m)?;
+            if distance_m > 500.0 {
+                return Err(Error::invalid(
+                    Problem::OutOfRange,
+                    f("distance_m"),
+                    distance_m,
+                    "must be at most 500 m (a structure on the own ship)",
+                ));
+            }
+            Some(Indirect {
+                power_db,
+                distance_m,
+            })
+        }
+    };
     Ok(BlindSector {
         name: s.name.clone().unwrap_or_else(|| format!("sector-{k}")),
         from_rad: from.rem_euclid(360.0).to_radians(),
         width_rad: width.to_radians(),
         loss_db,
+        indirect,
     })
 }
 
@@ -403,5 +515,62 @@ pub fn build_artefacts(s: &ArtefactsSpec) -> Result<Artefacts> {
             .enumerate()
             .map(|(k, b)| blind_sector(k, b))
             .collect::<Result<_>>()?,
+        multiple_echoes: s
+            .multiple_echoes
+            .as_ref()
+            .map(multiple_echoes)
+            .transpose()?,
+    })
+}
+
+fn multiple_echoes(s: &MultipleEchoesSpec) -> Result<MultipleEchoes> {
+    let f = |name: &str| format!("artefacts.multiple_echoes.{name}");
+    let round_trip_loss_db = finite(
+        &f("round_trip_loss_db"),
+        s.round_trip_loss_db.unwrap_or(6.0),
+    )?;
+    if !(0.0..=60.0).contains(&round_trip_loss_db) {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            f("round_trip_loss_db"),
+            round_trip_loss_db,
+            "must be between 0 and 60 dB",
+        ));
+    }
+    let max_order = s.max_order.unwrap_or(3);
+    if !(2..=8).contains(&max_order) {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            f("max_order"),
+            max_order,
+            "must be between 2 and 8 (2 draws the echo at twice the range)",
+        ));
+    }
+    let tolerance_deg = finite(
+        &f("abeam_tolerance_deg"),
+        s.abeam_tolerance_deg.unwrap_or(10.0),
+    )?;
+    if !(0.0..=45.0).contains(&tolerance_deg) {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            f("abeam_tolerance_deg"),
+            tolerance_deg,
+            "must be between 0 and 45 degrees",
+        ));
+    }
+    let min_length_m = finite(&f("min_length_m"), s.min_length_m.unwrap_or(30.0))?;
+    if min_length_m < 0.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            f("min_length_m"),
+            min_length_m,
+            "must be at least 0 m",
+        ));
+    }
+    Ok(MultipleEchoes {
+        round_trip_loss_db,
+        max_order,
+        abeam_tolerance_rad: tolerance_deg.to_radians(),
+        min_length_m,
     })
 }

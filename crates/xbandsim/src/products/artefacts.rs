@@ -43,6 +43,11 @@ pub enum ArtefactKind {
     Sart,
     /// A sector behind the own ship's structure, where every echo is weakened.
     BlindSector,
+    /// A target's echo via the own ship's structure, on the structure's bearing.
+    IndirectEcho,
+    /// A ship's echo bounced between its side and the own ship's side, at a multiple of its
+    /// range.
+    MultipleEcho,
 }
 
 /// One artefact of a frame.
@@ -95,6 +100,26 @@ impl ArtefactTruth {
             half_width_rad: spoke_rad / 2.0,
         });
     }
+}
+
+/// The truth of an echo that an artefact shows away from its object `o` — at `level_db`
+/// over the noise in `region`, and `blind_sector_db` stronger than that where the blind
+/// sectors at its bearing cost nothing — for [`sidelobe_artefacts`]: that echo too reaches the
+/// spokes off its bearing through the antenna's sidelobes.
+pub fn echo_image(
+    o: &ObjectTruth,
+    level_db: f64,
+    region: EchoRegion,
+    blind_sector_db: f64,
+) -> ObjectTruth {
+    let mut image = o.clone();
+    image.expected_snr_db = Some(level_db);
+    image.echo_region = Some(region);
+    image.far_region = None;
+    image.azimuth_deg = region.azimuth_rad.to_degrees();
+    image.range_m = 0.5 * (region.range_min_m + region.range_max_m);
+    image.losses_db.blind_sector = blind_sector_db;
+    image
 }
 
 /// The sidelobe echoes of `objects` for the azimuth `pattern` (and the own ship's blind
@@ -313,14 +338,18 @@ pub fn beacon_artefacts(
 }
 
 /// The second-trace echoes among `objects`: each object beyond the recorded range whose echo
-/// arrives after the next pulse (`[artefacts] second_trace`) appears `c/(2·PRF)` nearer, at
-/// `R − c/(2·PRF)`; one artefact per object whose expected SNR is at least
-/// [`SIDELOBE_LABEL_DB`], its box its echo region moved in by the unambiguous range (none when
-/// that lies wholly inside the blanked `eclipse_m`; partly inside, its level is the unblanked
-/// one, an upper bound).
+/// arrives after the next pulse (`[artefacts] second_trace`) appears one pulse interval
+/// nearer, at `R − c·T/2`; one artefact per object and interval whose expected level is at
+/// least [`SIDELOBE_LABEL_DB`], its box its echo region moved in by `c·T/2` (none when that
+/// lies wholly inside the blanked `eclipse_m`; partly inside, its level is the unblanked one,
+/// an upper bound). A staggered train's `L` intervals each take `1/L` of the power
+/// ([`crate::scattering::via_own_ship::fold_staggered`]): its level is the object's SNR less
+/// `10·log10 L`. Each fold's [`echo_image`] goes to `images`.
+#[allow(clippy::too_many_arguments)]
 pub fn second_trace_artefacts(
     objects: &[ObjectTruth],
-    unambiguous_m: f64,
+    images: &mut Vec<ObjectTruth>,
+    unambiguous_m: &[f64],
     eclipse_m: f64,
     max_range_m: f64,
     spokes: usize,
@@ -328,37 +357,203 @@ pub fn second_trace_artefacts(
     num_bins: usize,
 ) -> Vec<ArtefactTruth> {
     let mut out = Vec::new();
+    let share_db = 10.0 * (unambiguous_m.len() as f64).log10();
     for o in objects {
         let (Some(snr_db), Some(region)) = (o.expected_snr_db, o.far_region) else {
             continue;
         };
-        if snr_db < SIDELOBE_LABEL_DB {
+        let level_db = snr_db - share_db;
+        if level_db < SIDELOBE_LABEL_DB {
             continue;
         }
-        let folded = EchoRegion {
-            range_min_m: (region.range_min_m - unambiguous_m).max(0.0),
-            range_max_m: region.range_max_m - unambiguous_m,
-            ..region
-        };
-        // Nothing where the receiver is blanked (inside c·T/2) or beyond the record.
-        if folded.range_max_m <= eclipse_m || folded.range_min_m >= max_range_m {
-            continue;
+        for &fold_m in unambiguous_m {
+            let folded = EchoRegion {
+                range_min_m: (region.range_min_m - fold_m).max(0.0),
+                range_max_m: region.range_max_m - fold_m,
+                ..region
+            };
+            // Nothing where the receiver is blanked (inside c·T/2) or beyond the record.
+            if folded.range_max_m <= eclipse_m || folded.range_min_m >= max_range_m {
+                continue;
+            }
+            let Some(polar_box) = folded.polar_box(bin_m, num_bins, spokes) else {
+                continue;
+            };
+            images.push(echo_image(o, level_db, folded, o.losses_db.blind_sector));
+            out.push(ArtefactTruth {
+                kind: ArtefactKind::SecondTrace,
+                source: o.name.clone(),
+                reason: if unambiguous_m.len() == 1 {
+                    format!(
+                        "\"{}\" at {:.0} m is beyond the unambiguous range {:.0} m: its echo arrives after the next pulse and shows {:.0} m nearer",
+                        o.name, o.range_m, fold_m, fold_m
+                    )
+                } else {
+                    format!(
+                        "\"{}\" at {:.0} m is beyond the unambiguous range: after each pulse interval {:.1} µs of the staggered train (1 pulse in {}) its echo shows {:.0} m nearer",
+                        o.name,
+                        o.range_m,
+                        2.0 * fold_m / crate::constants::SPEED_OF_LIGHT_M_PER_S * 1e6,
+                        unambiguous_m.len(),
+                        fold_m
+                    )
+                },
+                expected_level_db: Some(level_db),
+                polar_boxes: vec![polar_box],
+                ppi_boxes_px: Vec::new(),
+                regions: vec![folded],
+            });
         }
-        let Some(polar_box) = folded.polar_box(bin_m, num_bins, spokes) else {
+    }
+    out
+}
+
+/// The indirect echoes of `objects` via the own ship's structures (blind sectors with
+/// `indirect`; [`crate::scattering::via_own_ship`]) for a bow heading `heading_rad` and an
+/// azimuth beamwidth `beamwidth_rad`: one artefact per object and structure whose expected
+/// level — the object's SNR with its own blind-sector and eclipse losses taken off, plus
+/// twice the structure's `indirect_db`, less `shown_loss_db(range, extra path)` where it
+/// shows (the eclipse there and the atmosphere over the extra path; None: nothing received)
+/// — is at least [`SIDELOBE_LABEL_DB`]; its box on the structure's bearing, over the ranges
+/// `d + |P − S|` of the object's echo region. Each one's [`echo_image`] goes to `images`.
+#[allow(clippy::too_many_arguments)]
+pub fn indirect_echo_artefacts(
+    objects: &[ObjectTruth],
+    images: &mut Vec<ObjectTruth>,
+    shown_loss_db: &dyn Fn(f64, f64) -> Option<f64>,
+    sectors: &[crate::model::artefacts::BlindSector],
+    heading_rad: f64,
+    beamwidth_rad: f64,
+    spokes: usize,
+    bin_m: f64,
+    num_bins: usize,
+) -> Vec<ArtefactTruth> {
+    let mut out = Vec::new();
+    for s in sectors {
+        let Some(indirect) = s.indirect else {
             continue;
         };
-        out.push(ArtefactTruth {
-            kind: ArtefactKind::SecondTrace,
-            source: o.name.clone(),
-            reason: format!(
-                "\"{}\" at {:.0} m is beyond the unambiguous range {:.0} m: its echo arrives after the next pulse and shows {:.0} m nearer",
-                o.name, o.range_m, unambiguous_m, unambiguous_m
-            ),
-            expected_level_db: Some(snr_db),
-            polar_boxes: vec![polar_box],
-            ppi_boxes_px: Vec::new(),
-            regions: vec![folded],
-        });
+        let theta = (heading_rad + s.centre_rad()).rem_euclid(std::f64::consts::TAU);
+        let structure = glam::DVec2::new(theta.sin(), theta.cos()) * indirect.distance_m;
+        for o in objects {
+            let (Some(snr_db), Some(region)) = (o.expected_snr_db, o.echo_region) else {
+                continue;
+            };
+            let az = o.azimuth_deg.to_radians();
+            let apparent = |r: f64| {
+                let ground = (r * r - region.height_above_radar_m.powi(2))
+                    .max(0.0)
+                    .sqrt();
+                let p = glam::DVec2::new(az.sin(), az.cos()) * ground - structure;
+                indirect.distance_m + p.length().hypot(region.height_above_radar_m)
+            };
+            let shown_m = apparent(o.range_m);
+            let Some(shown_db) = shown_loss_db(shown_m, 2.0 * (shown_m - o.range_m)) else {
+                continue;
+            };
+            let level_db = snr_db
+                + o.losses_db.blind_sector
+                + o.losses_db.eclipse.unwrap_or(0.0)
+                + 2.0 * indirect.power_db
+                - shown_db;
+            if level_db < SIDELOBE_LABEL_DB {
+                continue;
+            }
+            let (a, b) = (apparent(region.range_min_m), apparent(region.range_max_m));
+            let shown = EchoRegion {
+                range_min_m: a.min(b),
+                range_max_m: a.max(b),
+                height_above_radar_m: region.height_above_radar_m,
+                azimuth_rad: theta,
+                half_width_rad: beamwidth_rad / 2.0,
+            };
+            let Some(polar_box) = shown.polar_box(bin_m, num_bins, spokes) else {
+                continue;
+            };
+            let blind_db = crate::model::artefacts::blind_loss_db(sectors, theta, heading_rad);
+            images.push(echo_image(o, level_db, shown, blind_db));
+            out.push(ArtefactTruth {
+                kind: ArtefactKind::IndirectEcho,
+                source: o.name.clone(),
+                reason: format!(
+                    "the echo of \"{}\" (bearing {:.1}°) via the own ship's {} {:.0} m away, on the structure's bearing {:.1}°",
+                    o.name,
+                    o.azimuth_deg,
+                    s.name,
+                    indirect.distance_m,
+                    theta.to_degrees()
+                ),
+                expected_level_db: Some(level_db),
+                polar_boxes: vec![polar_box],
+                ppi_boxes_px: Vec::new(),
+                regions: vec![shown],
+            });
+        }
+    }
+    out
+}
+
+/// The multiple echoes of the `objects` that `abeam` marks
+/// ([`crate::scattering::via_own_ship::abeam_objects`]): orders 2 to `multiple.max_order`,
+/// each at `n` times its echo region's ranges on its bearing and
+/// [`MultipleEchoes::relative_level_db`] below its SNR (its eclipse loss taken off, and
+/// `shown_loss_db` at `n·R` over the extra path `2(n−1)R` put on); one artefact per object
+/// and order at least [`SIDELOBE_LABEL_DB`] over the noise and inside the record. Each
+/// one's [`echo_image`] goes to `images`.
+///
+/// [`MultipleEchoes::relative_level_db`]: crate::model::artefacts::MultipleEchoes::relative_level_db
+pub fn multiple_echo_artefacts(
+    objects: &[ObjectTruth],
+    images: &mut Vec<ObjectTruth>,
+    shown_loss_db: &dyn Fn(f64, f64) -> Option<f64>,
+    abeam: &[bool],
+    multiple: &crate::model::artefacts::MultipleEchoes,
+    spokes: usize,
+    bin_m: f64,
+    num_bins: usize,
+) -> Vec<ArtefactTruth> {
+    let mut out = Vec::new();
+    for (o, _) in objects.iter().zip(abeam).filter(|(_, &a)| a) {
+        let (Some(snr_db), Some(region)) = (o.expected_snr_db, o.echo_region) else {
+            continue;
+        };
+        for n in 2..=multiple.max_order {
+            let shown_m = n as f64 * o.range_m;
+            let Some(shown_db) = shown_loss_db(shown_m, 2.0 * (shown_m - o.range_m)) else {
+                continue;
+            };
+            let level_db =
+                snr_db + o.losses_db.eclipse.unwrap_or(0.0) + multiple.relative_level_db(n)
+                    - shown_db;
+            if level_db < SIDELOBE_LABEL_DB {
+                continue;
+            }
+            let shown = EchoRegion {
+                range_min_m: region.range_min_m * n as f64,
+                range_max_m: region.range_max_m * n as f64,
+                ..region
+            };
+            let Some(polar_box) = shown.polar_box(bin_m, num_bins, spokes) else {
+                continue;
+            };
+            images.push(echo_image(o, level_db, shown, o.losses_db.blind_sector));
+            out.push(ArtefactTruth {
+                kind: ArtefactKind::MultipleEcho,
+                source: o.name.clone(),
+                reason: format!(
+                    "the echo of \"{}\" abeam at {:.0} m, bounced {} more time{} between its side and the own ship's: it shows at {} times its range",
+                    o.name,
+                    o.range_m,
+                    n - 1,
+                    if n == 2 { "" } else { "s" },
+                    n
+                ),
+                expected_level_db: Some(level_db),
+                polar_boxes: vec![polar_box],
+                ppi_boxes_px: Vec::new(),
+                regions: vec![shown],
+            });
+        }
     }
     out
 }

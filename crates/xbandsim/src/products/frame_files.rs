@@ -149,6 +149,8 @@ pub struct EncodedFrame {
     pub objects: Vec<ObjectTruth>,
     /// The image's scan converter (pixel to polar cell).
     pub converter: ScanConverter,
+    /// The frame's artefacts labelled for the image (`ppi_boxes_px`).
+    pub artefacts: Vec<ArtefactTruth>,
 }
 
 /// Writes the four outputs of a frame into `out` as a set (all encoded first, then written
@@ -185,6 +187,8 @@ pub struct FrameProducts {
     pub objects: Vec<ObjectTruth>,
     /// The image's scan converter (pixel to polar cell).
     pub converter: ScanConverter,
+    /// The frame's artefacts labelled for the image (`ppi_boxes_px`).
+    pub artefacts: Vec<ArtefactTruth>,
 }
 
 /// Encodes the files [`write_frame_files`] writes, with only the PPI images `images` asks
@@ -255,6 +259,7 @@ pub fn encode_frame_files(
         files,
         objects: p.objects,
         converter: p.converter,
+        artefacts: p.artefacts,
     })
 }
 
@@ -370,6 +375,7 @@ pub fn frame_products(
         truth_json,
         objects,
         converter: conv,
+        artefacts,
     })
 }
 

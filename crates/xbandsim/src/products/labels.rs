@@ -282,6 +282,26 @@ pub fn footprint_of(
     )
 }
 
+/// The eclipse loss, dB, of a point echo at slant range `range_m` for `radar` (0 without
+/// blanking; None when none of it is received), in the pulse channel that records that
+/// range: what `losses_db.eclipse` is for an object there.
+pub fn eclipse_loss_db_at(radar: &Radar, range_m: f64) -> Option<f64> {
+    if !radar.receiver_blanking() {
+        return Some(0.0);
+    }
+    let delay_samples = 2.0 * range_m / SPEED_OF_LIGHT_M_PER_S * radar.sample_rate_hz();
+    let (chirp, window) = match radar.short_pulse() {
+        Some(p) if (delay_samples.round() as usize) < radar.join_bin() => (&p.chirp, p.window),
+        _ => (radar.chirp(), radar.window()),
+    };
+    let fraction = eclipse_received_fraction(
+        delay_samples,
+        &chirp.samples(),
+        &window.coefficients(chirp.num_samples()),
+    );
+    (fraction > 0.0).then(|| loss_db(fraction.powi(2)))
+}
+
 /// Fraction of the matched-filter peak amplitude received from an echo at `delay_samples`
 /// when the receiver is blanked for the pulse's `chirp.len()` samples: the echo's samples
 /// before the end of transmission are lost, so only the chirp's last `delay_samples`

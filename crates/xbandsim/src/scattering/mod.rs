@@ -13,6 +13,7 @@
 pub mod paper;
 pub mod po;
 pub mod rcs;
+pub mod via_own_ship;
 
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
 use crate::geometry::{Bvh, Primitive};

@@ -9,7 +9,7 @@ mod spec;
 pub use load::{assign_field, locate, LoadedSpec};
 pub use spec::{
     AntennaPatternName, ArtefactsSpec, BeaconSpec, BlindSectorSpec, ClutterDistributionName,
-    DisplaySpec, EnvironmentSpec, InterfererSpec, ObjectSpec, OwnShipSpec, ProcessingSpec,
-    PulseModeName, RadarPreset, RadarSpec, RainCellSpec, ReceiverSpec, ScatteringSpec, SceneSpec,
-    ShapeName, WindowName,
+    DisplaySpec, EnvironmentSpec, InterfererSpec, MultipleEchoesSpec, ObjectSpec, OwnShipSpec,
+    ProcessingSpec, PulseModeName, RadarPreset, RadarSpec, RainCellSpec, ReceiverSpec,
+    ScatteringSpec, SceneSpec, ShapeName, WindowName,
 };

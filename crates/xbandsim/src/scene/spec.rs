@@ -544,6 +544,24 @@ pub struct ArtefactsSpec {
     /// Search and rescue transponders (`[[artefacts.sart]]`): 12 dots outward.
     #[serde(default)]
     pub sart: Vec<BeaconSpec>,
+    /// Multiple echoes between the own ship's side and a ship abeam
+    /// (`[artefacts.multiple_echoes]`; off when left out).
+    pub multiple_echoes: Option<MultipleEchoesSpec>,
+}
+
+/// `[artefacts.multiple_echoes]`: a ship's echo bouncing between its side and the own ship's
+/// side when it lies abeam, parallel, and shows again at 2R, 3R, ...
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct MultipleEchoesSpec {
+    /// Power lost on each extra round trip to the two sides' reflections, dB (default 6).
+    pub round_trip_loss_db: Option<f64>,
+    /// The highest echo order drawn: 2 draws the echo at 2R only (default 3).
+    pub max_order: Option<u32>,
+    /// How far from abeam (and from parallel) the two sides may be, degrees (default 10).
+    pub abeam_tolerance_deg: Option<f64>,
+    /// The shortest ship whose side bounces the echo back, m along its bow axis (default 30).
+    pub min_length_m: Option<f64>,
 }
 
 /// `[[artefacts.racon]]` and `[[artefacts.sart]]`: a transponder answering this radar.
@@ -605,4 +623,9 @@ pub struct BlindSectorSpec {
     pub to_deg: Option<f64>,
     /// Two-way loss of everything received through it, dB (default 20).
     pub loss_db: Option<f64>,
+    /// Indirect echoes: the power the structure scatters from the beam toward other bearings
+    /// on each pass, dB (e.g. -10; no indirect echoes when left out). Needs `distance_m`.
+    pub indirect_db: Option<f64>,
+    /// The structure's horizontal distance from the antenna, m (needed by `indirect_db`).
+    pub distance_m: Option<f64>,
 }

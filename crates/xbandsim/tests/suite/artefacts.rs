@@ -325,3 +325,163 @@ fn a_blind_sector_weakens_echoes_behind_the_mast_as_labelled() {
     assert_eq!(spokes[0], 260, "{spokes:?}");
     assert!((20..=21).contains(&spokes.len()), "{spokes:?}");
 }
+
+/// The strongest cell of spoke `k`: (bin, dB).
+fn spoke_peak(f: &xbandsim::Frame, k: usize, bins: std::ops::Range<usize>) -> (usize, f64) {
+    let row = &f.polar_db[k * f.range_bins..(k + 1) * f.range_bins];
+    let j = bins.max_by(|&a, &b| row[a].total_cmp(&row[b])).unwrap();
+    (j, f64::from(row[j]))
+}
+
+/// A staggered train's second trace: PRF 20 kHz staggered 1.0 : 1.1 : 0.9 (intervals 50, 55
+/// and 45 µs) folds a target 9 km north to `R − c·T_k/2` = 1505.2, 755.7 and 2254.7 m, each
+/// within one bin; each fold carries a third of the power, so its peak is the unstaggered
+/// fold's less `10·log10 3` = 4.77 dB (0.2 dB: the fractional sample position differs), and
+/// each is labelled there at that level.
+#[test]
+fn a_staggered_train_smears_the_second_trace_over_its_intervals() {
+    let text = |stagger: &str| {
+        format!(
+            "{}[artefacts]\nsecond_trace = true\n{}",
+            radar_block_no_noise(&format!(
+                "prf_hz = 20000.0\n{stagger}spokes = 90\nmax_range_m = 3000.0"
+            )),
+            crate::common::point_north("far", 9000.0, 1.0e4)
+        )
+    };
+    let (_, plain) = render(&text(""), 1);
+    let (_, staggered) = render(&text("prf_stagger = [1.0, 1.1, 0.9]\n"), 1);
+    let (_, plain_db) = spoke_peak(&plain, 0, 0..plain.range_bins);
+    let c = 299_792_458.0;
+    let folds: Vec<_> = staggered
+        .artefacts
+        .iter()
+        .filter(|a| a.kind == ArtefactKind::SecondTrace)
+        .collect();
+    assert_eq!(folds.len(), 3);
+    let plain_label = plain
+        .artefacts
+        .iter()
+        .find(|a| a.kind == ArtefactKind::SecondTrace)
+        .unwrap()
+        .expected_level_db
+        .unwrap();
+    for (t_s, a) in [50e-6, 55e-6, 45e-6].iter().zip(&folds) {
+        let expect_m = 9000.0 - c * t_s / 2.0;
+        let bin = (expect_m / staggered.range_bin_m).round() as usize;
+        let (peak, db) = spoke_peak(&staggered, 0, bin - 3..bin + 4);
+        assert!(
+            (peak as f64 * staggered.range_bin_m - expect_m).abs() <= staggered.range_bin_m,
+            "fold at {} m, expected {expect_m} m",
+            peak as f64 * staggered.range_bin_m
+        );
+        let share_db = 10.0 * 3f64.log10();
+        assert!((plain_db - db - share_db).abs() < 0.2, "{plain_db} vs {db}");
+        let b = a.polar_boxes[0];
+        assert!(b.bin_min <= peak && peak <= b.bin_max, "{b:?} vs {peak}");
+        let level = a.expected_level_db.unwrap();
+        assert!((plain_label - level - share_db).abs() < 1e-9);
+    }
+}
+
+/// Multiple echoes (`xbandsim_validate::receiver::multiple_echo_scene`): a 10⁴ m² target due
+/// east of an own ship heading north (abeam, and its bow north: parallel) shows again at 2R
+/// and 3R on its bearing, `20·log10 n + (n−1)·6` dB weaker (6.02 + 6 and 9.54 + 12 dB) within
+/// 0.1 dB, each labelled there at that level; the same target due north (ahead) shows none.
+#[test]
+fn a_ship_abeam_shows_multiple_echoes_at_multiples_of_its_range() {
+    use xbandsim_validate::receiver::{multiple_echo_drop_db, multiple_echo_scene};
+    let (_, f) = render(&multiple_echo_scene(true), 1);
+    let (direct_bin, _) = spoke_peak(&f, 90, 0..f.range_bins);
+    assert_eq!(direct_bin, 250);
+    assert_eq!(f.truth[0].losses_db.eclipse, Some(0.0));
+    let a: Vec<_> = f
+        .artefacts
+        .iter()
+        .filter(|a| a.kind == ArtefactKind::MultipleEcho)
+        .collect();
+    assert_eq!(a.len(), 2);
+    for (n, a) in [2usize, 3].into_iter().zip(a) {
+        let (bin, _) = spoke_peak(&f, 90, 250 * n - 3..250 * n + 4);
+        assert_eq!(bin, 250 * n);
+        let (want, drop) = multiple_echo_drop_db(n);
+        assert!(
+            (drop - want).abs() < 0.1,
+            "order {n}: {drop} dB, want {want}"
+        );
+        let b = a.polar_boxes[0];
+        assert!(b.bin_min <= bin && bin <= b.bin_max, "{b:?} vs {bin}");
+        assert!(b.spoke_indices(360).any(|k| k == 90));
+        let snr = f.truth[0].expected_snr_db.unwrap();
+        assert!((snr - a.expected_level_db.unwrap() - want).abs() < 1e-9);
+        assert_eq!(a.source, "tanker");
+    }
+    // Ahead: no second echo, no label.
+    let (_, ahead) = render(&multiple_echo_scene(false), 1);
+    let (_, db) = spoke_peak(&ahead, 0, 490..510);
+    assert!(db < SIDELOBE_LABEL_DB, "{db}");
+    assert!(ahead
+        .artefacts
+        .iter()
+        .all(|a| a.kind != ArtefactKind::MultipleEcho));
+}
+
+/// Indirect echoes (`xbandsim_validate::receiver::indirect_echo_scene`): a funnel 10 bins aft
+/// (sector 170°–190°, `indirect_db = −10`) on an own ship heading north shows a target dead
+/// ahead at 100 bins on the funnel's bearing 180°, at `d + |P − S|` = R + 2d = 120 bins, with
+/// the direct echo's peak less 2 × 10 dB within 0.1 dB; the label's box holds it at that
+/// level; away from both bearings there is nothing.
+#[test]
+fn a_funnel_shows_indirect_echoes_on_its_bearing() {
+    use xbandsim_validate::receiver::{indirect_echo_drop_db, indirect_echo_scene};
+    let (_, f) = render(&indirect_echo_scene(), 1);
+    let (direct_bin, _) = spoke_peak(&f, 0, 0..f.range_bins);
+    assert_eq!(direct_bin, 100);
+    let (bin, _) = spoke_peak(&f, 180, 0..f.range_bins);
+    assert_eq!(bin, 120);
+    let (want, drop) = indirect_echo_drop_db();
+    assert!((drop - want).abs() < 0.1, "{drop} dB, want {want}");
+    let a: Vec<_> = f
+        .artefacts
+        .iter()
+        .filter(|a| a.kind == ArtefactKind::IndirectEcho)
+        .collect();
+    assert_eq!(a.len(), 1);
+    let b = a[0].polar_boxes[0];
+    assert!(b.bin_min <= bin && bin <= b.bin_max, "{b:?} vs {bin}");
+    assert!(b.spoke_indices(360).any(|k| k == 180), "{b:?}");
+    let level = a[0].expected_level_db.unwrap();
+    assert!(
+        (f.truth[0].expected_snr_db.unwrap() - level - 20.0).abs() < 1e-9,
+        "{level}"
+    );
+    let (_, db) = spoke_peak(&f, 90, 0..f.range_bins);
+    assert!(db < SIDELOBE_LABEL_DB, "{db}");
+}
+
+/// Bad multiple-echo and indirect-echo values are refused naming the field.
+#[test]
+fn bad_own_ship_path_values_are_refused() {
+    for (table, field) in [
+        (
+            "[artefacts.multiple_echoes]\nmax_order = 1\n",
+            "artefacts.multiple_echoes.max_order",
+        ),
+        (
+            "[artefacts.multiple_echoes]\nround_trip_loss_db = -3.0\n",
+            "artefacts.multiple_echoes.round_trip_loss_db",
+        ),
+        (
+            "[[artefacts.blind_sector]]\nfrom_deg = 170.0\nto_deg = 190.0\nindirect_db = -10.0\n",
+            "artefacts.blind_sector[0].distance_m",
+        ),
+        (
+            "[[artefacts.blind_sector]]\nfrom_deg = 170.0\nto_deg = 190.0\nindirect_db = 3.0\ndistance_m = 10.0\n",
+            "artefacts.blind_sector[0].indirect_db",
+        ),
+    ] {
+        let text = format!("{}{table}", radar_block_no_noise(""));
+        let e = xbandsim::Scene::from_toml_str(&text, "test").unwrap_err();
+        assert_eq!(e.field(), Some(field), "{e}");
+    }
+}
