@@ -14,6 +14,7 @@
 
 use serde::Serialize;
 use serde_json::{json, Value};
+use xbandsim::products::artefacts::{ArtefactKind, ArtefactTruth};
 use xbandsim::products::labels::{ObjectTruth, PolarBox, Visibility};
 use xbandsim::products::ppi::ScanConverter;
 
@@ -406,11 +407,53 @@ fn round6(x: f64) -> f64 {
     (x * 1e6).round() / 1e6
 }
 
-/// Labels of a frame's objects (labelled for its image) with their masks.
+/// A frame's artefacts and what their masks are drawn from.
+#[derive(Clone, Copy)]
+pub struct ArtefactInput<'a> {
+    /// The artefacts, labelled for the image (`ppi_boxes_px`).
+    pub artefacts: &'a [ArtefactTruth],
+    /// The image's scan converter.
+    pub converter: &'a ScanConverter,
+    /// Range bins per spoke of the record.
+    pub bins: usize,
+}
+
+impl ArtefactInput<'_> {
+    /// Sets in `mask` the pixels of `boxes` — within each PPI box, those whose nearest polar
+    /// cell lies in its polar box — and returns the row spans it may have set
+    /// `(row, first, end)`, for clearing.
+    fn fill(&self, boxes: &[(&PolarBox, [f64; 4])], mask: &mut Mask) -> Vec<(usize, usize, usize)> {
+        let size = mask.width;
+        let mut touched = Vec::new();
+        for (polar_box, [x0, y0, x1, y1]) in boxes {
+            let clamp = |v: f64| (v.max(0.0) as usize).min(size);
+            let (xa, xb) = (clamp(x0.floor()), clamp(x1.ceil()));
+            for y in clamp(y0.floor())..clamp(y1.ceil()) {
+                for x in xa..xb {
+                    let pixel = y * size + x;
+                    if let Some(cell) = self.converter.nearest_cell(pixel) {
+                        if box_contains(polar_box, cell / self.bins, cell % self.bins) {
+                            mask.pixels[pixel] = true;
+                        }
+                    }
+                }
+                touched.push((y, xa, xb));
+            }
+        }
+        touched
+    }
+}
+
+/// Labels of a frame's objects (labelled for its image) with their masks, and of the
+/// artefacts whose kind has a category in `ctx.categories`
+/// ([`crate::spec::ARTEFACT_CATEGORIES`]): one label for each artefact — for each pulse of
+/// another radar — its mask the pixels of its polar boxes, with `track_id` null and its
+/// kind, source and expected level under `"artefact"` in COCO.
 pub fn frame_labels(
     ctx: &FrameContext,
     objects: &[ObjectTruth],
     masks: &[Option<Mask>],
+    artefacts: Option<ArtefactInput>,
 ) -> FrameLabels {
     let s = ctx.size_px as f64;
     let mut annotations = Vec::new();
@@ -494,6 +537,74 @@ pub fn frame_labels(
         });
         rows.push_str(&row.to_string());
         rows.push('\n');
+    }
+    if let Some(artefacts) = artefacts {
+        let mut mask = Mask {
+            width: ctx.size_px,
+            height: ctx.size_px,
+            pixels: vec![false; ctx.size_px * ctx.size_px],
+        };
+        for a in artefacts.artefacts {
+            let Some(c) = crate::spec::ARTEFACT_CATEGORIES
+                .iter()
+                .find(|(kind, _)| *kind == a.kind)
+                .and_then(|(_, name)| ctx.categories.iter().position(|c| c == name))
+            else {
+                continue;
+            };
+            // Another radar's pulses are one label each; every other artefact is one label.
+            let boxes: Vec<(&PolarBox, [f64; 4])> = a
+                .polar_boxes
+                .iter()
+                .zip(&a.ppi_boxes_px)
+                .filter_map(|(p, px)| px.map(|px| (p, px)))
+                .collect();
+            let groups: Vec<&[(&PolarBox, [f64; 4])]> = if a.kind == ArtefactKind::Interference {
+                boxes.chunks(1).collect()
+            } else {
+                vec![&boxes[..]]
+            };
+            for group in groups {
+                let touched = artefacts.fill(group, &mut mask);
+                if let Some(b) = mask.bounds() {
+                    let [x0, y0, x1, y1] = b;
+                    annotations.push(json!({
+                        "category_id": c + 1,
+                        "track_id": null,
+                        "bbox": [round6(x0), round6(y0), round6(x1 - x0), round6(y1 - y0)],
+                        "area": mask.area(),
+                        "segmentation": {
+                            "size": [mask.height, mask.width],
+                            "counts": rle_string(&mask.rle_counts()),
+                        },
+                        "iscrowd": 0,
+                        "artefact": {
+                            "kind": a.kind,
+                            "source": a.source,
+                            "expected_level_db": a.expected_level_db,
+                        },
+                    }));
+                    yolo.push_str(&format!(
+                        "{c} {:.6} {:.6} {:.6} {:.6}\n",
+                        0.5 * (x0 + x1) / s,
+                        0.5 * (y0 + y1) / s,
+                        (x1 - x0) / s,
+                        (y1 - y0) / s
+                    ));
+                    if let Some(corners) = mask.oriented_box() {
+                        let mut line = c.to_string();
+                        for [x, y] in corners {
+                            line.push_str(&format!(" {:.6} {:.6}", x / s, y / s));
+                        }
+                        yolo_obb.push_str(&line);
+                        yolo_obb.push('\n');
+                    }
+                }
+                for (y, x0, x1) in touched {
+                    mask.pixels[y * ctx.size_px + x0..y * ctx.size_px + x1].fill(false);
+                }
+            }
+        }
     }
     FrameLabels {
         coco: json!({
@@ -686,6 +797,68 @@ mod tests {
     }
 
     /// A polar box's spokes, in the order and across north, agree with `box_contains`.
+    /// An artefact's mask is exactly the pixels whose nearest cell lies in one of its polar
+    /// boxes (a walk of every pixel of the image), boxes across north included, and the
+    /// spans `fill` returns clear it whole.
+    #[test]
+    fn artefact_masks_are_the_pixels_of_their_polar_boxes() {
+        let (size, spokes, bins, bin_m) = (64usize, 90usize, 100usize, 10.0);
+        let conv = ScanConverter::new(size as u32, 1000.0, spokes, bins, bin_m);
+        let geometry = conv.geometry();
+        let boxes = [
+            PolarBox {
+                spoke_min: 10,
+                spoke_max: 14,
+                bin_min: 20,
+                bin_max: 40,
+            },
+            PolarBox {
+                spoke_min: 88,
+                spoke_max: 1,
+                bin_min: 60,
+                bin_max: 70,
+            },
+        ];
+        let region = |b: &PolarBox| {
+            let n = b.spoke_count(spokes) as f64;
+            let spoke_rad = std::f64::consts::TAU / spokes as f64;
+            xbandsim::products::labels::EchoRegion {
+                range_min_m: b.bin_min as f64 * bin_m,
+                range_max_m: b.bin_max as f64 * bin_m,
+                height_above_radar_m: 0.0,
+                azimuth_rad: (b.spoke_min as f64 + (n - 1.0) / 2.0) * spoke_rad,
+                half_width_rad: n * spoke_rad / 2.0,
+            }
+        };
+        let with_px: Vec<(&PolarBox, [f64; 4])> = boxes
+            .iter()
+            .map(|b| (b, geometry.pixel_box(&region(b)).unwrap()))
+            .collect();
+        let input = ArtefactInput {
+            artefacts: &[],
+            converter: &conv,
+            bins,
+        };
+        let mut mask = Mask {
+            width: size,
+            height: size,
+            pixels: vec![false; size * size],
+        };
+        let touched = input.fill(&with_px, &mut mask);
+        let walked: Vec<bool> = (0..size * size)
+            .map(|p| {
+                conv.nearest_cell(p)
+                    .is_some_and(|c| boxes.iter().any(|b| box_contains(b, c / bins, c % bins)))
+            })
+            .collect();
+        assert!(walked.iter().any(|&p| p));
+        assert_eq!(mask.pixels, walked);
+        for (y, x0, x1) in touched {
+            mask.pixels[y * size + x0..y * size + x1].fill(false);
+        }
+        assert!(mask.pixels.iter().all(|&p| !p));
+    }
+
     #[test]
     fn polar_box_spokes_agree_with_containment() {
         for (lo, hi) in [(3, 7), (358, 1), (0, 0), (359, 359), (5, 4)] {

@@ -5,7 +5,7 @@
 //! [`crate::webdataset`] into a tar shard.
 
 use crate::error::{DatasetError, Result};
-use crate::labels::{frame_labels, mask_spokes, object_masks, FrameContext};
+use crate::labels::{frame_labels, mask_spokes, object_masks, ArtefactInput, FrameContext};
 use crate::layout::{frame_file, frame_subdir, Format};
 use crate::spec::DatasetSpec;
 use std::path::Path;
@@ -98,6 +98,11 @@ pub fn render_sample(
             },
             &encoded.objects,
             &masks,
+            spec.artefact_labels.then_some(ArtefactInput {
+                artefacts: &encoded.artefacts,
+                converter: &encoded.converter,
+                bins: frame.range_bins,
+            }),
         );
         let mut files = encoded.files;
         files.push(("coco.json", json_line(&labels.coco)));

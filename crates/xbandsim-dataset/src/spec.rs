@@ -33,6 +33,9 @@ pub struct DatasetSpec {
     /// A pixel belongs to an object's mask when the target-only render there is at least
     /// this, dB over the mean noise (`[dataset] mask_threshold_db`, default 0).
     pub mask_threshold_db: f64,
+    /// Each artefact's boxes are labelled too, under its own category after the targets'
+    /// (`[dataset] artefact_labels`, default false): [`ARTEFACT_CATEGORIES`].
+    pub artefact_labels: bool,
     /// The scene every sample starts from.
     pub base_scene: toml::Table,
     /// Scene fields drawn per sample, by dotted path, in name order.
@@ -41,15 +44,32 @@ pub struct DatasetSpec {
     pub targets: Targets,
 }
 
+/// The artefacts labelled as their own categories with `[dataset] artefact_labels`, and
+/// their category names: every artefact that is an echo where there is no target. (A blind
+/// sector weakens echoes rather than making one: it stays in truth.json alone.)
+pub const ARTEFACT_CATEGORIES: [(xbandsim::products::artefacts::ArtefactKind, &str); 7] = {
+    use xbandsim::products::artefacts::ArtefactKind as K;
+    [
+        (K::Sidelobe, "artefact_sidelobe"),
+        (K::SecondTrace, "artefact_second_trace"),
+        (K::Interference, "artefact_interference"),
+        (K::Racon, "artefact_racon"),
+        (K::Sart, "artefact_sart"),
+        (K::IndirectEcho, "artefact_indirect_echo"),
+        (K::MultipleEcho, "artefact_multiple_echo"),
+    ]
+};
+
 /// The spec's top-level tables.
 pub const TOP_FIELDS: [&str; 4] = ["dataset", "scene", "vary", "targets"];
 /// The fields of `[dataset]`.
-pub const DATASET_FIELDS: [&str; 5] = [
+pub const DATASET_FIELDS: [&str; 6] = [
     "frames",
     "datacube",
     "image",
     "val_every",
     "mask_threshold_db",
+    "artefact_labels",
 ];
 /// The fields of `[targets]`.
 pub const TARGETS_FIELDS: [&str; 5] = [
@@ -197,8 +217,9 @@ fn fixed(x: f64) -> Dist {
 
 impl DatasetSpec {
     /// The label categories: the target classes' names in the spec's order, then the classes
-    /// of the base scene's fixed objects ("object" when a fixed object names none). YOLO
-    /// class = position; COCO category id = position + 1.
+    /// of the base scene's fixed objects ("object" when a fixed object names none), then with
+    /// `artefact_labels` the [`ARTEFACT_CATEGORIES`]. YOLO class = position; COCO category
+    /// id = position + 1.
     pub fn categories(&self) -> Vec<String> {
         let mut names: Vec<String> = Vec::new();
         let fixed = self
@@ -222,6 +243,13 @@ impl DatasetSpec {
         {
             if !names.contains(&name) {
                 names.push(name);
+            }
+        }
+        if self.artefact_labels {
+            for (_, name) in ARTEFACT_CATEGORIES {
+                if !names.iter().any(|n| n == name) {
+                    names.push(name.to_string());
+                }
             }
         }
         names
@@ -259,6 +287,7 @@ impl DatasetSpec {
                 "image",
                 "val_every",
                 "mask_threshold_db",
+                "artefact_labels",
             ],
             "dataset.",
         )?;
@@ -291,6 +320,15 @@ impl DatasetSpec {
                 DatasetError::spec(
                     "dataset.mask_threshold_db",
                     format!("{v}: must be a number of dB over the noise"),
+                )
+            })?,
+        };
+        let artefact_labels = match d.get("artefact_labels") {
+            None => false,
+            Some(v) => v.as_bool().ok_or_else(|| {
+                DatasetError::spec(
+                    "dataset.artefact_labels",
+                    format!("{v}: must be true or false"),
                 )
             })?,
         };
@@ -363,6 +401,7 @@ impl DatasetSpec {
             image,
             val_every,
             mask_threshold_db,
+            artefact_labels,
             base_scene,
             vary,
             targets,

@@ -817,3 +817,95 @@ fn specs_draw_receiver_controls_and_artefacts() {
         std::fs::read_dir(&dir).unwrap().collect::<Vec<_>>()
     );
 }
+
+/// `[dataset] artefact_labels`: the categories gain the seven artefact classes after the
+/// targets', and a sample with an interferer nearby labels its pulses under
+/// `artefact_interference` in COCO (one label per pulse, its mask the pixels of its box, no
+/// track, its kind, source and level under `"artefact"`) and in YOLO, one line each; without
+/// it none are labelled.
+#[test]
+fn artefact_labels_put_each_artefact_in_its_own_category() {
+    let text = |on: bool| {
+        SPEC.replace(
+            "frames = 1\n",
+            &format!("frames = 1\nartefact_labels = {on}\n"),
+        )
+        .replace(
+            "[scene.environment]",
+            "[[scene.artefacts.interferer]]\nposition_m = [300.0, 0.0, 6.0]\nprf_hz = 3100.0\n\n\
+                 [scene.environment]",
+        )
+    };
+    let spec = DatasetSpec::parse(&text(true), Path::new(".")).unwrap();
+    let categories = spec.categories();
+    let names: Vec<&str> = xbandsim_dataset::spec::ARTEFACT_CATEGORIES
+        .iter()
+        .map(|(_, n)| *n)
+        .collect();
+    assert_eq!(&categories[categories.len() - 7..], &names[..]);
+    let interference_id = categories
+        .iter()
+        .position(|c| c == "artefact_interference")
+        .unwrap()
+        + 1;
+    let out = tempfile::tempdir().unwrap();
+    xbandsim_dataset::make_sample(&spec, out.path(), 5, 0).unwrap();
+    let dir = xbandsim_dataset::sample_dir(out.path(), 0);
+    let coco: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("coco.json")).unwrap()).unwrap();
+    let truth: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("truth.json")).unwrap()).unwrap();
+    let hits: Vec<&serde_json::Value> = coco["annotations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|a| a["category_id"] == interference_id)
+        .collect();
+    let boxes_in_truth: usize = truth["artefacts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|a| a["kind"] == "interference")
+        .map(|a| {
+            a["ppi_boxes_px"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .filter(|b| !b.is_null())
+                .count()
+        })
+        .sum();
+    assert!(!hits.is_empty());
+    assert!(
+        hits.len() <= boxes_in_truth,
+        "{} > {boxes_in_truth}",
+        hits.len()
+    );
+    for a in &hits {
+        assert_eq!(a["artefact"]["kind"], "interference");
+        assert!(a["artefact"]["expected_level_db"].as_f64().unwrap() >= 6.0);
+        assert!(a["segmentation"]["counts"].is_string());
+        assert!(a["area"].as_u64().unwrap() > 0);
+        assert!(a["track_id"].is_null());
+    }
+    let yolo = std::fs::read_to_string(dir.join("yolo.txt")).unwrap();
+    let yolo_hits = yolo
+        .lines()
+        .filter(|l| l.starts_with(&format!("{} ", interference_id - 1)))
+        .count();
+    assert_eq!(yolo_hits, hits.len());
+    // Off: the same sample labels no artefact.
+    let spec = DatasetSpec::parse(&text(false), Path::new(".")).unwrap();
+    assert!(!spec.categories().iter().any(|c| c.starts_with("artefact_")));
+    let out = tempfile::tempdir().unwrap();
+    xbandsim_dataset::make_sample(&spec, out.path(), 5, 0).unwrap();
+    let coco: serde_json::Value = serde_json::from_slice(
+        &std::fs::read(xbandsim_dataset::sample_dir(out.path(), 0).join("coco.json")).unwrap(),
+    )
+    .unwrap();
+    assert!(coco["annotations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|a| a.get("artefact").is_none()));
+}

@@ -19,6 +19,7 @@ from xbandsim.data import RadarDataset
 ROOT = Path(__file__).resolve().parents[3]
 DETECTION = ROOT / "datasets" / "detection.toml"
 TRACKING = ROOT / "datasets" / "tracking.toml"  # sequences of 8 frames
+REAL_RADAR = ROOT / "datasets" / "real-radar.toml"  # artefacts labelled beside the targets
 
 
 @pytest.fixture(scope="module")
@@ -83,6 +84,31 @@ def test_ground_truth_through_radar_dataset_scores_ap_1_against_annotations_json
         _, target = ds[i]
         image = images[target["image_id"]]
         assert (image["sample"], image["frame"]) == (target["sample"], target["frame"])
+
+
+def test_artefact_labels_come_through_radar_dataset_marked_and_without_tracks(tmp_path):
+    """datasets/real-radar.toml labels its artefacts: RadarDataset gives them with
+    ``artefacts`` True and ``track_ids`` -1 (COCO's null), in the artefact categories, their
+    masks decoded; the ground truth, artefacts included, scores AP 1.0 for boxes and masks."""
+    folder = tmp_path / "real-radar"
+    xbandsim.dataset.generate(REAL_RADAR, folder, 3, seed=4)
+    coco = json.loads((folder / "annotations.json").read_text())
+    names = {c["id"]: c["name"] for c in coco["categories"]}
+    ds = RadarDataset(folder, tensors=False)
+    seen = 0
+    for i in range(len(ds)):
+        _, target = ds[i]
+        for label, track, artefact, mask in zip(
+            target["labels"], target["track_ids"], target["artefacts"], target["masks"]
+        ):
+            assert names[int(label)].startswith("artefact_") == bool(artefact)
+            assert (track == -1) == bool(artefact)
+            assert mask.any()
+            seen += bool(artefact)
+    assert seen > 0
+    for kind in ("bbox", "segm"):
+        ap, _ = _ap(folder / "annotations.json", ds, kind)
+        assert ap == pytest.approx(1.0, abs=1e-9), (kind, ap)
 
 
 def test_a_count_subset_and_on_the_fly_items_keep_the_datasets_image_ids(made):

@@ -7,7 +7,13 @@ Items follow torchvision's detection convention::
     image   float32 (C, H, W) in [0, 1]  (C = 1 for ppi_gray.png, 3 for ppi.png)
     target  {"boxes": (N, 4) float32 x0 y0 x1 y1 in pixels, "labels": (N,) int64 category ids,
              "masks": (N, H, W) uint8, "area": (N,) float32, "iscrowd": (N,) int64,
-             "track_ids": (N,) int64, "image_id": int, "sample": int, "frame": int}
+             "track_ids": (N,) int64, "artefacts": (N,) bool,
+             "image_id": int, "sample": int, "frame": int}
+
+``artefacts`` marks the labels of artefacts (a dataset made with ``[dataset]
+artefact_labels``: sidelobe, second-trace, indirect and multiple echoes, interference, racons,
+SARTs, each its own category): echoes where there is no target, which have no track; their
+``track_ids`` are -1 (COCO gives null).
 
 ``image_id`` is the id annotations.json gives the same image (sample index x frames per
 sample + frame + 1), so predictions score against the dataset's own COCO file. A dataset
@@ -269,7 +275,11 @@ class RadarDataset:
             "labels": np.array([a["category_id"] for a in annotations], dtype=np.int64),
             "area": np.array([a["area"] for a in annotations], dtype=np.float32),
             "iscrowd": np.array([a["iscrowd"] for a in annotations], dtype=np.int64),
-            "track_ids": np.array([a["track_id"] for a in annotations], dtype=np.int64),
+            # An artefact's label has no track: COCO's null is -1 here (an int64 array).
+            "track_ids": np.array(
+                [-1 if a["track_id"] is None else a["track_id"] for a in annotations], dtype=np.int64
+            ),
+            "artefacts": np.array([a.get("artefact") is not None for a in annotations], dtype=bool),
             # The COCO image id annotations.json gives this frame (the assembler's numbering:
             # sample index x frames per sample + frame + 1), also for a count= subset and on
             # the fly, so predictions score against the dataset's own annotations.
