@@ -9,7 +9,9 @@
 //! spends in the band (`B_rx/(300 MHz/7.5 µs)`, `B_rx` the sweep bandwidth or `1/T`). A mark of
 //! amplitude a enters the record as impulses `a/N_T` on its samples: after this radar's pulse
 //! and matched filter it peaks at `a²·N_T` (the energy a receiver matched to T takes from a
-//! signal of at least its length; an upper bound for a chirped receiver).
+//! signal of at least its length; an upper bound for a chirped receiver). Each answer has a
+//! carrier phase of its own, drawn from the render's seed: the transponder's oscillator is
+//! not this radar's, so its answers do not add coherently over a dwell.
 
 use super::{PulseAt, Source, SourceScratch, ThisRadar};
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
@@ -121,7 +123,14 @@ impl Source for Beacons<'_> {
                 if m.first >= end {
                     return;
                 }
-                let v = Complex32::new(m.amplitude * scale, 0.0);
+                // Its own oscillator: a phase unrelated to this pulse's, answer by answer.
+                let phase = super::unrelated_phase_rad(
+                    at.key.seed,
+                    0xBEAC_0A57,
+                    i,
+                    &[at.key.frame, at.pulse.number],
+                );
+                let v = Complex32::from_polar(m.amplitude * scale, phase as f32);
                 for s in &mut record[m.first..end] {
                     *s += v;
                 }

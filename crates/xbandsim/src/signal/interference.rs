@@ -9,14 +9,14 @@
 //! matched filter it peaks at `a²·min(n, N_T)²/N_T`, the energy a receiver matched to an
 //! unmodulated pulse takes from the overlap — exact for two magnetron sets of equal pulses,
 //! an upper bound for a chirped receiver (which would spread it). Each pulse has a phase of
-//! its own (another transmitter: no coherence with this radar's pulses). Its PRF differs from this radar's, so
+//! its own, drawn from the render's seed (another transmitter: no coherence with this radar's
+//! pulses). Its PRF differs from this radar's, so
 //! from sweep to sweep its pulses walk in range: the curved dotted spokes of interference,
 //! which sweep-to-sweep correlation (the receiver's interference rejection) removes.
 
 use super::{PulseAt, Source, SourceScratch, ThisRadar};
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
 use crate::model::artefacts::Interferer;
-use crate::rng::splitmix64;
 use num_complex::Complex32;
 
 /// One interfering pulse in a record.
@@ -95,10 +95,9 @@ impl<'a> Interference<'a> {
         }
     }
 
-    /// The phase of pulse `m` of interferer `i`, rad (a hash: deterministic, uncorrelated).
-    fn phase(i: usize, m: i64) -> f64 {
-        let h = splitmix64(splitmix64(i as u64 ^ 0x1A7E_5EED) ^ m as u64);
-        std::f64::consts::TAU * ((h >> 11) as f64 / (1u64 << 53) as f64)
+    /// The phase of pulse `m` of interferer `i` in the render of `seed`, rad.
+    fn phase(seed: u64, i: usize, m: i64) -> f64 {
+        super::unrelated_phase_rad(seed, 0x1A7E_5EED, i, &[m as u64])
     }
 }
 
@@ -118,7 +117,7 @@ impl Source for Interference<'_> {
                 }
                 let overlap =
                     p.samples.min(self.radar.pulse_len) as f32 / self.radar.pulse_len as f32;
-                let phase = Self::phase(i, p.number);
+                let phase = Self::phase(at.key.seed, i, p.number);
                 let start = p.first_sample as usize;
                 record[start] += Complex32::from_polar(p.amplitude * overlap, phase as f32);
                 earliest = Some(earliest.map_or(start, |e| e.min(start)));

@@ -183,3 +183,16 @@ pub(crate) fn earlier(a: Option<usize>, b: Option<usize>) -> Option<usize> {
         (None, y) => y,
     }
 }
+
+/// The carrier phase, rad, of a pulse that another transmitter sends (`source` its index,
+/// `numbers` what tells its pulses apart), uniform and unrelated to this radar's pulses and
+/// to any other: a hash keyed on the render's `seed`, so that each seed draws its own phases
+/// and the same seed the same ones whatever the threads.
+pub(crate) fn unrelated_phase_rad(seed: u64, salt: u64, source: usize, numbers: &[u64]) -> f64 {
+    let mut h = crate::rng::splitmix64(seed ^ salt);
+    h = crate::rng::splitmix64(h ^ source as u64);
+    for &n in numbers {
+        h = crate::rng::splitmix64(h ^ n);
+    }
+    std::f64::consts::TAU * ((h >> 11) as f64 / (1u64 << 53) as f64)
+}
