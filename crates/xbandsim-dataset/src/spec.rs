@@ -407,6 +407,20 @@ impl DatasetSpec {
             targets,
         };
         spec.check_extremes()?;
+        if spec.artefact_labels {
+            let mut plain = spec.clone();
+            plain.artefact_labels = false;
+            if let Some(name) = plain
+                .categories()
+                .into_iter()
+                .find(|c| ARTEFACT_CATEGORIES.iter().any(|(_, a)| a == c))
+            {
+                return Err(DatasetError::spec(
+                    "dataset.artefact_labels",
+                    format!("a target class is named \"{name}\", an artefact category's name: rename the class"),
+                ));
+            }
+        }
         Ok(spec)
     }
 }

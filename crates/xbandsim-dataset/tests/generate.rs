@@ -908,4 +908,8 @@ fn artefact_labels_put_each_artefact_in_its_own_category() {
         .unwrap()
         .iter()
         .all(|a| a.get("artefact").is_none()));
+    // A target class may not take an artefact category's name.
+    let clash = text(true).replace("name = \"buoy\"", "name = \"artefact_sidelobe\"");
+    let e = DatasetSpec::parse(&clash, Path::new(".")).unwrap_err();
+    assert!(e.to_string().contains("dataset.artefact_labels"), "{e}");
 }

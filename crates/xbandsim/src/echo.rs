@@ -261,7 +261,7 @@ impl EchoGroups {
             }
             let (first, taps_at) = kernel.taps_index(delay_of(c));
             let tilt = object_tilt_rad
-                .get(c.object as usize)
+                .get(crate::scattering::via_own_ship::traced_object(c.object) as usize)
                 .copied()
                 .unwrap_or(0.0);
             let ant = if tilt != 0.0 {

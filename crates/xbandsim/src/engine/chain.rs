@@ -29,6 +29,9 @@ use rayon::prelude::*;
 /// The signal sources of one revolution.
 pub(crate) struct RevolutionSources<'a> {
     pub(crate) fixed: FixedEchoes<'a>,
+    /// Indirect echoes via the own ship's structure, added past the blind sectors' loss
+    /// (None without them).
+    pub(crate) indirect: Option<FixedEchoes<'a>>,
     pub(crate) clutter: Option<SeaAndRainClutter<'a>>,
     pub(crate) moving: MovingEchoes<'a>,
     /// Each mover's Doppler-shifted chirp spectra (the matched filter's, for the strong
@@ -107,6 +110,14 @@ impl Simulation {
         }
         let (moving_earliest, any_strong) = sources.moving.add_weak(at, work, samples);
         earliest = earlier(earliest, moving_earliest);
+        // Indirect echoes into their own buffer (the moving echoes' one, free until the strong
+        // movers below): they join the record past the blind sectors' loss.
+        let indirect_earliest = sources.indirect.as_ref().and_then(|indirect| {
+            let buffer = &mut scratch.moving[..record];
+            buffer.fill(Complex32::new(0.0, 0.0));
+            indirect.add_to_pulse(at, work, buffer)
+        });
+        earliest = earlier(earliest, indirect_earliest);
         let interfered = !sources.interference.is_empty() || !sources.beacons.is_empty();
         if earliest.is_none() && !interfered && self.is_silent() && !scratch.capture_received {
             // Nothing in and no noise: the matched filter's output is zero (the buffer is).
@@ -128,6 +139,19 @@ impl Simulation {
         if let Some(f) = blocked {
             for s in &mut scratch.buffer[..record] {
                 *s *= f as f32;
+            }
+        }
+        // The echoes that come from the structure rather than through it: this pulse's start
+        // phase, no blind loss.
+        if indirect_earliest.is_some() {
+            let p = start.map_or(Complex32::new(1.0, 0.0), |p| {
+                Complex32::new(p.re as f32, p.im as f32)
+            });
+            for (s, v) in scratch.buffer[..record]
+                .iter_mut()
+                .zip(&scratch.moving[..record])
+            {
+                *s += v * p;
             }
         }
         // Other radars' pulses and the beacons' answers: their own phases, after this

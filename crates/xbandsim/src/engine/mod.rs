@@ -594,11 +594,16 @@ impl Simulation {
                         .environment()
                         .two_way_attenuation_db_per_km(),
                 };
+                // Copies that land beyond the record are not drawn (nor folded into the next
+                // pulse's record: their labels would have no object to come from).
+                let record_s =
+                    self.compressor.record_len() as f64 / self.scene.radar().sample_rate_hz();
                 let mut all = world.set.contributions.clone();
-                all.extend(via_own_ship::paths_via_own_ship(
-                    &world.set.contributions,
-                    &view,
-                ));
+                all.extend(
+                    via_own_ship::paths_via_own_ship(&world.set.contributions, &view)
+                        .into_iter()
+                        .filter(|c| c.delay_s() < record_s),
+                );
                 self.echo_groups_of(&all, &tilts)
             } else {
                 self.echo_groups_of(&world.set.contributions, &tilts)
@@ -726,23 +731,43 @@ impl Simulation {
                 self.compressor.num_bins(),
             ));
         }
+        // What an echo shown at another range loses there: the eclipse at that range, the
+        // atmosphere over its extra two-way path, and in combined pulse mode the difference
+        // of the two ranges' channels' noise.
+        let attenuation_db_per_km = self.scene.environment().two_way_attenuation_db_per_km();
+        let channel_noise_db = |range_m: f64| match radar.short_pulse_noise_db() {
+            Some(noise_db) => {
+                let delay_samples = 2.0 * range_m / crate::constants::SPEED_OF_LIGHT_M_PER_S
+                    * radar.sample_rate_hz();
+                if (delay_samples.round() as usize) < radar.join_bin() {
+                    noise_db
+                } else {
+                    0.0
+                }
+            }
+            None => 0.0,
+        };
+        let shown_loss_db = |object_m: f64, shown_m: f64, extra_path_m: f64| {
+            eclipse_loss_db_at(radar, shown_m).map(|e| {
+                e + attenuation_db_per_km * extra_path_m / 2000.0 + channel_noise_db(shown_m)
+                    - channel_noise_db(object_m)
+            })
+        };
         if self.scene.artefacts().second_trace {
             let c = crate::constants::SPEED_OF_LIGHT_M_PER_S;
-            let folds_m: Vec<f64> = if radar.scan().stagger().is_staggered() {
-                let intervals = radar.scan().stagger().intervals_s();
-                intervals.iter().map(|t| c * t / 2.0).collect()
+            let folds: Vec<(f64, f64)> = if radar.scan().stagger().is_staggered() {
+                via_own_ship::stagger_folds(radar.scan().stagger().intervals_s())
+                    .into_iter()
+                    .map(|(t, share)| (c * t / 2.0, share))
+                    .collect()
             } else {
-                vec![c / (2.0 * radar.prf_hz())]
+                vec![(c / (2.0 * radar.prf_hz()), 1.0)]
             };
             artefacts.extend(second_trace_artefacts(
                 &truth,
                 &mut images,
-                &folds_m,
-                if radar.receiver_blanking() {
-                    radar.eclipse_range_m()
-                } else {
-                    0.0
-                },
+                &shown_loss_db,
+                &folds,
                 radar.max_range_m(),
                 radar.spokes(),
                 radar.range_bin_m(),
@@ -750,16 +775,12 @@ impl Simulation {
             ));
         }
         let heading_rad = revolution.own_ship().map_or(0.0, |s| s.heading_rad);
-        // What an echo shown at another range loses there: the eclipse at that range and the
-        // atmosphere over its extra two-way path.
-        let attenuation_db_per_km = self.scene.environment().two_way_attenuation_db_per_km();
-        let shown_loss_db = |range_m: f64, extra_path_m: f64| {
-            eclipse_loss_db_at(radar, range_m)
-                .map(|e| e + attenuation_db_per_km * extra_path_m / 2000.0)
-        };
+        // Indirect echoes come from the structure, not through a blind sector: their sidelobe
+        // labels take no blind loss.
+        let mut indirect_images: Vec<ObjectTruth> = Vec::new();
         artefacts.extend(indirect_echo_artefacts(
             &truth,
-            &mut images,
+            &mut indirect_images,
             &shown_loss_db,
             &self.scene.artefacts().blind_sectors,
             heading_rad,
@@ -782,14 +803,20 @@ impl Simulation {
             ));
         }
         // The echoes shown away from their objects reach other spokes through the sidelobes too.
-        artefacts.extend(sidelobe_artefacts(
-            &images,
-            &radar.antenna().azimuth(),
-            &blind,
-            radar.spokes(),
-            radar.range_bin_m(),
-            self.compressor.num_bins(),
-        ));
+        let no_blind = crate::model::artefacts::BlindView {
+            sectors: &[],
+            heading_rad,
+        };
+        for (images, blind) in [(&images, &blind), (&indirect_images, &no_blind)] {
+            artefacts.extend(sidelobe_artefacts(
+                images,
+                &radar.antenna().azimuth(),
+                blind,
+                radar.spokes(),
+                radar.range_bin_m(),
+                self.compressor.num_bins(),
+            ));
+        }
         artefacts.extend(blind_sector_artefacts(
             &self.scene.artefacts().blind_sectors,
             revolution.own_ship().map_or(0.0, |s| s.heading_rad),

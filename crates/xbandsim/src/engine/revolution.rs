@@ -18,7 +18,7 @@ use crate::signal::beacons::Beacons;
 use crate::signal::clutter::{ClutterSpeckle, SeaAndRainClutter};
 use crate::signal::clutter_map::ClutterMap;
 use crate::signal::interference::Interference;
-use crate::signal::targets::{FilterReach, FixedEchoes, Mover, MovingEchoes};
+use crate::signal::targets::{FilterReach, FixedEchoes, Mover, MovingEchoes, OwnShipPaths};
 use crate::signal::ThisRadar;
 
 impl Simulation {
@@ -68,8 +68,29 @@ impl Simulation {
             pulse_len: self.compressor.pulse_len().max(1),
         };
         let record = self.compressor.record_len();
+        // Echoes by paths via the own ship: the indirect ones are added past the blind
+        // sectors' loss; the target-only render (masks) has none of them.
+        let (direct, indirect) = if !artefacts.has_paths_via_own_ship() {
+            (OwnShipPaths::All, false)
+        } else if self.artefact_sources {
+            (
+                OwnShipPaths::ThroughStructure,
+                artefacts.blind_sectors.iter().any(|s| s.indirect.is_some()),
+            )
+        } else {
+            (OwnShipPaths::None, false)
+        };
         RevolutionSources {
-            fixed: FixedEchoes::new(groups, *radar.antenna(), record, movers),
+            fixed: FixedEchoes::new(groups, *radar.antenna(), record, movers, direct),
+            indirect: indirect.then(|| {
+                FixedEchoes::new(
+                    groups,
+                    *radar.antenna(),
+                    record,
+                    movers,
+                    OwnShipPaths::FromStructure,
+                )
+            }),
             clutter: clutter.map(|c| SeaAndRainClutter::new(c, speckle, record)),
             moving: MovingEchoes::new(
                 groups,

@@ -132,8 +132,9 @@ pub struct MultipleEchoes {
 
 impl MultipleEchoes {
     /// Whether a ship at true bearing `bearing_rad` from the antenna, heading `heading_rad`,
-    /// `length_m` long, lies abeam of an own ship heading `own_heading_rad` with its side
-    /// parallel (both within the tolerance) and is long enough.
+    /// `length_m` long, lies abeam of an own ship heading `own_heading_rad` (its bearing off
+    /// the bow within the tolerance of ±90°) with its side parallel (its heading within the
+    /// tolerance of the own ship's or its reverse) and is long enough.
     pub fn applies(
         &self,
         own_heading_rad: f64,
@@ -141,12 +142,14 @@ impl MultipleEchoes {
         heading_rad: f64,
         length_m: f64,
     ) -> bool {
-        let off_beam = |relative: f64| {
-            (crate::antenna::wrap_angle_rad(relative).abs() - std::f64::consts::FRAC_PI_2).abs()
-        };
+        let off_beam = (crate::antenna::wrap_angle_rad(bearing_rad - own_heading_rad).abs()
+            - std::f64::consts::FRAC_PI_2)
+            .abs();
+        let crossing = crate::antenna::wrap_angle_rad(heading_rad - own_heading_rad).abs();
+        let off_parallel = crossing.min(std::f64::consts::PI - crossing);
         length_m >= self.min_length_m
-            && off_beam(bearing_rad - own_heading_rad) <= self.abeam_tolerance_rad
-            && off_beam(bearing_rad - heading_rad) <= self.abeam_tolerance_rad
+            && off_beam <= self.abeam_tolerance_rad
+            && off_parallel <= self.abeam_tolerance_rad
     }
 
     /// The power of the order-`n` echo relative to the direct one, dB:

@@ -250,10 +250,19 @@ impl Scene {
             .as_ref()
             .map(receiver::VideoSettings::from_spec)
             .transpose()?;
+        let artefacts = artefacts::build_artefacts(&spec.artefacts)?;
+        if artefacts.multiple_echoes.is_some() && spec.own_ship.is_none() {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                "artefacts.multiple_echoes",
+                "given",
+                "multiple echoes bounce between a ship abeam and the own ship's side: add an [own_ship] table",
+            ));
+        }
         let scene = Scene::new(radar, environment, scattering, objects)?
             .with_processing(processing)
             .with_receiver(video)
-            .with_artefacts(artefacts::build_artefacts(&spec.artefacts)?);
+            .with_artefacts(artefacts);
         Ok(match &spec.own_ship {
             None => scene,
             Some(s) => {

@@ -114,7 +114,9 @@ pub fn echo_image(
 ) -> ObjectTruth {
     let mut image = o.clone();
     image.expected_snr_db = Some(level_db);
+    image.snr_before_eclipse_db = Some(level_db);
     image.echo_region = Some(region);
+    image.region = region;
     image.far_region = None;
     image.azimuth_deg = region.azimuth_rad.to_degrees();
     image.range_m = 0.5 * (region.range_min_m + region.range_max_m);
@@ -337,43 +339,53 @@ pub fn beacon_artefacts(
     out
 }
 
+/// What an object's echo shown at another range loses there, dB:
+/// `shown_loss_db(object's range, range shown at, extra two-way path)` — the eclipse where it
+/// shows, the atmosphere over the extra path, and in combined pulse mode the difference of the
+/// two ranges' pulse channels' noise (levels are over the noise where they show); None where
+/// nothing of it is received. The engine's is built from the radar
+/// (`labels::eclipse_loss_db_at`).
+pub type ShownLoss<'a> = &'a dyn Fn(f64, f64, f64) -> Option<f64>;
+
 /// The second-trace echoes among `objects`: each object beyond the recorded range whose echo
-/// arrives after the next pulse (`[artefacts] second_trace`) appears one pulse interval
-/// nearer, at `R − c·T/2`; one artefact per object and interval whose expected level is at
-/// least [`SIDELOBE_LABEL_DB`], its box its echo region moved in by `c·T/2` (none when that
-/// lies wholly inside the blanked `eclipse_m`; partly inside, its level is the unblanked one,
-/// an upper bound). A staggered train's `L` intervals each take `1/L` of the power
-/// ([`crate::scattering::via_own_ship::fold_staggered`]): its level is the object's SNR less
-/// `10·log10 L`. Each fold's [`echo_image`] goes to `images`.
+/// arrives after the next pulse (`[artefacts] second_trace`) appears one pulse interval `T`
+/// nearer, at `R − c·T/2`. `folds` gives each interval's `c·T/2`, m, and the share of the
+/// pulses it precedes (one fold of share 1 without a stagger;
+/// [`crate::scattering::via_own_ship::stagger_folds`]): each fold carries that share of the
+/// power. One artefact per object and fold whose expected level — the object's SNR before the
+/// eclipse, plus `10·log10 share`, less `shown_loss_db` there — is at least
+/// [`SIDELOBE_LABEL_DB`], its box the object's echo region moved in by `c·T/2` (inside the
+/// record). Each one's [`echo_image`] goes to `images`.
 #[allow(clippy::too_many_arguments)]
 pub fn second_trace_artefacts(
     objects: &[ObjectTruth],
     images: &mut Vec<ObjectTruth>,
-    unambiguous_m: &[f64],
-    eclipse_m: f64,
+    shown_loss_db: ShownLoss,
+    folds: &[(f64, f64)],
     max_range_m: f64,
     spokes: usize,
     bin_m: f64,
     num_bins: usize,
 ) -> Vec<ArtefactTruth> {
     let mut out = Vec::new();
-    let share_db = 10.0 * (unambiguous_m.len() as f64).log10();
     for o in objects {
-        let (Some(snr_db), Some(region)) = (o.expected_snr_db, o.far_region) else {
+        let (Some(snr_db), Some(region)) = (o.snr_before_eclipse_db, o.far_region) else {
             continue;
         };
-        let level_db = snr_db - share_db;
-        if level_db < SIDELOBE_LABEL_DB {
-            continue;
-        }
-        for &fold_m in unambiguous_m {
+        for &(fold_m, share) in folds {
             let folded = EchoRegion {
                 range_min_m: (region.range_min_m - fold_m).max(0.0),
                 range_max_m: region.range_max_m - fold_m,
                 ..region
             };
-            // Nothing where the receiver is blanked (inside c·T/2) or beyond the record.
-            if folded.range_max_m <= eclipse_m || folded.range_min_m >= max_range_m {
+            if folded.range_max_m <= 0.0 || folded.range_min_m >= max_range_m {
+                continue;
+            }
+            let Some(shown_db) = shown_loss_db(o.range_m, o.range_m - fold_m, 0.0) else {
+                continue;
+            };
+            let level_db = snr_db + 10.0 * share.log10() - shown_db;
+            if level_db < SIDELOBE_LABEL_DB {
                 continue;
             }
             let Some(polar_box) = folded.polar_box(bin_m, num_bins, spokes) else {
@@ -383,18 +395,18 @@ pub fn second_trace_artefacts(
             out.push(ArtefactTruth {
                 kind: ArtefactKind::SecondTrace,
                 source: o.name.clone(),
-                reason: if unambiguous_m.len() == 1 {
+                reason: if folds.len() == 1 {
                     format!(
                         "\"{}\" at {:.0} m is beyond the unambiguous range {:.0} m: its echo arrives after the next pulse and shows {:.0} m nearer",
                         o.name, o.range_m, fold_m, fold_m
                     )
                 } else {
                     format!(
-                        "\"{}\" at {:.0} m is beyond the unambiguous range: after each pulse interval {:.1} µs of the staggered train (1 pulse in {}) its echo shows {:.0} m nearer",
+                        "\"{}\" at {:.0} m is beyond the unambiguous range: after each pulse interval of {:.1} µs in the staggered train ({:.0} % of the pulses) its echo shows {:.0} m nearer",
                         o.name,
                         o.range_m,
                         2.0 * fold_m / crate::constants::SPEED_OF_LIGHT_M_PER_S * 1e6,
-                        unambiguous_m.len(),
+                        100.0 * share,
                         fold_m
                     )
                 },
@@ -411,16 +423,17 @@ pub fn second_trace_artefacts(
 /// The indirect echoes of `objects` via the own ship's structures (blind sectors with
 /// `indirect`; [`crate::scattering::via_own_ship`]) for a bow heading `heading_rad` and an
 /// azimuth beamwidth `beamwidth_rad`: one artefact per object and structure whose expected
-/// level — the object's SNR with its own blind-sector and eclipse losses taken off, plus
-/// twice the structure's `indirect_db`, less `shown_loss_db(range, extra path)` where it
-/// shows (the eclipse there and the atmosphere over the extra path; None: nothing received)
-/// — is at least [`SIDELOBE_LABEL_DB`]; its box on the structure's bearing, over the ranges
-/// `d + |P − S|` of the object's echo region. Each one's [`echo_image`] goes to `images`.
+/// level — the object's SNR before the eclipse with its own blind-sector loss taken off (the
+/// echo comes from the structure, not through it), plus twice the structure's `indirect_db`,
+/// less `shown_loss_db` at `d + |P − S|` — is at least [`SIDELOBE_LABEL_DB`]; its box on the
+/// structure's bearing, over the ranges `d + |P − S|` of the object's extent (taken at the
+/// bearings of its edges) widened by the echo region's own margins. Each one's
+/// [`echo_image`] (with no blind-sector loss: these echoes take none) goes to `images`.
 #[allow(clippy::too_many_arguments)]
 pub fn indirect_echo_artefacts(
     objects: &[ObjectTruth],
     images: &mut Vec<ObjectTruth>,
-    shown_loss_db: &dyn Fn(f64, f64) -> Option<f64>,
+    shown_loss_db: ShownLoss,
     sectors: &[crate::model::artefacts::BlindSector],
     heading_rad: f64,
     beamwidth_rad: f64,
@@ -436,42 +449,57 @@ pub fn indirect_echo_artefacts(
         let theta = (heading_rad + s.centre_rad()).rem_euclid(std::f64::consts::TAU);
         let structure = glam::DVec2::new(theta.sin(), theta.cos()) * indirect.distance_m;
         for o in objects {
-            let (Some(snr_db), Some(region)) = (o.expected_snr_db, o.echo_region) else {
+            let (Some(snr_db), region) = (o.snr_before_eclipse_db, o.region) else {
                 continue;
+            };
+            if o.far_region.is_some() {
+                continue;
+            }
+            let height = region.height_above_radar_m;
+            // The range shown for a point at slant range r on bearing az.
+            let apparent = |r: f64, az: f64| {
+                let ground = (r * r - height * height).max(0.0).sqrt();
+                let p = glam::DVec2::new(az.sin(), az.cos()) * ground - structure;
+                indirect.distance_m + p.length().hypot(height)
             };
             let az = o.azimuth_deg.to_radians();
-            let apparent = |r: f64| {
-                let ground = (r * r - region.height_above_radar_m.powi(2))
-                    .max(0.0)
-                    .sqrt();
-                let p = glam::DVec2::new(az.sin(), az.cos()) * ground - structure;
-                indirect.distance_m + p.length().hypot(region.height_above_radar_m)
-            };
-            let shown_m = apparent(o.range_m);
-            let Some(shown_db) = shown_loss_db(shown_m, 2.0 * (shown_m - o.range_m)) else {
+            let shown_m = apparent(o.range_m, az);
+            let Some(shown_db) = shown_loss_db(o.range_m, shown_m, 2.0 * (shown_m - o.range_m))
+            else {
                 continue;
             };
-            let level_db = snr_db
-                + o.losses_db.blind_sector
-                + o.losses_db.eclipse.unwrap_or(0.0)
-                + 2.0 * indirect.power_db
-                - shown_db;
+            let level_db = snr_db + o.losses_db.blind_sector + 2.0 * indirect.power_db - shown_db;
             if level_db < SIDELOBE_LABEL_DB {
                 continue;
             }
-            let (a, b) = (apparent(region.range_min_m), apparent(region.range_max_m));
+            // The object's own extent: its bounding radius (the echo region less the margins
+            // the beamwidth and the compressed pulse add), at the bearings of its edges.
+            let extent_rad = (region.half_width_rad - beamwidth_rad / 2.0).max(0.0);
+            let radius_m = o.range_m * extent_rad.tan();
+            let (near_m, far_m) = (
+                o.range_m - radius_m - region.range_min_m,
+                region.range_max_m - o.range_m - radius_m,
+            );
+            let mut lo = f64::INFINITY;
+            let mut hi = f64::NEG_INFINITY;
+            for r in [o.range_m - radius_m, o.range_m, o.range_m + radius_m] {
+                for a in [az - extent_rad, az, az + extent_rad] {
+                    let v = apparent(r.max(0.0), a);
+                    lo = lo.min(v);
+                    hi = hi.max(v);
+                }
+            }
             let shown = EchoRegion {
-                range_min_m: a.min(b),
-                range_max_m: a.max(b),
-                height_above_radar_m: region.height_above_radar_m,
+                range_min_m: (lo - near_m.max(0.0)).max(0.0),
+                range_max_m: hi + far_m.max(0.0),
+                height_above_radar_m: height,
                 azimuth_rad: theta,
                 half_width_rad: beamwidth_rad / 2.0,
             };
             let Some(polar_box) = shown.polar_box(bin_m, num_bins, spokes) else {
                 continue;
             };
-            let blind_db = crate::model::artefacts::blind_loss_db(sectors, theta, heading_rad);
-            images.push(echo_image(o, level_db, shown, blind_db));
+            images.push(echo_image(o, level_db, shown, 0.0));
             out.push(ArtefactTruth {
                 kind: ArtefactKind::IndirectEcho,
                 source: o.name.clone(),
@@ -495,17 +523,17 @@ pub fn indirect_echo_artefacts(
 
 /// The multiple echoes of the `objects` that `abeam` marks
 /// ([`crate::scattering::via_own_ship::abeam_objects`]): orders 2 to `multiple.max_order`,
-/// each at `n` times its echo region's ranges on its bearing and
-/// [`MultipleEchoes::relative_level_db`] below its SNR (its eclipse loss taken off, and
-/// `shown_loss_db` at `n·R` over the extra path `2(n−1)R` put on); one artefact per object
-/// and order at least [`SIDELOBE_LABEL_DB`] over the noise and inside the record. Each
-/// one's [`echo_image`] goes to `images`.
+/// each at `n` times its echo region's ranges on its bearing, its level the object's SNR
+/// before the eclipse plus [`MultipleEchoes::relative_level_db`], less `shown_loss_db` at
+/// `n·R` over the extra path `2(n−1)R`; one artefact per object and order at least
+/// [`SIDELOBE_LABEL_DB`] over the noise and inside the record. Each one's [`echo_image`] goes
+/// to `images`.
 ///
 /// [`MultipleEchoes::relative_level_db`]: crate::model::artefacts::MultipleEchoes::relative_level_db
 pub fn multiple_echo_artefacts(
     objects: &[ObjectTruth],
     images: &mut Vec<ObjectTruth>,
-    shown_loss_db: &dyn Fn(f64, f64) -> Option<f64>,
+    shown_loss_db: ShownLoss,
     abeam: &[bool],
     multiple: &crate::model::artefacts::MultipleEchoes,
     spokes: usize,
@@ -514,17 +542,19 @@ pub fn multiple_echo_artefacts(
 ) -> Vec<ArtefactTruth> {
     let mut out = Vec::new();
     for (o, _) in objects.iter().zip(abeam).filter(|(_, &a)| a) {
-        let (Some(snr_db), Some(region)) = (o.expected_snr_db, o.echo_region) else {
+        let (Some(snr_db), region) = (o.snr_before_eclipse_db, o.region) else {
             continue;
         };
+        if o.far_region.is_some() {
+            continue;
+        }
         for n in 2..=multiple.max_order {
             let shown_m = n as f64 * o.range_m;
-            let Some(shown_db) = shown_loss_db(shown_m, 2.0 * (shown_m - o.range_m)) else {
+            let Some(shown_db) = shown_loss_db(o.range_m, shown_m, 2.0 * (shown_m - o.range_m))
+            else {
                 continue;
             };
-            let level_db =
-                snr_db + o.losses_db.eclipse.unwrap_or(0.0) + multiple.relative_level_db(n)
-                    - shown_db;
+            let level_db = snr_db + multiple.relative_level_db(n) - shown_db;
             if level_db < SIDELOBE_LABEL_DB {
                 continue;
             }

@@ -217,6 +217,11 @@ pub struct ObjectTruth {
     /// the radar equation's single-pulse SNR plus the multipath gain minus `losses_db`
     /// (null when `rcs_m2` is null).
     pub expected_snr_db: Option<f64>,
+    /// Its expected SNR before the eclipse, dB (None where `expected_snr_db` has no
+    /// calibrated value): what its echoes shown elsewhere (second-trace, indirect, multiple;
+    /// `products::artefacts`) start from. Not written.
+    #[serde(skip)]
+    pub snr_before_eclipse_db: Option<f64>,
     /// Whether and why it is or is not seen.
     pub visibility: Visibility,
     /// The PO tube grid it was traced with (null for points, the `paper` model and objects
@@ -247,6 +252,10 @@ pub struct ObjectTruth {
     /// range only): second-trace echoes are drawn from it.
     #[serde(skip)]
     pub far_region: Option<EchoRegion>,
+    /// Where its echo lies whether or not the record shows it (blanked, say): its echoes
+    /// shown elsewhere (indirect, multiple) are drawn from it.
+    #[serde(skip)]
+    pub region: EchoRegion,
     /// `footprint_m` from the antenna, `[east, north]` m (for products' pixel coordinates).
     #[serde(skip)]
     pub footprint_from_radar_m: [[f64; 2]; 4],
@@ -589,6 +598,7 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
                 eclipse_received_fraction: eclipse_fraction,
                 pulse: channel,
                 expected_snr_db: snr_db,
+                snr_before_eclipse_db: snr_unclipped_db,
                 visibility,
                 po_tubes: set.tube_budgets.get(i).copied().flatten(),
                 polar_box,
@@ -598,6 +608,7 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
                 ppi_footprint_px: None,
                 echo_region,
                 far_region,
+                region: region(),
                 footprint_from_radar_m,
             }
         })

@@ -9,18 +9,18 @@
 //! elevations kept: the structure and the echoes that matter both lie near the horizon), path
 //! `ℓ' = ℓ + 2·(d + |P − S| − r)` (d the structure's distance, S its position, P the
 //! contribution's point at range r along its receive direction) and amplitude
-//! `a·ρ·10^{L(θs)/20}·exp(−j2π(ℓ'−ℓ)/λ)` (and the atmosphere's attenuation over `ℓ' − ℓ`, as
-//! for every path here): ρ in power on each of the two passes, and the blind
-//! sectors' two-way loss L(θs), which the receive chain applies to every echo received on
-//! that bearing, taken back off, since this echo comes from the structure, not through it.
+//! `a·ρ·exp(−j2π(ℓ'−ℓ)/λ)` (and the atmosphere's attenuation over `ℓ' − ℓ`, as for every path
+//! here), ρ in power on each of the two passes. These contributions are marked
+//! ([`INDIRECT_OBJECT_FLAG`]): the receive chain adds them past the blind sectors' loss, since
+//! they come from the structure, not through it.
 //! (JRC JMA-3300 series manual, §3.4 "False echoes": the secondary reflection from a funnel
 //! shows on the funnel's bearing at about the target's range.)
 //!
 //! **Multiple echoes.** A ship abeam with its side parallel to the own ship's side
 //! (`MultipleEchoes::applies`) sends part of its echo back from the own ship's side, which it
 //! returns again: the `n`-th echo travels `n·ℓ` on the same bearing. Both sides are flat
-//! plates far inside each other's far-field distance `2D²/λ` (tens of kilometres for a
-//! 15 m-high side at 3.2 cm), so they act as mirrors and the image method gives the
+//! plates far inside each other's far-field distance `2D²/λ` (14 km for a 15 m-high side at
+//! 3.2 cm), so they act as mirrors and the image method gives the
 //! spreading of a path `n` times as long, `1/n²` in power, with each extra round trip losing
 //! the two reflections' `L_rt` dB: amplitude `a·10^{−(n−1)·L_rt/20}/n·exp(−j2π(n−1)ℓ/λ)`
 //! (JRC JMA-3300 series manual, §3.4.4 "False echo by multiple reflection": echoes at equal
@@ -30,6 +30,25 @@ use super::Contribution;
 use crate::model::artefacts::{Artefacts, MultipleEchoes};
 use crate::model::Scene;
 use num_complex::Complex64;
+
+/// Marks an indirect echo's contributions (their `object` is the traced object's index with
+/// this bit set): the receive chain adds them past the blind sectors' loss, since they come
+/// from the structure rather than through it, and the target-only render leaves them out.
+pub const INDIRECT_OBJECT_FLAG: u32 = 1 << 23;
+
+/// Marks a multiple echo's contributions, as [`INDIRECT_OBJECT_FLAG`] (the target-only render
+/// leaves them out; they take the blind sectors' loss like any echo on their bearing).
+pub const MULTIPLE_OBJECT_FLAG: u32 = 1 << 22;
+
+/// The traced object a contribution's `object` comes from (its flags taken off).
+pub fn traced_object(object: u32) -> u32 {
+    object & !(INDIRECT_OBJECT_FLAG | MULTIPLE_OBJECT_FLAG)
+}
+
+/// Whether `object` marks an echo made by a path via the own ship.
+pub fn is_own_ship_path(object: u32) -> bool {
+    object & (INDIRECT_OBJECT_FLAG | MULTIPLE_OBJECT_FLAG) != 0
+}
 
 /// What the paths via the own ship need of the revolution.
 #[derive(Debug, Clone, Copy)]
@@ -90,12 +109,7 @@ pub fn paths_via_own_ship(contributions: &[Contribution], view: &OwnShipView) ->
         let theta = (view.heading_rad + sector.centre_rad()).rem_euclid(tau);
         let (sin_s, cos_s) = theta.sin_cos();
         let structure = glam::DVec2::new(sin_s, cos_s) * indirect.distance_m;
-        let blind_db = crate::model::artefacts::blind_loss_db(
-            &view.artefacts.blind_sectors,
-            theta,
-            view.heading_rad,
-        );
-        let scale = 10f64.powf(indirect.power_db / 10.0 + blind_db / 20.0);
+        let scale = 10f64.powf(indirect.power_db / 10.0);
         for c in contributions {
             let r = 0.5 * c.path_m;
             let (sin_el, cos_el) = c.el_rx_rad.sin_cos();
@@ -108,6 +122,7 @@ pub fn paths_via_own_ship(contributions: &[Contribution], view: &OwnShipView) ->
                 path_m: c.path_m + extra_m,
                 az_tx_rad: theta,
                 az_rx_rad: theta,
+                object: c.object | INDIRECT_OBJECT_FLAG,
                 ..*c
             });
         }
@@ -123,6 +138,7 @@ pub fn paths_via_own_ship(contributions: &[Contribution], view: &OwnShipView) ->
                 out.push(Contribution {
                     amplitude_v: c.amplitude_v * phase(extra_m) * scale,
                     path_m: c.path_m + extra_m,
+                    object: c.object | MULTIPLE_OBJECT_FLAG,
                     ..*c
                 });
             }
@@ -136,30 +152,45 @@ pub fn paths_via_own_ship(contributions: &[Contribution], view: &OwnShipView) ->
 /// interval `T_k` later than it left, and the interval before a pulse cycles through the
 /// train's `intervals_s`: over the cycle the echo shows at each `τ − T_k` on one pulse in
 /// `L`. Each is drawn on every pulse with `1/L` of its power (the cycle's mean, what
-/// non-coherent integration over whole cycles keeps). Returns `contributions` with each such
-/// contribution replaced by its `L` folds (kept whole when no fold lands in the record).
+/// non-coherent integration over whole cycles keeps); equal intervals are one fold with their
+/// share. Returns `contributions` with each such contribution replaced by its folds (a fold
+/// that still lands beyond the record is dropped when the echoes are grouped).
 pub fn fold_staggered(
     contributions: &[Contribution],
     record_s: f64,
     intervals_s: &[f64],
 ) -> Vec<Contribution> {
     let c0 = crate::constants::SPEED_OF_LIGHT_M_PER_S;
-    let share = (intervals_s.len() as f64).recip().sqrt();
+    let folds = stagger_folds(intervals_s);
     let mut out = Vec::with_capacity(contributions.len());
     for c in contributions {
         if c.delay_s() < record_s {
             out.push(*c);
             continue;
         }
-        for &t in intervals_s {
+        for &(t, share) in &folds {
             out.push(Contribution {
-                amplitude_v: c.amplitude_v * share,
+                amplitude_v: c.amplitude_v * share.sqrt(),
                 path_m: c.path_m - c0 * t,
                 ..*c
             });
         }
     }
     out
+}
+
+/// The folds of a pulse train with the intervals `intervals_s` (one cycle): each distinct
+/// interval, s, with the share of the pulses it precedes (equal intervals are one fold).
+pub fn stagger_folds(intervals_s: &[f64]) -> Vec<(f64, f64)> {
+    let mut folds: Vec<(f64, f64)> = Vec::new();
+    let share = 1.0 / intervals_s.len() as f64;
+    for &t in intervals_s {
+        match folds.iter_mut().find(|(u, _)| *u == t) {
+            Some(f) => f.1 += share,
+            None => folds.push((t, share)),
+        }
+    }
+    folds
 }
 
 #[cfg(test)]
@@ -249,5 +280,10 @@ mod tests {
             assert!((c.delay_s() - (1.2e-3 - t)).abs() < 1e-15);
             assert!((c.amplitude_v.norm_sqr() - 1.0 / 3.0).abs() < 1e-12);
         }
+        // Equal intervals are one fold with their share: no coherent sum of copies.
+        let out = fold_staggered(&[far], 0.5e-3, &[1.0e-3, 1.0e-3, 1.1e-3]);
+        assert_eq!(out.len(), 2);
+        assert!((out[0].amplitude_v.norm_sqr() - 2.0 / 3.0).abs() < 1e-12);
+        assert!((out[1].amplitude_v.norm_sqr() - 1.0 / 3.0).abs() < 1e-12);
     }
 }

@@ -36,22 +36,53 @@ pub struct FixedEchoes<'a> {
     record_len: usize,
     /// Objects left to [`MovingEchoes`].
     moving: &'a [Mover],
+    /// Which of the echoes made by paths via the own ship it adds.
+    paths: OwnShipPaths,
+}
+
+/// Which echoes made by paths via the own ship (`crate::scattering::via_own_ship`) a
+/// [`FixedEchoes`] adds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OwnShipPaths {
+    /// Every group (a scene without such paths).
+    All,
+    /// The direct echoes and the multiple echoes: what the blind sectors weaken.
+    ThroughStructure,
+    /// The direct echoes alone (the target-only render, whose record is for masks).
+    None,
+    /// The indirect echoes alone: what comes from the structure, past the blind sectors.
+    FromStructure,
 }
 
 impl<'a> FixedEchoes<'a> {
-    /// The groups of `groups` whose objects are not among `moving`, seen by `antenna`, into
-    /// records of `record_len` samples.
+    /// The groups of `groups` whose objects are not among `moving` and that `paths` takes,
+    /// seen by `antenna`, into records of `record_len` samples.
     pub fn new(
         groups: &'a EchoGroups,
         antenna: Antenna,
         record_len: usize,
         moving: &'a [Mover],
+        paths: OwnShipPaths,
     ) -> FixedEchoes<'a> {
         FixedEchoes {
             groups,
             antenna,
             record_len,
             moving,
+            paths,
+        }
+    }
+
+    /// Whether it adds the groups of (tagged) object `object`.
+    fn takes(&self, object: u32) -> bool {
+        use crate::scattering::via_own_ship::{INDIRECT_OBJECT_FLAG, MULTIPLE_OBJECT_FLAG};
+        let indirect = object & INDIRECT_OBJECT_FLAG != 0;
+        let multiple = object & MULTIPLE_OBJECT_FLAG != 0;
+        match self.paths {
+            OwnShipPaths::All => true,
+            OwnShipPaths::ThroughStructure => !indirect,
+            OwnShipPaths::None => !indirect && !multiple,
+            OwnShipPaths::FromStructure => indirect,
         }
     }
 }
@@ -64,7 +95,7 @@ impl Source for FixedEchoes<'_> {
         samples: &mut [Complex32],
     ) -> Option<usize> {
         let record = &mut samples[..self.record_len];
-        if self.moving.is_empty() {
+        if self.moving.is_empty() && self.paths == OwnShipPaths::All {
             return self.groups.accumulate(
                 &self.antenna,
                 at.pulse.azimuth_rad,
@@ -78,7 +109,7 @@ impl Source for FixedEchoes<'_> {
             at.pulse.azimuth_rad,
             MIN_GROUP_AMPLITUDE,
             record,
-            |o| !is_mover(o),
+            |o| !is_mover(o) && self.takes(o),
         )
     }
 }

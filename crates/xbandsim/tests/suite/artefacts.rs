@@ -434,7 +434,7 @@ fn a_ship_abeam_shows_multiple_echoes_at_multiples_of_its_range() {
 #[test]
 fn a_funnel_shows_indirect_echoes_on_its_bearing() {
     use xbandsim_validate::receiver::{indirect_echo_drop_db, indirect_echo_scene};
-    let (_, f) = render(&indirect_echo_scene(), 1);
+    let (sim, f) = render(&indirect_echo_scene(), 1);
     let (direct_bin, _) = spoke_peak(&f, 0, 0..f.range_bins);
     assert_eq!(direct_bin, 100);
     let (bin, _) = spoke_peak(&f, 180, 0..f.range_bins);
@@ -457,6 +457,32 @@ fn a_funnel_shows_indirect_echoes_on_its_bearing() {
     );
     let (_, db) = spoke_peak(&f, 90, 0..f.range_bins);
     assert!(db < SIDELOBE_LABEL_DB, "{db}");
+    // Through the sidelobes, inside the sector (8° off the funnel) and outside it (15° off),
+    // the indirect echo is `20·log10 Gn(Δaz)` under its peak within 0.1 dB — the blind
+    // sector's loss applies to neither (the echo comes from the funnel, not through it) —
+    // and a sidelobe label holds it.
+    let (direct_db, indirect_db) = (
+        spoke_peak(&f, 0, 95..106).1,
+        spoke_peak(&f, 180, 115..126).1,
+    );
+    let pattern = sim.scene().radar().antenna().azimuth();
+    for off in [8usize, 15] {
+        let k = 180 + off;
+        let (bin, db) = spoke_peak(&f, k, 115..126);
+        let want = indirect_db + 20.0 * pattern.value((off as f64).to_radians()).log10();
+        assert!((db - want).abs() < 0.1, "{off}°: {db} dB, want {want}");
+        assert!(direct_db - db > 20.0);
+        let labelled = f.artefacts.iter().any(|a| {
+            a.kind == ArtefactKind::Sidelobe
+                && a.polar_boxes.iter().any(|b| {
+                    b.spoke_indices(360).any(|s| s == k) && b.bin_min <= bin && bin <= b.bin_max
+                })
+        });
+        assert!(
+            labelled || db < SIDELOBE_LABEL_DB,
+            "{off}°: {db} dB unlabelled"
+        );
+    }
 }
 
 /// Bad multiple-echo and indirect-echo values are refused naming the field.
@@ -480,8 +506,12 @@ fn bad_own_ship_path_values_are_refused() {
             "artefacts.blind_sector[0].indirect_db",
         ),
     ] {
-        let text = format!("{}{table}", radar_block_no_noise(""));
+        let text = format!("{}[own_ship]\n{table}", radar_block_no_noise(""));
         let e = xbandsim::Scene::from_toml_str(&text, "test").unwrap_err();
         assert_eq!(e.field(), Some(field), "{e}");
     }
+    // Multiple echoes need an own ship's side.
+    let text = format!("{}[artefacts.multiple_echoes]\n", radar_block_no_noise(""));
+    let e = xbandsim::Scene::from_toml_str(&text, "test").unwrap_err();
+    assert_eq!(e.field(), Some("artefacts.multiple_echoes"), "{e}");
 }

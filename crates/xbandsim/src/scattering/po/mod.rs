@@ -227,12 +227,19 @@ pub fn out_of_sight(scene: &Scene, obj: &SceneObject) -> bool {
     let radius = obj.shape().bounding_radius_m();
     let nearest_m = (centre - radar.position_m()).length() - radius;
     let ground_m = ((centre - radar.position_m()).truncate().length() - radius).max(0.0);
-    // With second-trace echoes an object up to one unambiguous range beyond the record
-    // still echoes (in the next pulse's record).
+    // With second-trace echoes an object up to one pulse interval beyond the record still
+    // echoes (in the next pulse's record).
     let reach_m = radar.max_range_m()
         + radar.eclipse_range_m()
         + if scene.artefacts().second_trace {
-            crate::constants::SPEED_OF_LIGHT_M_PER_S / (2.0 * radar.prf_hz())
+            let stagger = radar.scan().stagger();
+            if stagger.is_staggered() {
+                // The longest interval folds the farthest.
+                let longest_s = stagger.intervals_s().iter().fold(0f64, |a, &t| a.max(t));
+                crate::constants::SPEED_OF_LIGHT_M_PER_S * longest_s / 2.0
+            } else {
+                crate::constants::SPEED_OF_LIGHT_M_PER_S / (2.0 * radar.prf_hz())
+            }
         } else {
             0.0
         };
