@@ -222,7 +222,7 @@ pub fn indirect_echo_scene() -> String {
     let bin_m = own_ship_paths_bin_m();
     format!(
         "{}[own_ship]\nheading_deg = 0.0\ncourse_deg = 0.0\n\
-         [[artefacts.blind_sector]]\nname = \"funnel\"\nfrom_deg = 170.0\nto_deg = 190.0\n\
+         [[own_ship.structure]]\nname = \"funnel\"\nfrom_deg = 170.0\nto_deg = 190.0\n\
          loss_db = 20.0\nindirect_db = -10.0\ndistance_m = {}\n{}",
         radar_block_no_noise(OWN_SHIP_RADAR),
         10.0 * bin_m,

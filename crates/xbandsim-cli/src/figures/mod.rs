@@ -715,7 +715,7 @@ fn fig6(out: &Path, harbour_scene: &Path, sea_scene: &Path, seed: u64) -> Result
         artefact(
             &format!(
                 "{radome}{quiet}[own_ship]\nheading_deg = 0.0\ncourse_deg = 0.0\n\
-                 [[artefacts.blind_sector]]\nname = \"funnel\"\nfrom_deg = 165.0\nto_deg = 195.0\n\
+                 [[own_ship.structure]]\nname = \"funnel\"\nfrom_deg = 165.0\nto_deg = 195.0\n\
                  loss_db = 20.0\nindirect_db = -8.0\ndistance_m = 15.0\n\
                  [[object]]\nname = \"ship ahead\"\nshape = \"point\"\nrcs_m2 = 3.0e4\nposition_m = [150.0, 1200.0, 10.0]\n\
                  [[object]]\nname = \"buoy astern\"\nshape = \"point\"\nrcs_m2 = 30.0\nposition_m = [-60.0, -1500.0, 2.0]\n"

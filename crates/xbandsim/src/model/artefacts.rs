@@ -1,11 +1,13 @@
-//! Model: the artefacts a scene switches on — other radars nearby whose pulses reach the
-//! receiver, racons and SARTs answering this radar — validated from the scene file's `[artefacts]` table (docs/formats.md,
-//! "[artefacts]"). `crate::signal::interference` adds their pulses.
+//! Model: the artefacts a scene switches on — second-trace and multiple echoes, other radars
+//! nearby whose pulses reach the receiver, racons and SARTs answering this radar — validated
+//! from the scene file's `[artefacts]` table, and the own ship's structure in the beam (blind
+//! sectors, indirect echoes) from `[[own_ship.structure]]` (docs/formats.md, "[artefacts]",
+//! "[own_ship]").
 
 use crate::error::{Error, Problem, Result};
 use crate::model::checks::{finite, finite_vec, positive};
 use crate::scene::{
-    ArtefactsSpec, BeaconSpec, BlindSectorSpec, InterfererSpec, MultipleEchoesSpec,
+    ArtefactsSpec, BeaconSpec, InterfererSpec, MultipleEchoesSpec, OwnShipSpec, StructureSpec,
 };
 use glam::DVec3;
 
@@ -232,8 +234,8 @@ pub fn blind_loss_db(sectors: &[BlindSector], bearing_rad: f64, heading_rad: f64
         .sum()
 }
 
-fn blind_sector(k: usize, s: &BlindSectorSpec) -> Result<BlindSector> {
-    let f = |name: &str| format!("artefacts.blind_sector[{k}].{name}");
+fn blind_sector(k: usize, s: &StructureSpec) -> Result<BlindSector> {
+    let f = |name: &str| format!("own_ship.structure[{k}].{name}");
     let (Some(from), Some(to)) = (s.from_deg, s.to_deg) else {
         let missing = if s.from_deg.is_none() {
             "from_deg"
@@ -495,8 +497,9 @@ fn interferer(k: usize, s: &InterfererSpec) -> Result<Interferer> {
     })
 }
 
-/// Validates `[artefacts]`.
-pub fn build_artefacts(s: &ArtefactsSpec) -> Result<Artefacts> {
+/// Validates `[artefacts]` with the own ship's structure (`[[own_ship.structure]]`: the blind
+/// sectors and indirect echoes).
+pub fn build_artefacts(s: &ArtefactsSpec, own_ship: Option<&OwnShipSpec>) -> Result<Artefacts> {
     Ok(Artefacts {
         second_trace: s.second_trace.unwrap_or(false),
         interferers: s
@@ -512,8 +515,8 @@ pub fn build_artefacts(s: &ArtefactsSpec) -> Result<Artefacts> {
             .map(|(k, b)| beacon(k, b, false))
             .chain(s.sart.iter().enumerate().map(|(k, b)| beacon(k, b, true)))
             .collect::<Result<_>>()?,
-        blind_sectors: s
-            .blind_sector
+        blind_sectors: own_ship
+            .map_or(&[][..], |o| &o.structure[..])
             .iter()
             .enumerate()
             .map(|(k, b)| blind_sector(k, b))

@@ -250,7 +250,7 @@ impl Scene {
             .as_ref()
             .map(receiver::VideoSettings::from_spec)
             .transpose()?;
-        let artefacts = artefacts::build_artefacts(&spec.artefacts)?;
+        let artefacts = artefacts::build_artefacts(&spec.artefacts, spec.own_ship.as_ref())?;
         if artefacts.multiple_echoes.is_some() && spec.own_ship.is_none() {
             return Err(Error::invalid(
                 Problem::Conflict,

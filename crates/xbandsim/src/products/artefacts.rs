@@ -588,7 +588,7 @@ pub fn multiple_echo_artefacts(
     out
 }
 
-/// The blind sectors of the own ship (`[[artefacts.blind_sector]]`) at bow heading
+/// The blind sectors of the own ship (`[[own_ship.structure]]`) at bow heading
 /// `heading_rad`: one artefact each, its box the sector's spokes over the whole record.
 pub fn blind_sector_artefacts(
     sectors: &[crate::model::artefacts::BlindSector],

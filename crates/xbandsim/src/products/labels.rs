@@ -105,7 +105,7 @@ pub struct EchoLosses {
     /// nothing is received (total eclipse).
     pub eclipse: Option<f64>,
     /// The own ship's structure in the beam: the two-way loss of the blind sectors
-    /// (`[[artefacts.blind_sector]]`) its bearing lies in (0 in none).
+    /// (`[[own_ship.structure]]`) its bearing lies in (0 in none).
     pub blind_sector: f64,
 }
 

@@ -1,10 +1,10 @@
 //! Stage: scattering — the paths an echo takes via the own ship (docs/physics.md §14), added
 //! to a traced state's contributions before they are grouped into echoes.
 //!
-//! **Indirect echoes.** With the beam on a mast or funnel (a blind sector with `indirect_db`
-//! and `distance_m`), the structure scatters a power fraction ρ of the beam toward every other
-//! bearing and back: every object's echo also arrives along the structure's bearing θs, over
-//! the path antenna → structure → object → structure → antenna. Each contribution of length
+//! **Indirect echoes.** With the beam on a mast or funnel (an `[[own_ship.structure]]` with
+//! `indirect_db` and `distance_m`), the structure scatters a power fraction ρ of the beam
+//! toward every other bearing and back: every object's echo also arrives along the
+//! structure's bearing θs, over the path antenna → structure → object → structure → antenna. Each contribution of length
 //! ℓ at apparent range r = ℓ/2 gets a copy with transmit and receive azimuth θs (its
 //! elevations kept: the structure and the echoes that matter both lie near the horizon), path
 //! `ℓ' = ℓ + 2·(d + |P − S| − r)` (d the structure's distance, S its position, P the

@@ -8,8 +8,8 @@ mod spec;
 
 pub use load::{assign_field, locate, LoadedSpec};
 pub use spec::{
-    AntennaPatternName, ArtefactsSpec, BeaconSpec, BlindSectorSpec, ClutterDistributionName,
-    DisplaySpec, EnvironmentSpec, InterfererSpec, MultipleEchoesSpec, ObjectSpec, OwnShipSpec,
-    ProcessingSpec, PulseModeName, RadarPreset, RadarSpec, RainCellSpec, ReceiverSpec,
-    ScatteringSpec, SceneSpec, ShapeName, WindowName,
+    AntennaPatternName, ArtefactsSpec, BeaconSpec, ClutterDistributionName, DisplaySpec,
+    EnvironmentSpec, InterfererSpec, MultipleEchoesSpec, ObjectSpec, OwnShipSpec, ProcessingSpec,
+    PulseModeName, RadarPreset, RadarSpec, RainCellSpec, ReceiverSpec, ScatteringSpec, SceneSpec,
+    ShapeName, StructureSpec, WindowName,
 };

@@ -483,6 +483,10 @@ pub struct OwnShipSpec {
     pub motion_period_s: Option<f64>,
     /// Phase φ of the roll and pitch, degrees (default 0).
     pub motion_phase_deg: Option<f64>,
+    /// Its structure in the beam (`[[own_ship.structure]]`): masts and funnels, each a blind
+    /// sector behind it and, with `indirect_db`, indirect echoes on its bearing.
+    #[serde(default)]
+    pub structure: Vec<StructureSpec>,
 }
 
 /// `[receiver]`: the log receiver and video chain after detection (docs/formats.md,
@@ -534,10 +538,6 @@ pub struct ArtefactsSpec {
     /// Other radars nearby (`[[artefacts.interferer]]`): their pulses reach the receiver.
     #[serde(default)]
     pub interferer: Vec<InterfererSpec>,
-    /// Blind and shadow sectors behind the own ship's masts and funnels
-    /// (`[[artefacts.blind_sector]]`).
-    #[serde(default)]
-    pub blind_sector: Vec<BlindSectorSpec>,
     /// Radar beacons (`[[artefacts.racon]]`): a Morse character behind the beacon.
     #[serde(default)]
     pub racon: Vec<BeaconSpec>,
@@ -610,11 +610,11 @@ pub struct InterfererSpec {
     pub sidelobe_db: Option<f64>,
 }
 
-/// `[[artefacts.blind_sector]]`: a sector of bearings, relative to the own ship's bow, in which
-/// the ship's own structure (a mast, a funnel) stands in the beam.
+/// `[[own_ship.structure]]`: the own ship's structure (a mast, a funnel) standing in the beam
+/// over a sector of bearings relative to the bow: a blind sector, and indirect echoes.
 #[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
-pub struct BlindSectorSpec {
+pub struct StructureSpec {
     /// What stands there (default `sector-<k>`).
     pub name: Option<String>,
     /// Where it starts, degrees clockwise from the bow (required).

@@ -289,7 +289,7 @@ fn a_blind_sector_weakens_echoes_behind_the_mast_as_labelled() {
              [[object]]\nname = \"north\"\nshape = \"point\"\nrcs_m2 = 10.0\nposition_m = [0.0, 800.0, 4.0]\n",
             radar_block_no_noise("spokes = 360\nmax_range_m = 1500.0"),
             if sector {
-                "[[artefacts.blind_sector]]\nname = \"mast\"\nfrom_deg = 170.0\nto_deg = 190.0\nloss_db = 20.0\n"
+                "[[own_ship.structure]]\nname = \"mast\"\nfrom_deg = 170.0\nto_deg = 190.0\nloss_db = 20.0\n"
             } else {
                 ""
             }
@@ -498,12 +498,12 @@ fn bad_own_ship_path_values_are_refused() {
             "artefacts.multiple_echoes.round_trip_loss_db",
         ),
         (
-            "[[artefacts.blind_sector]]\nfrom_deg = 170.0\nto_deg = 190.0\nindirect_db = -10.0\n",
-            "artefacts.blind_sector[0].distance_m",
+            "[[own_ship.structure]]\nfrom_deg = 170.0\nto_deg = 190.0\nindirect_db = -10.0\n",
+            "own_ship.structure[0].distance_m",
         ),
         (
-            "[[artefacts.blind_sector]]\nfrom_deg = 170.0\nto_deg = 190.0\nindirect_db = 3.0\ndistance_m = 10.0\n",
-            "artefacts.blind_sector[0].indirect_db",
+            "[[own_ship.structure]]\nfrom_deg = 170.0\nto_deg = 190.0\nindirect_db = 3.0\ndistance_m = 10.0\n",
+            "own_ship.structure[0].indirect_db",
         ),
     ] {
         let text = format!("{}[own_ship]\n{table}", radar_block_no_noise(""));
