@@ -455,10 +455,12 @@ pub fn frame_labels(
     masks: &[Option<Mask>],
     artefacts: Option<ArtefactInput>,
 ) -> FrameLabels {
-    let s = ctx.size_px as f64;
-    let mut annotations = Vec::new();
-    let mut yolo = String::new();
-    let mut yolo_obb = String::new();
+    let mut out = LabelLines {
+        annotations: Vec::new(),
+        yolo: String::new(),
+        yolo_obb: String::new(),
+        side_px: ctx.size_px as f64,
+    };
     let mut rows = String::new();
     let mut labelled = 0;
     for (o, mask) in objects.iter().zip(masks) {
@@ -473,35 +475,8 @@ pub fn frame_labels(
         let mut obb = None;
         if let (Some((c, b)), Some(mask)) = (detection, mask) {
             labelled += 1;
-            let [x0, y0, x1, y1] = b;
-            annotations.push(json!({
-                "category_id": c + 1,
-                "track_id": o.track_id,
-                "bbox": [round6(x0), round6(y0), round6(x1 - x0), round6(y1 - y0)],
-                "area": area,
-                "segmentation": {
-                    "size": [mask.height, mask.width],
-                    "counts": rle_string(&mask.rle_counts()),
-                },
-                "iscrowd": 0,
-            }));
-            yolo.push_str(&format!(
-                "{c} {:.6} {:.6} {:.6} {:.6}\n",
-                0.5 * (x0 + x1) / s,
-                0.5 * (y0 + y1) / s,
-                (x1 - x0) / s,
-                (y1 - y0) / s
-            ));
-            // Every labelled echo gets its oriented box: the mask's smallest rectangle.
-            if let Some(corners) = mask.oriented_box() {
-                let mut line = c.to_string();
-                for [x, y] in corners {
-                    line.push_str(&format!(" {:.6} {:.6}", x / s, y / s));
-                }
-                yolo_obb.push_str(&line);
-                yolo_obb.push('\n');
-                obb = Some(corners.map(|p| p.map(round6)));
-            }
+            obb = push_label(&mut out, c, json!(o.track_id), b, mask, area, None)
+                .map(|corners| corners.map(|p| p.map(round6)));
         }
         let row = json!({
             "sample": ctx.sample,
@@ -567,38 +542,21 @@ pub fn frame_labels(
             for group in groups {
                 let touched = artefacts.fill(group, &mut mask);
                 if let Some(b) = mask.bounds() {
-                    let [x0, y0, x1, y1] = b;
-                    annotations.push(json!({
-                        "category_id": c + 1,
-                        "track_id": null,
-                        "bbox": [round6(x0), round6(y0), round6(x1 - x0), round6(y1 - y0)],
-                        "area": mask.area(),
-                        "segmentation": {
-                            "size": [mask.height, mask.width],
-                            "counts": rle_string(&mask.rle_counts()),
-                        },
-                        "iscrowd": 0,
-                        "artefact": {
-                            "kind": a.kind,
-                            "source": a.source,
-                            "expected_level_db": a.expected_level_db,
-                        },
-                    }));
-                    yolo.push_str(&format!(
-                        "{c} {:.6} {:.6} {:.6} {:.6}\n",
-                        0.5 * (x0 + x1) / s,
-                        0.5 * (y0 + y1) / s,
-                        (x1 - x0) / s,
-                        (y1 - y0) / s
-                    ));
-                    if let Some(corners) = mask.oriented_box() {
-                        let mut line = c.to_string();
-                        for [x, y] in corners {
-                            line.push_str(&format!(" {:.6} {:.6}", x / s, y / s));
-                        }
-                        yolo_obb.push_str(&line);
-                        yolo_obb.push('\n');
-                    }
+                    let artefact = json!({
+                        "kind": a.kind,
+                        "source": a.source,
+                        "expected_level_db": a.expected_level_db,
+                    });
+                    let area = mask.area();
+                    push_label(
+                        &mut out,
+                        c,
+                        Value::Null,
+                        b,
+                        &mask,
+                        area,
+                        Some(("artefact", artefact)),
+                    );
                 }
                 for (y, x0, x1) in touched {
                     mask.pixels[y * ctx.size_px + x0..y * ctx.size_px + x1].fill(false);
@@ -615,13 +573,69 @@ pub fn frame_labels(
                 "sample": ctx.sample,
                 "frame": ctx.frame,
             },
-            "annotations": annotations,
+            "annotations": out.annotations,
         }),
-        yolo,
-        yolo_obb,
+        yolo: out.yolo,
+        yolo_obb: out.yolo_obb,
         targets_jsonl: rows,
         labelled,
     }
+}
+
+/// A frame's detection labels as they are written: COCO annotations, YOLO detect lines and
+/// YOLO oriented-box lines, coordinates normalised by the image side `side_px`.
+struct LabelLines {
+    annotations: Vec<Value>,
+    yolo: String,
+    yolo_obb: String,
+    side_px: f64,
+}
+
+/// Adds one detection label of category index `c` for `mask` (its tight box `b`, `area`
+/// pixels): its COCO annotation (with `track_id` and the `extra` field), its YOLO detect line
+/// and its oriented-box line (every labelled echo has one: the mask's smallest rectangle,
+/// whose corners it returns, px).
+fn push_label(
+    out: &mut LabelLines,
+    c: usize,
+    track_id: Value,
+    b: [f64; 4],
+    mask: &Mask,
+    area: usize,
+    extra: Option<(&str, Value)>,
+) -> Option<[[f64; 2]; 4]> {
+    let s = out.side_px;
+    let [x0, y0, x1, y1] = b;
+    let mut annotation = json!({
+        "category_id": c + 1,
+        "track_id": track_id,
+        "bbox": [round6(x0), round6(y0), round6(x1 - x0), round6(y1 - y0)],
+        "area": area,
+        "segmentation": {
+            "size": [mask.height, mask.width],
+            "counts": rle_string(&mask.rle_counts()),
+        },
+        "iscrowd": 0,
+    });
+    if let Some((key, value)) = extra {
+        annotation[key] = value;
+    }
+    out.annotations.push(annotation);
+    out.yolo.push_str(&format!(
+        "{c} {:.6} {:.6} {:.6} {:.6}\n",
+        0.5 * (x0 + x1) / s,
+        0.5 * (y0 + y1) / s,
+        (x1 - x0) / s,
+        (y1 - y0) / s
+    ));
+    let corners = mask.oriented_box()?;
+    let mut line = c.to_string();
+    for [x, y] in corners {
+        line.push_str(&format!(" {:.6} {:.6}", x / s, y / s));
+    }
+    out.yolo_obb.push_str(&line);
+    out.yolo_obb.push('\n');
+    Some(corners)
 }
 
 #[cfg(test)]
