@@ -1,6 +1,7 @@
 //! Stage: signal processing. Pulse compression (matched filter by FFT) and the per-pulse
 //! receive chain that turns an impulse response into a compressed range profile.
 
+pub mod cfar;
 mod matched_filter;
 
 pub use matched_filter::{
