@@ -74,6 +74,26 @@ pub struct ArtefactTruth {
 }
 
 impl ArtefactTruth {
+    /// An artefact of one box `polar_box` over `region`, expected at `level_db` over the noise.
+    fn one_box(
+        kind: ArtefactKind,
+        source: String,
+        reason: String,
+        level_db: f64,
+        polar_box: PolarBox,
+        region: EchoRegion,
+    ) -> ArtefactTruth {
+        ArtefactTruth {
+            kind,
+            source,
+            reason,
+            expected_level_db: Some(level_db),
+            polar_boxes: vec![polar_box],
+            ppi_boxes_px: Vec::new(),
+            regions: vec![region],
+        }
+    }
+
     /// Adds a box on spoke `spoke` over bins `bin_min ..= bin_max`, raising the level to
     /// `level_db` (spokes `spoke_rad` apart, bins `bin_m`).
     fn add_spoke_box(
@@ -183,21 +203,20 @@ pub fn sidelobe_artefacts(
             };
             polar_box.spoke_min = first;
             polar_box.spoke_max = (first + len - 1) % spokes;
-            out.push(ArtefactTruth {
-                kind: ArtefactKind::Sidelobe,
-                source: o.name.clone(),
-                reason: format!(
+            out.push(ArtefactTruth::one_box(
+                ArtefactKind::Sidelobe,
+                o.name.clone(),
+                format!(
                     "the echo of \"{}\" through the antenna's sidelobes, {:.0}°–{:.0}° off its bearing {:.1}°",
                     o.name,
                     wrap_angle_rad(first as f64 * spoke_rad - az).to_degrees(),
                     wrap_angle_rad((first + len - 1) as f64 * spoke_rad - az).to_degrees(),
                     o.azimuth_deg
                 ),
-                expected_level_db: Some(best),
-                polar_boxes: vec![polar_box],
-                ppi_boxes_px: Vec::new(),
-                regions: vec![run],
-            });
+                best,
+                polar_box,
+                run,
+            ));
         }
     }
     out
@@ -392,10 +411,10 @@ pub fn second_trace_artefacts(
                 continue;
             };
             images.push(echo_image(o, level_db, folded, o.losses_db.blind_sector));
-            out.push(ArtefactTruth {
-                kind: ArtefactKind::SecondTrace,
-                source: o.name.clone(),
-                reason: if folds.len() == 1 {
+            out.push(ArtefactTruth::one_box(
+                ArtefactKind::SecondTrace,
+                o.name.clone(),
+                if folds.len() == 1 {
                     format!(
                         "\"{}\" at {:.0} m is beyond the unambiguous range {:.0} m: its echo arrives after the next pulse and shows {:.0} m nearer",
                         o.name, o.range_m, fold_m, fold_m
@@ -410,11 +429,10 @@ pub fn second_trace_artefacts(
                         fold_m
                     )
                 },
-                expected_level_db: Some(level_db),
-                polar_boxes: vec![polar_box],
-                ppi_boxes_px: Vec::new(),
-                regions: vec![folded],
-            });
+                level_db,
+                polar_box,
+                folded,
+            ));
         }
     }
     out
@@ -500,10 +518,10 @@ pub fn indirect_echo_artefacts(
                 continue;
             };
             images.push(echo_image(o, level_db, shown, 0.0));
-            out.push(ArtefactTruth {
-                kind: ArtefactKind::IndirectEcho,
-                source: o.name.clone(),
-                reason: format!(
+            out.push(ArtefactTruth::one_box(
+                ArtefactKind::IndirectEcho,
+                o.name.clone(),
+                format!(
                     "the echo of \"{}\" (bearing {:.1}°) via the own ship's {} {:.0} m away, on the structure's bearing {:.1}°",
                     o.name,
                     o.azimuth_deg,
@@ -511,11 +529,10 @@ pub fn indirect_echo_artefacts(
                     indirect.distance_m,
                     theta.to_degrees()
                 ),
-                expected_level_db: Some(level_db),
-                polar_boxes: vec![polar_box],
-                ppi_boxes_px: Vec::new(),
-                regions: vec![shown],
-            });
+                level_db,
+                polar_box,
+                shown,
+            ));
         }
     }
     out
@@ -567,10 +584,10 @@ pub fn multiple_echo_artefacts(
                 continue;
             };
             images.push(echo_image(o, level_db, shown, o.losses_db.blind_sector));
-            out.push(ArtefactTruth {
-                kind: ArtefactKind::MultipleEcho,
-                source: o.name.clone(),
-                reason: format!(
+            out.push(ArtefactTruth::one_box(
+                ArtefactKind::MultipleEcho,
+                o.name.clone(),
+                format!(
                     "the echo of \"{}\" abeam at {:.0} m, bounced {} more time{} between its side and the own ship's: it shows at {} times its range",
                     o.name,
                     o.range_m,
@@ -578,11 +595,10 @@ pub fn multiple_echo_artefacts(
                     if n == 2 { "" } else { "s" },
                     n
                 ),
-                expected_level_db: Some(level_db),
-                polar_boxes: vec![polar_box],
-                ppi_boxes_px: Vec::new(),
-                regions: vec![shown],
-            });
+                level_db,
+                polar_box,
+                shown,
+            ));
         }
     }
     out

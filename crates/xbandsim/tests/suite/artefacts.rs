@@ -5,6 +5,14 @@
 use crate::common::{radar_block_no_noise, render};
 use xbandsim::products::artefacts::{ArtefactKind, SIDELOBE_LABEL_DB};
 
+/// The artefacts of `kind` in frame `f`.
+fn of_kind(
+    f: &xbandsim::Frame,
+    kind: ArtefactKind,
+) -> Vec<&xbandsim::products::artefacts::ArtefactTruth> {
+    f.artefacts.iter().filter(|a| a.kind == kind).collect()
+}
+
 /// A magnetron set (unmodulated 0.3 µs pulse, 2000 Hz, 3 km recorded) and a 4 kW set 3 km
 /// east firing 0.3 µs pulses at 1173.7 Hz, turning at 22 rpm.
 fn scene(receiver: &str) -> String {
@@ -30,11 +38,7 @@ fn interference_lands_where_its_label_says() {
         .polar_db
         .iter()
         .all(|&v| f64::from(v) < SIDELOBE_LABEL_DB));
-    let a: Vec<_> = f
-        .artefacts
-        .iter()
-        .filter(|a| a.kind == ArtefactKind::Interference)
-        .collect();
+    let a = of_kind(&f, ArtefactKind::Interference);
     assert_eq!(a.len(), 1);
     let a = a[0];
     assert_eq!(a.source, "ferry radar");
@@ -155,11 +159,7 @@ fn a_racon_answers_with_its_morse_letter_where_its_label_says() {
         &beacon_scene("[[artefacts.racon]]\nname = \"fairway\"\nposition_m = [0.0, 600.0, 5.0]\nmorse = \"K\"\n"),
         1,
     );
-    let a: Vec<_> = f
-        .artefacts
-        .iter()
-        .filter(|a| a.kind == ArtefactKind::Racon)
-        .collect();
+    let a = of_kind(&f, ArtefactKind::Racon);
     assert_eq!(a.len(), 1);
     let a = a[0];
     assert_eq!(a.source, "fairway");
@@ -257,11 +257,7 @@ fn second_trace_echoes_land_at_r_minus_the_unambiguous_range() {
         peak as f64 * f.range_bin_m
     );
     assert!(row[peak] > 20.0, "{}", row[peak]);
-    let a: Vec<_> = f
-        .artefacts
-        .iter()
-        .filter(|a| a.kind == ArtefactKind::SecondTrace)
-        .collect();
+    let a = of_kind(&f, ArtefactKind::SecondTrace);
     assert_eq!(a.len(), 1);
     let b = a[0].polar_boxes[0];
     assert!(b.bin_min <= peak && peak <= b.bin_max, "{b:?} vs {peak}");
@@ -312,11 +308,7 @@ fn a_blind_sector_weakens_echoes_behind_the_mast_as_labelled() {
     assert_eq!(label(&blind, "north").losses_db.blind_sector, 0.0);
     let drop = w_open.expected_snr_db.unwrap() - w_blind.expected_snr_db.unwrap();
     assert!((drop - 20.0).abs() < 1e-9, "{drop}");
-    let a: Vec<_> = blind
-        .artefacts
-        .iter()
-        .filter(|a| a.kind == ArtefactKind::BlindSector)
-        .collect();
+    let a = of_kind(&blind, ArtefactKind::BlindSector);
     assert_eq!(a.len(), 1);
     assert_eq!(a[0].source, "mast");
     let spokes: Vec<usize> = a[0].polar_boxes[0].spoke_indices(360).collect();
@@ -353,11 +345,7 @@ fn a_staggered_train_smears_the_second_trace_over_its_intervals() {
     let (_, staggered) = render(&text("prf_stagger = [1.0, 1.1, 0.9]\n"), 1);
     let (_, plain_db) = spoke_peak(&plain, 0, 0..plain.range_bins);
     let c = 299_792_458.0;
-    let folds: Vec<_> = staggered
-        .artefacts
-        .iter()
-        .filter(|a| a.kind == ArtefactKind::SecondTrace)
-        .collect();
+    let folds = of_kind(&staggered, ArtefactKind::SecondTrace);
     assert_eq!(folds.len(), 3);
     let plain_label = plain
         .artefacts
@@ -395,11 +383,7 @@ fn a_ship_abeam_shows_multiple_echoes_at_multiples_of_its_range() {
     let (direct_bin, _) = spoke_peak(&f, 90, 0..f.range_bins);
     assert_eq!(direct_bin, 250);
     assert_eq!(f.truth[0].losses_db.eclipse, Some(0.0));
-    let a: Vec<_> = f
-        .artefacts
-        .iter()
-        .filter(|a| a.kind == ArtefactKind::MultipleEcho)
-        .collect();
+    let a = of_kind(&f, ArtefactKind::MultipleEcho);
     assert_eq!(a.len(), 2);
     for (n, a) in [2usize, 3].into_iter().zip(a) {
         let (bin, _) = spoke_peak(&f, 90, 250 * n - 3..250 * n + 4);
@@ -441,11 +425,7 @@ fn a_funnel_shows_indirect_echoes_on_its_bearing() {
     assert_eq!(bin, 120);
     let (want, drop) = indirect_echo_drop_db();
     assert!((drop - want).abs() < 0.1, "{drop} dB, want {want}");
-    let a: Vec<_> = f
-        .artefacts
-        .iter()
-        .filter(|a| a.kind == ArtefactKind::IndirectEcho)
-        .collect();
+    let a = of_kind(&f, ArtefactKind::IndirectEcho);
     assert_eq!(a.len(), 1);
     let b = a[0].polar_boxes[0];
     assert!(b.bin_min <= bin && bin <= b.bin_max, "{b:?} vs {bin}");
