@@ -33,6 +33,7 @@ pub mod engine;
 pub mod environment;
 pub mod error;
 pub mod geometry;
+pub mod land;
 pub mod model;
 pub mod processing;
 pub mod products;

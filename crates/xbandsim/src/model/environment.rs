@@ -30,6 +30,8 @@ pub struct Environment {
     earth_curvature: bool,
     /// How sea clutter and rain move (their Doppler spectra).
     clutter_doppler: ClutterDoppler,
+    /// Land: where the surface is not sea (none by default).
+    land: std::sync::Arc<crate::land::Land>,
 }
 
 /// The Doppler spectra of sea clutter and rain (pulse mode; docs/physics.md §10): each a
@@ -73,6 +75,17 @@ impl Environment {
     /// Rain, if on and any.
     pub fn rain(&self) -> Option<&Rain> {
         self.rain.as_ref()
+    }
+
+    /// The land (empty for open sea).
+    pub fn land(&self) -> &crate::land::Land {
+        &self.land
+    }
+
+    /// This environment with `land`.
+    pub fn with_land(mut self, land: crate::land::Land) -> Environment {
+        self.land = std::sync::Arc::new(land);
+        self
     }
 
     /// 4/3-earth curvature (horizon, grazing angles).
@@ -365,5 +378,6 @@ pub(super) fn build_environment(
         clutter,
         rain,
         earth_curvature: s.earth_curvature.unwrap_or(true),
+        land: Default::default(),
     })
 }

@@ -7,6 +7,7 @@
 pub mod artefacts;
 pub(crate) mod checks;
 mod environment;
+mod land;
 pub mod motion;
 pub mod processing;
 pub mod radar;
@@ -107,6 +108,29 @@ fn check_trace_memory(
             ),
         )
     })
+}
+
+/// Refuses an object whose reference point stands on land (targets float on water),
+/// naming the object and the land polygon.
+fn check_objects_on_water(objects: &[SceneObject], land: &crate::land::Land) -> Result<()> {
+    for (i, o) in objects.iter().enumerate() {
+        let p = o.position_m().truncate();
+        if let Some(k) = land.polygon_at(p) {
+            let poly = &land.polygons()[k];
+            return Err(Error::invalid(
+                Problem::Conflict,
+                format!("object[{i}].position_m"),
+                fmt_vec(o.position_m()),
+                format!(
+                    "object {:?} stands on land: inside land polygon {:?} from {}; move it onto the water",
+                    o.name(),
+                    poly.name,
+                    poly.source
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 impl Scene {
@@ -236,7 +260,8 @@ impl Scene {
             &spec.environment,
             radar.carrier_freq_hz(),
             radar.polarisation() == Polarisation::Hh,
-        )?;
+        )?
+        .with_land(land::build_land(&spec.land, spec.geo.as_ref(), base_dir)?);
         let scattering = scattering::build_scattering(&spec.scattering)?;
         let objects = spec
             .objects
@@ -244,6 +269,7 @@ impl Scene {
             .enumerate()
             .map(|(i, o)| world::build_object(i, o, base_dir))
             .collect::<Result<Vec<_>>>()?;
+        check_objects_on_water(&objects, environment.land())?;
         let processing = processing::build_processing(&spec.processing, &radar)?;
         let video = spec
             .receiver

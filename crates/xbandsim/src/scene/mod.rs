@@ -9,7 +9,7 @@ mod spec;
 pub use load::{assign_field, locate, LoadedSpec};
 pub use spec::{
     AntennaPatternName, ArtefactsSpec, BeaconSpec, ClutterDistributionName, DisplaySpec,
-    EnvironmentSpec, InterfererSpec, MultipleEchoesSpec, ObjectSpec, OwnShipSpec, ProcessingSpec,
-    PulseModeName, RadarPreset, RadarSpec, RainCellSpec, ReceiverSpec, ScatteringSpec, SceneSpec,
-    ShapeName, StructureSpec, WindowName,
+    EnvironmentSpec, GeoSpec, InterfererSpec, LandCrs, LandEdgeName, LandSpec, MultipleEchoesSpec,
+    ObjectSpec, OwnShipSpec, ProcessingSpec, PulseModeName, RadarPreset, RadarSpec, RainCellSpec,
+    ReceiverSpec, ScatteringSpec, SceneSpec, ShapeName, StructureSpec, WindowName,
 };

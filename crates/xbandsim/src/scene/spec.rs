@@ -151,6 +151,73 @@ pub struct SceneSpec {
     /// The objects in the scene (`[[object]]` tables).
     #[serde(default, rename = "object")]
     pub objects: Vec<ObjectSpec>,
+    /// Where the scene lies on the earth: the origin of lon/lat inputs.
+    pub geo: Option<GeoSpec>,
+    /// Land: coast polygons with a height and a terrain (`[[land]]` tables).
+    #[serde(default)]
+    pub land: Vec<LandSpec>,
+}
+
+/// `[geo]`: the scene's origin on the WGS84 ellipsoid. Lon/lat inputs (`[[land]]` with
+/// `crs = "wgs84"`) go to local metres by the azimuthal equidistant projection about it.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct GeoSpec {
+    /// Longitude of the scene's origin (x = y = 0), degrees east (required).
+    pub origin_lon_deg: Option<f64>,
+    /// Latitude of the scene's origin, degrees north (required).
+    pub origin_lat_deg: Option<f64>,
+}
+
+/// `[[land]].crs`: the coordinates of a land table's polygons.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum LandCrs {
+    /// x east, y north in metres from the scene's origin.
+    #[default]
+    LocalM,
+    /// Longitude, latitude in degrees (WGS84), placed about `[geo]`'s origin.
+    Wgs84,
+}
+
+/// `[[land]].edge`: how the ground rises from the shoreline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum LandEdgeName {
+    /// A vertical face to the top at the shoreline.
+    #[default]
+    Cliff,
+    /// A plane slope to the top over `beach_width_m`.
+    Beach,
+}
+
+/// `[[land]]`: land polygons from a GeoJSON file or written here, with a flat top, an edge
+/// and a terrain.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LandSpec {
+    /// Name (default: each feature's `name` property, else `land-<k>`).
+    pub name: Option<String>,
+    /// A GeoJSON file of Polygon/MultiPolygon features, relative to the scene file.
+    pub geojson: Option<String>,
+    /// One polygon written here instead: its corners `[x, y]` in metres (crs `local_m`), not
+    /// closed (the last corner joins the first).
+    pub polygon_m: Option<Vec<[f64; 2]>>,
+    /// Coordinates of the GeoJSON: "local_m" (default) or "wgs84" (needs `[geo]`).
+    pub crs: Option<LandCrs>,
+    /// Height of the flat top over the sea, m (default 10; a feature's `height_m` property
+    /// overrides it).
+    pub height_m: Option<f64>,
+    /// "cliff" (default) or "beach".
+    pub edge: Option<LandEdgeName>,
+    /// Width of a beach's slope from the shoreline to the top, m (default 50).
+    pub beach_width_m: Option<f64>,
+    /// "rock" (default), "sand", "grass", "forest" or "urban".
+    pub terrain: Option<crate::land::Terrain>,
+    /// γ of `σ0 = γ·sin ψ` at 10 GHz, dB (default: the terrain's).
+    pub gamma_db: Option<f64>,
+    /// Weibull shape of a land cell's amplitude (default: the terrain's; 2 is Rayleigh).
+    pub weibull_shape: Option<f64>,
 }
 
 /// `[radar]`: every field overrides the preset's value.
