@@ -88,6 +88,12 @@ fn outputs() -> BTreeMap<String, String> {
             let bytes = std::fs::read(out.join(file)).unwrap();
             hashes.insert(format!("render-{case}/{file}"), sha256(&bytes));
         }
+        // The land's files, in the scenes with land.
+        for file in ["land_mask.npy", "land_polygon.npy"] {
+            if let Ok(bytes) = std::fs::read(out.join(file)) {
+                hashes.insert(format!("render-{case}/{file}"), sha256(&bytes));
+            }
+        }
     }
     // Three revolutions of the moving scene, every frame's files.
     let out = dir.path().join("crossing");

@@ -335,6 +335,8 @@ pub struct VisibilityFlags {
     pub eclipsed: bool,
     /// Seen with only part of its pulse received.
     pub partially_eclipsed: bool,
+    /// No echo: land hides it.
+    pub shadowed_by_land: bool,
     /// No echo: the line of sight is blocked by another object.
     pub shadowed: bool,
     /// Its expected SNR is below 0 dB.
@@ -354,6 +356,7 @@ impl VisibilityFlags {
         VisibilityFlags {
             eclipsed: v == Visibility::Eclipsed,
             partially_eclipsed: v == Visibility::PartiallyEclipsed,
+            shadowed_by_land: v == Visibility::ShadowedByLand,
             shadowed: v == Visibility::Shadowed,
             below_noise: v == Visibility::BelowNoise,
             beyond_horizon: v == Visibility::BeyondHorizon,

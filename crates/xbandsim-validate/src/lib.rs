@@ -11,6 +11,7 @@ pub mod combined;
 pub mod doppler;
 pub mod environment;
 pub mod harness;
+pub mod land;
 pub mod motion;
 pub mod multipath;
 pub mod rcs;
@@ -140,5 +141,6 @@ pub fn run_all_with(on_check: &mut dyn FnMut(&CheckResult)) -> Vec<CheckResult> 
     doppler::checks(&mut out);
     combined::checks(&mut out);
     receiver::checks(&mut out);
+    land::checks(&mut out);
     out.done
 }

@@ -663,6 +663,13 @@ impl Simulation {
             &traced.revolution
         };
         let clutter = self.revolution_clutter(revolution, key);
+        let land = clutter.as_ref().and_then(|map| {
+            crate::products::land::LandTruth::of(
+                map,
+                revolution.scene().environment().land(),
+                self.compressor.num_bins(),
+            )
+        });
         let mode = self.scene.processing().mode();
         let (movers, speckle) = match mode {
             ProcessingMode::Spoke => (Vec::new(), ClutterSpeckle::PerPulse),
@@ -849,6 +856,7 @@ impl Simulation {
             artefacts,
             radial_velocity: products.2,
             truth,
+            land,
             stats: FrameStats {
                 rays_cast: traced.set.rays_cast,
                 contributions: traced.set.contributions.len(),

@@ -86,17 +86,20 @@ impl Terrain {
     }
 
     /// Weibull shape `c` of a cell's amplitude (c = 2 is Rayleigh; Billingsley's spread
-    /// parameter is `a_w = 2/c`): low-angle X-band land clutter is spikier than Rayleigh,
-    /// most for discrete urban and rocky returns, least for homogeneous forest and flat sand
-    /// (Billingsley, *Low-Angle Radar Land Clutter*, 2002, ch. 4; Sekine & Mao, *Weibull
-    /// Radar Clutter*, 1990). docs/physics.md §16 gives the values and their standing.
+    /// parameter is `a_w = 2/c`). Low-angle land clutter is spikier than Rayleigh, most for
+    /// the discrete returns of towns and rock, least for homogeneous forest and flat sand:
+    /// Sekine et al. measured c = 1.5–2.0 over cultivated land (IEEE TAES 17(4), 1981);
+    /// Billingsley's whole-terrain spreads reach a_w = 3–4 at the lowest angles (*Low-Angle
+    /// Radar Land Clutter*, 2002, ch. 4), but those include the shadowed cells that this
+    /// model draws as shadow, so the values here for land in view are milder
+    /// (docs/physics.md §16 gives their standing).
     pub fn weibull_shape(&self) -> f64 {
         match self {
-            Terrain::Rock => 0.6,
-            Terrain::Sand => 1.5,
-            Terrain::Grass => 0.8,
-            Terrain::Forest => 1.2,
-            Terrain::Urban => 0.5,
+            Terrain::Rock => 1.0,
+            Terrain::Sand => 1.8,
+            Terrain::Grass => 1.5,
+            Terrain::Forest => 1.5,
+            Terrain::Urban => 0.8,
         }
     }
 }

@@ -1,12 +1,14 @@
 //! The files of one rendered frame, written as a set: `polar.npy`, `ppi.png`, `ppi_gray.png`
-//! and `truth.json`, and `doppler_cube.npy`, `radial_velocity.npy`, `iq.npy` and
-//! `iq_pulses.npy` when the frame has them (docs/formats.md). The truth file holds no timings,
+//! and `truth.json`, and `doppler_cube.npy`, `radial_velocity.npy`, `iq.npy`,
+//! `iq_pulses.npy`, `video.npy`, `land_mask.npy` and `land_polygon.npy` when the frame has
+//! them (docs/formats.md). The truth file holds no timings,
 //! so the same scene and seed give byte-identical files.
 
 use super::artefacts::ArtefactTruth;
 use super::labels::ObjectTruth;
 use super::output::{
-    json_bytes, npy_c64_bytes, npy_f32_bytes, npy_f64_bytes, npy_u8_bytes, png_bytes, write_set,
+    json_bytes, npy_c64_bytes, npy_f32_bytes, npy_f64_bytes, npy_i32_bytes, npy_u8_bytes,
+    png_bytes, write_set,
 };
 use super::ppi::{colour_image_marked, gray_image, PpiGeometry, PpiSettings, ScanConverter};
 use super::Video;
@@ -39,6 +41,9 @@ struct TruthFile<'a> {
     radar_position_m: [f64; 3],
     objects: &'a [ObjectTruth],
     artefacts: &'a [ArtefactTruth],
+    /// The land in view (left out of scenes without land, whose truth is as before).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    land: Option<LandAxes<'a>>,
     /// Deterministic counts only: timings go to the terminal, so that the same seed gives
     /// a byte-identical truth.json.
     trace: TraceCounts,
@@ -49,6 +54,14 @@ struct TraceCounts {
     rays_cast: u64,
     contributions: usize,
     echo_groups: usize,
+}
+
+/// The land's files and polygons.
+#[derive(Serialize)]
+struct LandAxes<'a> {
+    /// Shape of land_mask.npy and land_polygon.npy.
+    shape: [usize; 2],
+    polygons: &'a [super::land::LandPolygonTruth],
 }
 
 /// The axes of doppler_cube.npy.
@@ -230,6 +243,16 @@ pub fn encode_frame_files(
     if let Some(v) = &frame.video {
         files.push(("video.npy", npy_u8_bytes(&[v.spokes, v.samples], &v.levels)));
     }
+    if let Some(l) = &frame.land {
+        files.push((
+            "land_mask.npy",
+            npy_u8_bytes(&[l.spokes, l.range_bins], &l.mask()),
+        ));
+        files.push((
+            "land_polygon.npy",
+            npy_i32_bytes(&[l.spokes, l.range_bins], &l.polygon),
+        ));
+    }
     if let Some(c) = &frame.doppler_cube {
         files.push((
             "doppler_cube.npy",
@@ -364,6 +387,10 @@ pub fn frame_products(
             .to_array(),
         objects: &objects,
         artefacts: &artefacts,
+        land: frame.land.as_ref().map(|l| LandAxes {
+            shape: [l.spokes, l.range_bins],
+            polygons: &l.polygons,
+        }),
         trace: TraceCounts::of(&frame.stats),
     };
     let truth_json = json_bytes(&out.join("truth.json"), &truth)?;

@@ -28,6 +28,9 @@ pub enum Visibility {
     BeyondHorizon,
     /// Its nearest point is farther than the radar's maximum range: not recorded.
     BeyondMaxRange,
+    /// No echo: land hides it (the line of sight passes below the land between, and any
+    /// path via the sea meets land); `shadowed_by_land` is true.
+    ShadowedByLand,
     /// No echo, and the line of sight to it is blocked by another object.
     Shadowed,
     /// No echo although the line of sight is clear: nothing on it scatters back toward the
@@ -56,6 +59,7 @@ impl Visibility {
             self,
             Visibility::BeyondHorizon
                 | Visibility::BeyondMaxRange
+                | Visibility::ShadowedByLand
                 | Visibility::Shadowed
                 | Visibility::NoReturn
                 | Visibility::MissedByRayGrid
@@ -224,6 +228,12 @@ pub struct ObjectTruth {
     pub snr_before_eclipse_db: Option<f64>,
     /// Whether and why it is or is not seen.
     pub visibility: Visibility,
+    /// Whether land hides all of its echo (visibility `shadowed_by_land`); false in open
+    /// sea. Land that hides part of it takes that part out of `rcs_m2` and the SNR.
+    pub shadowed_by_land: bool,
+    /// Horizontal distance from its reference point to the nearest coast, m; null without
+    /// land in the scene.
+    pub distance_to_coast_m: Option<f64>,
     /// The PO tube grid it was traced with (null for points, the `paper` model and objects
     /// not traced); `capped` says the ray budget widened the tubes.
     pub po_tubes: Option<TubeBudget>,
@@ -417,6 +427,28 @@ fn line_of_sight_blocked(bvh: &Bvh, radar_m: DVec3, p: DVec3, object: u32) -> bo
     .is_some_and(|h| h.object != object)
 }
 
+/// Whether land hides both the centre `centre_m` and the top (`radius_m` above it) of an
+/// object from the antenna: its line of sight passes below the land's highest elevation on
+/// its bearing ([`crate::land::profile`]).
+fn land_hides(scene: &Scene, centre_m: DVec3, radius_m: f64) -> bool {
+    let land = scene.environment().land();
+    if land.is_empty() {
+        return false;
+    }
+    let antenna = scene.radar().position_m();
+    let curvature = scene.environment().earth_curvature();
+    let view = crate::land::profile::LandView::new(land, antenna.truncate());
+    let mut scratch = Vec::new();
+    [centre_m, centre_m + DVec3::Z * radius_m].iter().all(|p| {
+        let rel = *p - antenna;
+        let ground = rel.truncate().length();
+        let az = rel.x.atan2(rel.y);
+        let seen_at = crate::land::profile::elevation_rad(p.z, ground, antenna.z, curvature);
+        view.max_land_elevation_rad(az, ground, antenna.z, curvature, &mut scratch)
+            .is_some_and(|top| top > seen_at)
+    })
+}
+
 /// Builds the truth of every object from a revolution's traced scene state.
 pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec<ObjectTruth> {
     let scene: &Scene = revolution.scene();
@@ -513,6 +545,11 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
                 Visibility::BeyondHorizon
             } else if centre_range - r_b > radar.max_range_m() {
                 Visibility::BeyondMaxRange
+            } else if sums[i].returns == 0
+                && (set.land_shadowed.get(i).is_some_and(|&n| n > 0)
+                    || land_hides(scene, o.bounding_centre_m(), r_b))
+            {
+                Visibility::ShadowedByLand
             } else if sums[i].returns == 0 {
                 let idx = i as u32;
                 let blocked = [
@@ -600,6 +637,11 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
                 expected_snr_db: snr_db,
                 snr_before_eclipse_db: snr_unclipped_db,
                 visibility,
+                shadowed_by_land: visibility == Visibility::ShadowedByLand,
+                distance_to_coast_m: scene
+                    .environment()
+                    .land()
+                    .distance_to_coast_m(o.position_m().truncate()),
                 po_tubes: set.tube_budgets.get(i).copied().flatten(),
                 polar_box,
                 ppi_box_px: None,

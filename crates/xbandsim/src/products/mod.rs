@@ -7,6 +7,7 @@
 pub mod artefacts;
 pub mod frame_files;
 pub mod labels;
+pub mod land;
 pub mod output;
 pub mod ppi;
 pub mod spokes;
@@ -147,6 +148,9 @@ pub struct Frame {
     /// Per-object ground truth (PPI pixel boxes are added by the PPI product for a given
     /// image: `products::ppi::PpiGeometry::label`).
     pub truth: Vec<ObjectTruth>,
+    /// The land's cells and polygons (None without land in view, and in a render without
+    /// clutter, which has no land echo).
+    pub land: Option<land::LandTruth>,
     /// Counts and timings.
     pub stats: FrameStats,
 }

@@ -171,6 +171,20 @@ pub fn npy_u8_bytes(shape: &[usize], data: &[u8]) -> Vec<u8> {
     npy_bytes("|u1", shape, data.len(), |out| out.extend_from_slice(data))
 }
 
+/// `.npy` bytes of a little-endian int32 array of `shape` (C order).
+pub fn npy_i32_bytes(shape: &[usize], data: &[i32]) -> Vec<u8> {
+    assert_eq!(
+        shape.iter().product::<usize>(),
+        data.len(),
+        "npy shape does not match data"
+    );
+    npy_bytes("<i4", shape, data.len() * 4, |out| {
+        for v in data {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+    })
+}
+
 /// `.npy` bytes of a little-endian float64 array of `shape` (C order).
 pub fn npy_f64_bytes(shape: &[usize], data: &[f64]) -> Vec<u8> {
     assert_eq!(

@@ -66,6 +66,9 @@ pub struct ScatterSet {
     /// not traced (beyond the recorded range or the horizon) and the `paper` model. Empty
     /// when not recorded.
     pub tube_budgets: Vec<Option<po::TubeBudget>>,
+    /// Per object (by index): how many of its contributions land took away ([`shade_by_land`]);
+    /// empty without land.
+    pub land_shadowed: Vec<u32>,
 }
 
 impl ScatterSet {
@@ -201,6 +204,9 @@ pub fn trace_scene(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         ScatteringModel::PhysicalOptics => po::trace(scene, bvh),
         ScatteringModel::Paper => paper::trace(scene, bvh),
     };
+    if !scene.environment().land().is_empty() {
+        shade_by_land(scene, &mut set);
+    }
     if let Some(rain) = scene.environment().rain() {
         let radar = scene.radar();
         let from = radar.position_m().truncate();
@@ -258,4 +264,60 @@ pub fn trace_scene(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         }
     }
     set
+}
+
+/// Takes away the contributions that land hides (docs/physics.md §16): a leg whose line of
+/// sight passes below the land's highest elevation on its bearing nearer than the scatterer,
+/// and a leg via the sea whose specular point lies on land (the sea reflects only over
+/// water). A contribution's scatterer is at ground range `R·cos el` and height
+/// `h + R·sin el` on its transmit bearing, R half its path; a leg via the sea arrives from
+/// the image point, so its scatterer is at `−(h + R·sin el)` and its specular point at
+/// ground range `g·h/(h + z)`. Counts what it took per object in `set.land_shadowed`.
+pub fn shade_by_land(scene: &Scene, set: &mut ScatterSet) {
+    let radar = scene.radar();
+    let env = scene.environment();
+    let land = env.land();
+    let antenna = radar.position_m();
+    let view = crate::land::profile::LandView::new(land, antenna.truncate());
+    let curvature = env.earth_curvature();
+    let h = antenna.z;
+    let mut scratch = Vec::new();
+    let mut shadowed = vec![0u32; scene.objects().len()];
+    let mut hidden = |az: f64, el: f64, range_m: f64, via_sea: bool| -> bool {
+        let ground = range_m * el.cos();
+        let z = if via_sea {
+            -(h + range_m * el.sin())
+        } else {
+            h + range_m * el.sin()
+        };
+        let seen_at = crate::land::profile::elevation_rad(z, ground, h, curvature);
+        let blocked = view
+            .max_land_elevation_rad(az, ground, h, curvature, &mut scratch)
+            .is_some_and(|top| top > seen_at);
+        if blocked || !via_sea {
+            return blocked;
+        }
+        let specular = ground * h / (h + z.max(0.0)).max(1e-9);
+        view.crossings(az, &mut scratch);
+        view.walk(&scratch).at(specular).is_some()
+    };
+    set.contributions.retain(|c| {
+        let range = 0.5 * c.path_m;
+        // Which legs come via the sea: both for two reflections; for one, the leg that
+        // leaves lower (toward the image).
+        let (tx_sea, rx_sea) = match c.sea_reflections {
+            0 => (false, false),
+            1 => (c.el_tx_rad < c.el_rx_rad, c.el_tx_rad >= c.el_rx_rad),
+            _ => (true, true),
+        };
+        let gone = hidden(c.az_tx_rad, c.el_tx_rad, range, tx_sea)
+            || hidden(c.az_rx_rad, c.el_rx_rad, range, rx_sea);
+        if gone {
+            if let Some(n) = shadowed.get_mut(c.object as usize) {
+                *n += 1;
+            }
+        }
+        !gone
+    });
+    set.land_shadowed = shadowed;
 }

@@ -102,5 +102,6 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         contributions,
         rays_cast: (columns.len() * n_el) as u64,
         tube_budgets: Vec::new(),
+        land_shadowed: Vec::new(),
     }
 }

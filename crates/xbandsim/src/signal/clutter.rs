@@ -111,11 +111,14 @@ impl Source for SeaAndRainClutter<'_> {
             .dwell_clutter
             .resize(dwell.pulses.len() * record, Complex32::new(0.0, 0.0));
         let (sea, rain) = clutter_doppler(&drift, wavelength_m, spoke_az, own_velocity_mps);
+        let look = DVec3::new(spoke_az.sin(), spoke_az.cos(), 0.0);
+        let land_doppler_hz = 2.0 * own_velocity_mps.dot(look) / wavelength_m;
         self.map.add_dwell(
             k,
             &scratch.dwell_times,
             sea,
             rain,
+            land_doppler_hz,
             key.dwell(k),
             &mut scratch.dwell_scratch,
             &mut scratch.dwell_clutter,

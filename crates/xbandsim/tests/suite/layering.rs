@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 /// The modules from the bottom: each may use only those before it.
-const ORDER: [&str; 22] = [
+const ORDER: [&str; 23] = [
     "error",
     "constants",
     "special",
@@ -18,6 +18,7 @@ const ORDER: [&str; 22] = [
     "antenna",
     "environment",
     "propagation",
+    "land",
     "scene",
     "model",
     "targets",

@@ -11,6 +11,7 @@ mod engine;
 mod environment;
 mod geometry;
 mod labels;
+mod land;
 mod layering;
 mod meshes;
 mod motion;

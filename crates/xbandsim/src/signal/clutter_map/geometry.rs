@@ -27,7 +27,7 @@ pub(super) struct MapGeometry {
     /// Azimuth step 2π/spokes, rad.
     pub(super) delta: f64,
     /// Radar equation over the noise power: P_r/N per m² of σ at 1 m.
-    k_noise: f64,
+    pub(super) k_noise: f64,
     resolution_m: f64,
 }
 

@@ -32,6 +32,7 @@
 //! the horizon and return nothing.
 
 mod geometry;
+pub mod land;
 mod speckle;
 mod spoke;
 mod texture;
@@ -62,6 +63,18 @@ pub struct ClutterMap {
     /// Azimuth weights Gn²(jδ) for j = −J..=J, scaled to sum to the beam integral / δ.
     weights: Vec<f32>,
     distribution: ClutterDistribution,
+    /// Each output cell's frozen land echo, noise-rms units (rows empty where a spoke has no
+    /// land near; [`land`]).
+    land_echo: Vec<Vec<num_complex::Complex32>>,
+    /// Each land patch's mean power before azimuth weighting (noise units; rows empty where a
+    /// spoke meets no land).
+    land_power: Vec<Vec<f32>>,
+    /// The land polygon each patch shows the radar ([`spoke::NO_POLYGON`] for water and land
+    /// in shadow; rows empty where a spoke meets no land).
+    land_polygon: Vec<Vec<u32>>,
+    /// Whether each patch's surface is seen: false where land or its shadow hides the sea
+    /// (rows empty where a spoke meets no land).
+    sea_seen: Vec<Vec<bool>>,
 }
 
 impl ClutterMap {
@@ -90,7 +103,7 @@ impl ClutterMap {
         samples: usize,
         beam_tilt_rad: &[f64],
     ) -> Option<ClutterMap> {
-        if env.clutter().is_none() && env.rain().is_none() {
+        if env.clutter().is_none() && env.rain().is_none() && env.land().is_empty() {
             return None;
         }
         let geometry = MapGeometry::of(radar);
@@ -102,35 +115,103 @@ impl ClutterMap {
         let textures = TextureStage::new(radar, env, &cells, key);
         let spoke_stage = SpokeStage::new(radar, env, &geometry, &cells, key.frame, beam_tilt_rad);
         let has_rain = env.rain().is_some();
-        let per_spoke: Vec<(Vec<f32>, Vec<f32>, Vec<f32>)> = (0..geometry.spokes)
+        let radar_xy = radar.position_m().truncate();
+        let view = (!env.land().is_empty())
+            .then(|| crate::land::profile::LandView::new(env.land(), radar_xy));
+        type Rows = (Vec<f32>, Vec<f32>, Vec<f32>, Vec<f32>, Vec<u32>, Vec<bool>);
+        let per_spoke: Vec<Rows> = (0..geometry.spokes)
             .into_par_iter()
-            .map_init(TextureScratch::default, |scratch, k| {
-                scratch.cells.clear();
-                let mut sea_row = vec![0f32; samples];
-                let mut rain_row = vec![0f32; if has_rain { samples } else { 0 }];
-                let mut texture_row = vec![0f32; if textures.is_some() { samples } else { 0 }];
-                spoke_stage.fill_rows(
-                    k,
-                    textures.is_some(),
-                    &mut scratch.cells,
-                    &mut sea_row,
-                    &mut rain_row,
-                );
-                if let Some(t) = &textures {
-                    t.fill_row(k, &cells, scratch, &mut texture_row);
-                }
-                (sea_row, rain_row, texture_row)
-            })
+            .map_init(
+                || (TextureScratch::default(), Vec::new()),
+                |(scratch, crossings), k| {
+                    scratch.cells.clear();
+                    let mut sea_row = vec![0f32; samples];
+                    let mut rain_row = vec![0f32; if has_rain { samples } else { 0 }];
+                    let mut texture_row = vec![0f32; if textures.is_some() { samples } else { 0 }];
+                    if env.clutter().is_some() || has_rain {
+                        spoke_stage.fill_rows(
+                            k,
+                            textures.is_some(),
+                            &mut scratch.cells,
+                            &mut sea_row,
+                            &mut rain_row,
+                        );
+                        if let Some(t) = &textures {
+                            t.fill_row(k, &cells, scratch, &mut texture_row);
+                        }
+                    }
+                    let (mut land_row, mut polygon_row, mut seen) =
+                        (Vec::new(), Vec::new(), Vec::new());
+                    if let Some(view) = &view {
+                        land_row = vec![0f32; samples];
+                        polygon_row = vec![spoke::NO_POLYGON; samples];
+                        seen = vec![true; samples];
+                        if !spoke_stage.fill_land_row(
+                            k,
+                            view,
+                            crossings,
+                            &mut land_row,
+                            &mut polygon_row,
+                            &mut seen,
+                            &mut sea_row,
+                        ) {
+                            (land_row, polygon_row, seen) = (Vec::new(), Vec::new(), Vec::new());
+                        }
+                    }
+                    (sea_row, rain_row, texture_row, land_row, polygon_row, seen)
+                },
+            )
             .collect();
         let mut sea = Vec::with_capacity(geometry.spokes);
         let mut rain = Vec::with_capacity(geometry.spokes);
         let mut texture = Vec::with_capacity(geometry.spokes);
-        for (s_row, r_row, t_row) in per_spoke {
+        let mut land_power = Vec::with_capacity(geometry.spokes);
+        let mut land_polygon = Vec::with_capacity(geometry.spokes);
+        let mut sea_seen = Vec::with_capacity(geometry.spokes);
+        for (s_row, r_row, t_row, l_row, p_row, seen) in per_spoke {
             sea.push(s_row);
             rain.push(r_row);
             texture.push(t_row);
+            land_power.push(l_row);
+            land_polygon.push(p_row);
+            sea_seen.push(seen);
         }
+        let land_echo: Vec<Vec<num_complex::Complex32>> = match &view {
+            None => vec![Vec::new(); geometry.spokes],
+            Some(view) => {
+                let ground_m: Vec<f64> = (0..samples)
+                    .map(|n| {
+                        let r = n as f64 * geometry.dr;
+                        (r * r - geometry.h * geometry.h).max(0.0).sqrt()
+                    })
+                    .collect();
+                (0..geometry.spokes)
+                    .into_par_iter()
+                    .map(|k| {
+                        let az = radar.spoke_azimuth_rad(k);
+                        let mut echo = Vec::new();
+                        land::spoke_echo(
+                            k,
+                            &land_power,
+                            &land_polygon,
+                            &weights,
+                            view.land(),
+                            key.seed,
+                            radar_xy,
+                            glam::DVec2::new(az.sin(), az.cos()),
+                            &ground_m,
+                            &mut echo,
+                        );
+                        echo
+                    })
+                    .collect()
+            }
+        };
         Some(ClutterMap {
+            land_power,
+            land_echo,
+            land_polygon,
+            sea_seen,
             spokes: geometry.spokes,
             samples,
             sea,
@@ -155,6 +236,47 @@ impl ClutterMap {
         sea + rain
     }
 
+    /// The frozen land echo of output cell (spoke `k`, sample `n`), noise-rms units (zero
+    /// away from land).
+    pub fn land_echo(&self, k: usize, n: usize) -> num_complex::Complex32 {
+        self.land_echo[k]
+            .get(n)
+            .copied()
+            .unwrap_or(num_complex::Complex32::new(0.0, 0.0))
+    }
+
+    /// The land's beam-weighted mean power at output cell (spoke `k`, sample `n`) before its
+    /// texture (noise units): what `|land_echo|²` averages to.
+    pub fn land_mean_power(&self, k: usize, n: usize) -> f32 {
+        let mut sum = 0f32;
+        for (t, w) in self.weights.iter().enumerate() {
+            if let Some(p) = self.land_power[self.neighbour(k, t)].get(n) {
+                sum += w * p;
+            }
+        }
+        sum
+    }
+
+    /// The land polygon whose visible surface patch (spoke `k`, sample `n`) is, if any: the
+    /// cell's echo is that land's.
+    pub fn land_polygon(&self, k: usize, n: usize) -> Option<usize> {
+        self.land_polygon[k]
+            .get(n)
+            .filter(|&&p| p != spoke::NO_POLYGON)
+            .map(|&p| p as usize)
+    }
+
+    /// Whether the surface at patch (spoke `k`, sample `n`) is in view: false where land or
+    /// its shadow hides it (always true without land near).
+    pub fn surface_seen(&self, k: usize, n: usize) -> bool {
+        self.sea_seen[k].get(n).copied().unwrap_or(true)
+    }
+
+    /// Whether any spoke meets land.
+    pub fn has_land(&self) -> bool {
+        self.land_polygon.iter().any(|r| !r.is_empty())
+    }
+
     /// Beam-weighted sea and rain power of spoke `k`, sample `n`.
     #[inline]
     fn weighted(&self, k: usize, n: usize) -> (f32, f32) {
@@ -174,11 +296,12 @@ impl ClutterMap {
         self.texture[k].get(n).copied().unwrap_or(1.0)
     }
 
-    /// Clutter power of spoke `k`, sample `n` with its texture (noise units).
+    /// Clutter power of spoke `k`, sample `n` with its texture (noise units), land's
+    /// included.
     #[inline]
     pub fn power(&self, k: usize, n: usize) -> f32 {
         let (sea, rain) = self.weighted(k, n);
-        self.texture(k, n) * sea + rain
+        self.texture(k, n) * sea + rain + self.land_echo(k, n).norm_sqr()
     }
 
     /// The amplitude statistics.

@@ -116,6 +116,10 @@ impl ClutterMap {
             let (re, im) = normal_pair(&mut rng);
             impulse_response[n] += Complex32::new(re * s, im * s);
         }
+        // Land: its frozen echo, the same every pulse.
+        for (x, e) in impulse_response[..n_max].iter_mut().zip(&self.land_echo[k]) {
+            *x += e;
+        }
     }
 
     /// Adds the Doppler-coloured clutter of one pulse-mode dwell of spoke `k` into `out`
@@ -125,7 +129,8 @@ impl ClutterMap {
     /// sum of spectral lines `Σ_b a_b·ξ_b·exp(j2π·f_b·(t − t_0))` with independent complex
     /// Gaussian ξ_b ([`doppler_lines`]), so the marginal stays Gaussian (times the cell's
     /// texture, constant over the dwell: it evolves over seconds, frame to frame) and the
-    /// correlation between pulses is the Gaussian spectrum's.
+    /// correlation between pulses is the Gaussian spectrum's. The land's frozen echo turns
+    /// at `land_doppler_hz` (the own ship's motion toward it, `2·V_own·û/λ`).
     #[allow(clippy::too_many_arguments)]
     pub fn add_dwell(
         &self,
@@ -133,6 +138,7 @@ impl ClutterMap {
         times_s: &[f64],
         sea: GaussianDoppler,
         rain: GaussianDoppler,
+        land_doppler_hz: f64,
         key: RngKey,
         scratch: &mut DwellClutterScratch,
         out: &mut [Complex32],
@@ -189,6 +195,18 @@ impl ClutterMap {
                     acc += c * ph;
                 }
                 out[m * stride + n] += acc;
+            }
+        }
+        if !self.land_echo[k].is_empty() {
+            for (m, &t) in times_s.iter().enumerate() {
+                let ph = std::f64::consts::TAU * land_doppler_hz * (t - t0);
+                let turn = Complex32::new(ph.cos() as f32, ph.sin() as f32);
+                for (x, e) in out[m * stride..m * stride + n_max]
+                    .iter_mut()
+                    .zip(&self.land_echo[k])
+                {
+                    *x += e * turn;
+                }
             }
         }
     }

@@ -9,6 +9,7 @@
 use super::geometry::{CellGeometry, MapGeometry};
 use crate::environment::clutter::{git_sigma0_db, Sigma0Model};
 use crate::environment::rain::volume_reflectivity_m2_per_m3;
+use crate::land::profile::{elevation_rad, Crossing, LandView};
 use crate::model::{Environment, Radar};
 use crate::propagation::rain_attenuation::RainAttenuator;
 use glam::DVec2;
@@ -180,5 +181,99 @@ impl<'a> SpokeStage<'a> {
                 rain_row[n] = (last_rain.1 * rain_volume_factor * rain_loss * delta) as f32;
             }
         }
+    }
+}
+
+/// No land polygon: the value of a polygon row where the patch is water or land in shadow.
+pub(super) const NO_POLYGON: u32 = u32::MAX;
+
+impl SpokeStage<'_> {
+    /// Spoke k's land (docs/physics.md §16). Walking out along the spoke, each sample's
+    /// surface point (ground range `g = √(r² − h²)`, the land's height or the sea's 0) is seen
+    /// at the elevation α ([`elevation_rad`]); it is seen when α is above every nearer point's
+    /// (running maximum M). A visible land patch subtends `Δα = α − M` in elevation and δ in
+    /// azimuth: with the constant-γ model its RCS is `γ·r²·cos α·Δα·δ` — γ times the area the
+    /// patch shows the radar, which is `A·sin ψ` for a flat patch of area A at grazing ψ
+    /// (`σ0 = γ·sin ψ`), and the visible face for a cliff — and its mean power that times
+    /// `Pt·G0²·λ²·Gn_el(α)²/((4π)³·r⁴·L·N)`, the atmosphere and the rain (as the sea's). Its
+    /// power goes to `land_row[n]` and its polygon to `polygon_row[n]`; `seen_row[n]` turns
+    /// false where the surface is in shadow, and the sea row is zeroed where the patch is
+    /// land or in shadow. Returns whether the spoke meets any land.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn fill_land_row(
+        &self,
+        k: usize,
+        view: &LandView,
+        crossings: &mut Vec<Crossing>,
+        land_row: &mut [f32],
+        polygon_row: &mut [u32],
+        seen_row: &mut [bool],
+        sea_row: &mut [f32],
+    ) -> bool {
+        let g = self.geometry;
+        let (h, delta) = (g.h, g.delta);
+        let az = self.radar.spoke_azimuth_rad(k);
+        view.crossings(az, crossings);
+        if crossings.is_empty() && view.land().polygon_at(view.origin()).is_none() {
+            return false;
+        }
+        let curvature = self.env.earth_curvature();
+        let tilt = self.beam_tilt_rad.get(k).copied().unwrap_or(0.0);
+        let tilted = g.ant.tilted_by(tilt);
+        let radar_xy = self.radar.position_m().truncate();
+        let dir = DVec2::new(az.sin(), az.cos());
+        let chords = self
+            .attenuator
+            .as_ref()
+            .map(|a| a.chords(radar_xy, dir))
+            .unwrap_or_default();
+        let polygons = view.land().polygons();
+        let mut walk = view.walk(crossings);
+        let mut highest: Option<f64> = None;
+        let mut any = false;
+        for n in 1..land_row.len() {
+            let r = n as f64 * g.dr;
+            if r <= h {
+                continue;
+            }
+            let ground = (r * r - h * h).sqrt();
+            let here = walk.at(ground);
+            let z = here.map_or(0.0, |x| x.1);
+            let alpha = elevation_rad(z, ground, h, curvature);
+            if here.is_some() {
+                any = true;
+                if let Some(v) = sea_row.get_mut(n) {
+                    *v = 0.0;
+                }
+            }
+            let Some(m) = highest else {
+                highest = Some(alpha);
+                continue;
+            };
+            if alpha < m {
+                // In shadow: neither sea nor land is seen.
+                if let Some(v) = sea_row.get_mut(n) {
+                    *v = 0.0;
+                }
+                seen_row[n] = false;
+                continue;
+            }
+            highest = Some(alpha);
+            let Some((p, _)) = here else { continue };
+            let poly = &polygons[p];
+            let gamma =
+                10f64.powf((poly.gamma_db_at_10_ghz + 5.0 * (g.freq_ghz / 10.0).log10()) / 10.0);
+            let rain_loss = self.attenuator.as_ref().map_or(1.0, |a| {
+                two_way_rain_loss(a.one_way_db_path_along(&chords, ground, r, h, z))
+            });
+            let sigma_m2 = gamma * r * r * alpha.cos() * (alpha - m) * delta;
+            let power = sigma_m2 * g.k_noise / r.powi(4)
+                * tilted.elevation_pattern(alpha).powi(2)
+                * self.env.attenuation_power(r)
+                * rain_loss;
+            land_row[n] = power as f32;
+            polygon_row[n] = p as u32;
+        }
+        any
     }
 }
