@@ -340,6 +340,17 @@ impl Sim {
             )?,
             None => out.set_item("video", py.None())?,
         }
+        match f.land {
+            Some(l) => {
+                let shape = [l.spokes, l.range_bins];
+                out.set_item("land_mask", l.mask().into_pyarray(py).reshape(shape)?)?;
+                out.set_item("land_polygon", l.polygon.into_pyarray(py).reshape(shape)?)?;
+            }
+            None => {
+                out.set_item("land_mask", py.None())?;
+                out.set_item("land_polygon", py.None())?;
+            }
+        }
         let truth =
             String::from_utf8(p.truth_json).map_err(|e| PyValueError::new_err(e.to_string()))?;
         out.set_item("truth_json", truth)?;

@@ -137,6 +137,12 @@ class Frame:
     video: Optional[np.ndarray] = None
     """The receiver's video levels: uint8 (video spokes, video samples), scenes with a
     ``[receiver]`` table (docs/formats.md, "video.npy")."""
+    land_mask: Optional[np.ndarray] = None
+    """1 where the polar cell shows land: uint8 (spokes, range bins), scenes whose radar
+    sees land (docs/formats.md, "land_mask.npy")."""
+    land_polygon: Optional[np.ndarray] = None
+    """The land polygon each land cell shows (``truth["land"]["polygons"]``), −1 elsewhere:
+    int32 (spokes, range bins)."""
 
     @property
     def objects(self) -> List[Dict[str, Any]]:
@@ -212,6 +218,8 @@ class Simulation:
             iq=out["iq"],
             iq_pulses=pulses,
             video=out["video"],
+            land_mask=out["land_mask"],
+            land_polygon=out["land_polygon"],
         )
 
     def __repr__(self) -> str:

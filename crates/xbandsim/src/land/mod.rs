@@ -152,20 +152,9 @@ impl LandPolygon {
 
     /// Whether `p` lies inside (even-odd over all rings).
     pub fn contains(&self, p: DVec2) -> bool {
-        let mut inside = false;
-        for ring in &self.rings {
-            let n = ring.len();
-            for i in 0..n {
-                let (a, b) = (ring[i], ring[(i + 1) % n]);
-                if (a.y > p.y) != (b.y > p.y) {
-                    let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
-                    if p.x < x {
-                        inside = !inside;
-                    }
-                }
-            }
-        }
-        inside
+        self.rings
+            .iter()
+            .fold(false, |inside, ring| inside ^ ring_contains(ring, p))
     }
 
     /// Shortest distance from `p` to its boundary, m.
@@ -271,6 +260,15 @@ pub fn check_rings(field: &str, what: &str, rings: &[Vec<DVec2>]) -> Result<()> 
             return Err(bad(format!("ring {r} encloses no area")));
         }
     }
+    // A hole must lie in its outer ring (no edges cross, so one corner tells).
+    let outer = &rings[0];
+    for (r, hole) in rings.iter().enumerate().skip(1) {
+        if !ring_contains(outer, hole[0]) {
+            return Err(bad(format!(
+                "ring {r} is a hole outside the outer ring (ring 0): a hole must lie inside its polygon"
+            )));
+        }
+    }
     if let Some((a, b)) = first_crossing(rings) {
         return Err(bad(format!(
             "edges cross: ring {} edge {} and ring {} edge {} (a polygon must not intersect itself)",
@@ -278,6 +276,22 @@ pub fn check_rings(field: &str, what: &str, rings: &[Vec<DVec2>]) -> Result<()> 
         )));
     }
     Ok(())
+}
+
+/// Whether `p` lies inside `ring` (even-odd).
+fn ring_contains(ring: &[DVec2], p: DVec2) -> bool {
+    let mut inside = false;
+    let n = ring.len();
+    for i in 0..n {
+        let (a, b) = (ring[i], ring[(i + 1) % n]);
+        if (a.y > p.y) != (b.y > p.y) {
+            let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+            if p.x < x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
 }
 
 /// Shoelace area of a ring, m² (positive counter-clockwise).
@@ -429,9 +443,12 @@ mod tests {
         assert!(text.contains("land[2].geojson"), "{text}");
         assert!(text.contains("feature 1"), "{text}");
         assert!(text.contains("ring 0 edge 0 and ring 0 edge 2"), "{text}");
-        // A hole poking out of its outer ring.
+        // A hole poking out of its outer ring, and one wholly outside it.
         let rings = vec![square(0.0, 0.0, 10.0), square(8.0, 4.0, 4.0)];
         assert!(check_rings("f", "w", &rings).is_err());
+        let rings = vec![square(0.0, 0.0, 10.0), square(20.0, 4.0, 4.0)];
+        let text = check_rings("f", "w", &rings).unwrap_err().to_string();
+        assert!(text.contains("outside the outer ring"), "{text}");
         // Too few corners, a repeated corner, no area.
         assert!(check_rings("f", "w", &[square(0.0, 0.0, 1.0)[..2].to_vec()]).is_err());
         let mut rep = square(0.0, 0.0, 1.0);

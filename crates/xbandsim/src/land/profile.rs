@@ -98,8 +98,10 @@ impl<'a> LandView<'a> {
                 let start = if d >= 0.0 { ta } else { tb };
                 let first = bin_of(start);
                 let last = bin_of((start + d.abs()).rem_euclid(std::f64::consts::TAU));
-                let count = (last + ANGLE_BINS - first) % ANGLE_BINS + 1;
-                (first, count)
+                // One bin more on each side: a ray whose bearing rounds into the next bin at
+                // a corner still meets the edge.
+                let count = (last + ANGLE_BINS - first) % ANGLE_BINS + 3;
+                ((first + ANGLE_BINS - 1) % ANGLE_BINS, count)
             })
             .collect();
         let mut counts = vec![0u32; ANGLE_BINS + 1];
@@ -258,14 +260,72 @@ impl<'a> LandView<'a> {
     }
 }
 
+impl LandView<'_> {
+    /// Whether land on the bearing `az_rad` rises above the straight segment from
+    /// `(g0, z0)` to `(g1, z1)` (ground range, height; g0 < g1), over a flat earth (the legs
+    /// this serves, via the sea's specular point, are short): flat tops are tested at their
+    /// stretch's ends within the segment (a line against a constant height), slopes every
+    /// eighth of their width.
+    pub fn blocks_segment(
+        &self,
+        az_rad: f64,
+        (g0, z0): (f64, f64),
+        (g1, z1): (f64, f64),
+        scratch: &mut Vec<Crossing>,
+    ) -> bool {
+        if g1 <= g0 {
+            return false;
+        }
+        self.crossings(az_rad, scratch);
+        let line = |g: f64| z0 + (z1 - z0) * (g - g0) / (g1 - g0);
+        let mut stops: Vec<f64> = vec![g0];
+        stops.extend(
+            scratch
+                .iter()
+                .map(|c| c.ground_m)
+                .filter(|&g| g > g0 && g < g1),
+        );
+        stops.push(g1);
+        let mut walk = self.walk(scratch);
+        for w in stops.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            if b <= a {
+                continue;
+            }
+            let Some((p, _)) = walk.at(0.5 * (a + b)) else {
+                continue;
+            };
+            let poly = &self.land.polygons()[p];
+            let blocked = match poly.edge {
+                Edge::Cliff => poly.top_m > line(a) || poly.top_m > line(b),
+                Edge::Beach { width_m } => {
+                    let n =
+                        (((b - a) / (width_m / 8.0).max(0.25)).ceil() as usize).clamp(1, 100_000);
+                    let mut w2 = self.walk(scratch);
+                    (0..=n).any(|i| {
+                        let g = a + (b - a) * i as f64 / n as f64;
+                        w2.at(g.clamp(a + 1e-9, b - 1e-9))
+                            .is_some_and(|(_, z)| z > line(g))
+                    })
+                }
+            };
+            if blocked {
+                return true;
+            }
+        }
+        false
+    }
+}
+
 /// A walk outward along one ray: the land (polygon and height) at increasing ground ranges.
 #[derive(Debug, Clone)]
 pub struct Walk<'c> {
     view: &'c LandView<'c>,
     crossings: &'c [Crossing],
     next: usize,
-    /// Polygons the walk is inside, innermost (last entered) last, with the crossing it
-    /// entered by (None: the antenna stands in it).
+    /// Polygons the walk is inside, with the crossing it entered by (None: the antenna
+    /// stands in it). Where polygons overlap, the last listed is the ground (as
+    /// [`Land::polygon_at`]).
     active: Vec<(u32, Option<Crossing>)>,
 }
 
@@ -284,7 +344,7 @@ impl Walk<'_> {
             }
             self.next += 1;
         }
-        let &(p, entry) = self.active.last()?;
+        let &(p, entry) = self.active.iter().max_by_key(|(p, _)| *p)?;
         let poly = &self.view.land.polygons()[p as usize];
         let height = match poly.edge {
             Edge::Cliff => poly.top_m,

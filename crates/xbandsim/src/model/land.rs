@@ -150,6 +150,11 @@ fn build_table(
                 )
             }
             (None, Some(corners)) => {
+                // A ring written closed (its last corner its first) is the same ring.
+                let mut corners = corners.clone();
+                if corners.len() > 3 && corners.first() == corners.last() {
+                    corners.pop();
+                }
                 if crs != LandCrs::LocalM {
                     return Err(Error::invalid(
                         Problem::Conflict,
@@ -163,7 +168,7 @@ fn build_table(
                         feature: 0,
                         name: None,
                         height_m: None,
-                        rings: vec![corners.clone()],
+                        rings: vec![corners],
                     }],
                     field("polygon_m"),
                     None,
@@ -209,6 +214,14 @@ fn build_table(
             }
         }
         check_rings(&what_field, &what, &rings)?;
+        if let Some(h) = r.height_m.filter(|h| *h > 9000.0) {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                what_field.clone(),
+                what,
+                format!("property height_m = {h} must be within 0..9000 m"),
+            ));
+        }
         let name = t
             .name
             .clone()

@@ -110,6 +110,28 @@ fn check_trace_memory(
     })
 }
 
+/// Refuses an antenna at or below the ground of the land it stands on (a radar on land
+/// stands on its mast above it).
+fn check_antenna_above_ground(radar: &Radar, land: &crate::land::Land) -> Result<()> {
+    let p = radar.position_m();
+    if let Some(k) = land.polygon_at(p.truncate()) {
+        let ground = land.height_at(p.truncate());
+        if p.z <= ground {
+            let poly = &land.polygons()[k];
+            return Err(Error::invalid(
+                Problem::Conflict,
+                "radar.position_m",
+                fmt_vec(p),
+                format!(
+                    "the antenna stands on land polygon {:?} from {} whose ground is {ground:.1} m high there: raise it above the ground or move it onto the water",
+                    poly.name, poly.source
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Refuses an object whose reference point stands on land (targets float on water),
 /// naming the object and the land polygon.
 fn check_objects_on_water(objects: &[SceneObject], land: &crate::land::Land) -> Result<()> {
@@ -270,6 +292,7 @@ impl Scene {
             .map(|(i, o)| world::build_object(i, o, base_dir))
             .collect::<Result<Vec<_>>>()?;
         check_objects_on_water(&objects, environment.land())?;
+        check_antenna_above_ground(&radar, environment.land())?;
         let processing = processing::build_processing(&spec.processing, &radar)?;
         let video = spec
             .receiver

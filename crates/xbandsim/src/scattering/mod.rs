@@ -266,13 +266,16 @@ pub fn trace_scene(scene: &Scene, bvh: &Bvh) -> ScatterSet {
     set
 }
 
-/// Takes away the contributions that land hides (docs/physics.md §16): a leg whose line of
-/// sight passes below the land's highest elevation on its bearing nearer than the scatterer,
-/// and a leg via the sea whose specular point lies on land (the sea reflects only over
-/// water). A contribution's scatterer is at ground range `R·cos el` and height
-/// `h + R·sin el` on its transmit bearing, R half its path; a leg via the sea arrives from
-/// the image point, so its scatterer is at `−(h + R·sin el)` and its specular point at
-/// ground range `g·h/(h + z)`. Counts what it took per object in `set.land_shadowed`.
+/// Takes away the contributions that land hides (docs/physics.md §16). A contribution's
+/// legs run from the antenna (height h) to its scatterer at range R (half its path) on
+/// their bearings. A leg arriving at elevation `el` comes straight from a point
+/// `h + R·sin el` high, or via the sea from the image of a point `−(h + R·sin el)` high;
+/// which of the two it is follows from the object's height extent (its bounding sphere's).
+/// A straight leg is hidden when it passes below the land's highest elevation on its
+/// bearing nearer than the scatterer; a leg via the sea when its specular point (ground
+/// range `g·h/(h + z)`) lies on land — the sea reflects only over water — or land rises
+/// above either of its pieces, down to the sea and up to the scatterer. Counts what it took
+/// per object in `set.land_shadowed`.
 pub fn shade_by_land(scene: &Scene, set: &mut ScatterSet) {
     let radar = scene.radar();
     let env = scene.environment();
@@ -281,37 +284,43 @@ pub fn shade_by_land(scene: &Scene, set: &mut ScatterSet) {
     let view = crate::land::profile::LandView::new(land, antenna.truncate());
     let curvature = env.earth_curvature();
     let h = antenna.z;
+    let heights: Vec<(f64, f64)> = scene
+        .objects()
+        .iter()
+        .map(|o| {
+            let (c, r) = (o.bounding_centre_m().z, o.shape().bounding_radius_m());
+            (c - r - 1.0, c + r + 1.0)
+        })
+        .collect();
     let mut scratch = Vec::new();
     let mut shadowed = vec![0u32; scene.objects().len()];
-    let mut hidden = |az: f64, el: f64, range_m: f64, via_sea: bool| -> bool {
+    let mut hidden = |az: f64, el: f64, range_m: f64, (lo, hi): (f64, f64)| -> bool {
         let ground = range_m * el.cos();
-        let z = if via_sea {
-            -(h + range_m * el.sin())
-        } else {
-            h + range_m * el.sin()
-        };
-        let seen_at = crate::land::profile::elevation_rad(z, ground, h, curvature);
-        let blocked = view
-            .max_land_elevation_rad(az, ground, h, curvature, &mut scratch)
-            .is_some_and(|top| top > seen_at);
-        if blocked || !via_sea {
-            return blocked;
+        let straight_z = h + range_m * el.sin();
+        let via_sea = !(lo..=hi).contains(&straight_z) && (lo..=hi).contains(&-straight_z);
+        if !via_sea {
+            let seen_at = crate::land::profile::elevation_rad(straight_z, ground, h, curvature);
+            return view
+                .max_land_elevation_rad(az, ground, h, curvature, &mut scratch)
+                .is_some_and(|top| top > seen_at);
         }
+        let z = -straight_z;
         let specular = ground * h / (h + z.max(0.0)).max(1e-9);
         view.crossings(az, &mut scratch);
-        view.walk(&scratch).at(specular).is_some()
+        if view.walk(&scratch).at(specular).is_some() {
+            return true;
+        }
+        view.blocks_segment(az, (0.0, h), (specular, 0.0), &mut scratch)
+            || view.blocks_segment(az, (specular, 0.0), (ground, z), &mut scratch)
     };
     set.contributions.retain(|c| {
         let range = 0.5 * c.path_m;
-        // Which legs come via the sea: both for two reflections; for one, the leg that
-        // leaves lower (toward the image).
-        let (tx_sea, rx_sea) = match c.sea_reflections {
-            0 => (false, false),
-            1 => (c.el_tx_rad < c.el_rx_rad, c.el_tx_rad >= c.el_rx_rad),
-            _ => (true, true),
-        };
-        let gone = hidden(c.az_tx_rad, c.el_tx_rad, range, tx_sea)
-            || hidden(c.az_rx_rad, c.el_rx_rad, range, rx_sea);
+        let extent = heights
+            .get(c.object as usize)
+            .copied()
+            .unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+        let gone = hidden(c.az_tx_rad, c.el_tx_rad, range, extent)
+            || hidden(c.az_rx_rad, c.el_rx_rad, range, extent);
         if gone {
             if let Some(n) = shadowed.get_mut(c.object as usize) {
                 *n += 1;

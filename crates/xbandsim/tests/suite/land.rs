@@ -129,59 +129,23 @@ fn the_shadow_behind_a_cliff_is_as_long_as_geometry_says() {
     }
 }
 
-/// A mountain beyond the radar horizon shows only its part above it: the cliff face's
-/// echo is γ times the visible face, `R·(∫Gn²)·(H − h_hidden)` with the hidden height
-/// `h_hidden = (d − √(2a_e·h))²/(2a_e)`; a lower one, wholly hidden, returns nothing.
+/// A mountain beyond the radar horizon shows only its part above it: a 200 m one 40 km off,
+/// seen from 15 m, returns γ times its face above the hidden height (34 m) within 0.1 dB
+/// (`xbandsim_validate::land::mountain_face_power`); a 25 m one, wholly hidden, nothing.
 #[test]
 fn land_beyond_the_horizon_shows_only_above_it() {
-    for (top, visible) in [(200.0, true), (25.0, false)] {
-        let text = island_scene(
-            "position_m = [0.0, 0.0, 15.0]\nmax_range_m = 42000.0\nspokes = 90\npulse_width_us = 1.0",
-            "clutter = false\ntwo_way_attenuation_db_per_km = 0.0",
-            [-8000.0, 40000.0, 8000.0, 41000.0],
-            &format!("height_m = {top}\ngamma_db = 0.0\nweibull_shape = 2.0"),
-        );
-        let (scene, map, _) = map_of(&text);
-        let radar = scene.radar();
-        let h = radar.position_m().z;
-        let dr = radar.range_bin_m();
-        let d = 40000.0;
-        let hidden = (d - (2.0 * EFFECTIVE_EARTH_RADIUS_M * h).sqrt()).powi(2)
-            / (2.0 * EFFECTIVE_EARTH_RADIUS_M);
-        // The face's mean power summed over its range samples on spokes well inside the
-        // mountain's bearings.
-        let n0 = (d / dr) as usize;
-        let face = |k: usize| -> f64 {
-            (n0 - 3..n0 + 4)
-                .map(|n| map.land_mean_power(k, n) as f64)
-                .sum()
-        };
-        if !visible {
-            assert!(top < hidden);
-            assert_eq!(
-                face(0),
-                0.0,
-                "a {top} m mountain behind a {hidden:.0} m hidden height"
-            );
-            continue;
-        }
-        let gamma = 10f64.powf(5.0 * (radar.carrier_freq_hz() / 1e10).log10() / 10.0);
-        let k_noise = radar.radar_equation_constant_w_m2() / radar.noise_power_w();
-        let beam = radar.antenna().azimuth().two_way_integral_rad();
-        let alpha = elevation_rad(0.5 * (top + hidden), d, h, true);
-        let want = gamma
-            * d
-            * beam
-            * (top - hidden)
-            * k_noise
-            * radar.antenna().elevation_pattern(alpha).powi(2)
-            / d.powi(4);
-        let err_db = 10.0 * (face(0) / want).log10();
-        assert!(
-            err_db.abs() < 0.1,
-            "face {err_db:+.3} dB off the visible part"
-        );
-    }
+    let (want, got) = xbandsim_validate::land::mountain_face_power(200.0);
+    let err_db = 10.0 * (got / want).log10();
+    assert!(
+        err_db.abs() < 0.1,
+        "face {err_db:+.3} dB off the visible part"
+    );
+    let (want, got) = xbandsim_validate::land::mountain_face_power(25.0);
+    assert_eq!(
+        (want, got),
+        (0.0, 0.0),
+        "a 25 m mountain behind a 34 m hidden height"
+    );
 }
 
 const HIDING_ISLAND: &str = r#"
@@ -277,6 +241,10 @@ fn bad_land_is_refused_naming_the_file_and_the_feature() {
         r#"{"type":"Polygon","coordinates":[[[0,0],[100,0],[100,100],[0,100]]]}"#,
     );
     write(
+        "tall.geojson",
+        r#"{"type":"Feature","properties":{"height_m":12000},"geometry":{"type":"Polygon","coordinates":[[[0,500],[10,500],[10,510],[0,500]]]}}"#,
+    );
+    write(
         "ll.geojson",
         r#"{"type":"Polygon","coordinates":[[[10.0,60.0],[10.01,60.0],[10.01,60.01],[10.0,60.0]]]}"#,
     );
@@ -300,6 +268,11 @@ fn bad_land_is_refused_naming_the_file_and_the_feature() {
         ("[[land]]\npolygon_m = [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0]]\nterrain = \"lava\"", vec!["lava"]),
         ("[[land]]\nheight_m = 3.0", vec!["land[0].geojson", "polygon_m"]),
         (
+            "[[land]]\npolygon_m = [[-50.0, -50.0], [50.0, -50.0], [50.0, 50.0], [-50.0, 50.0]]\nheight_m = 20.0",
+            vec!["radar.position_m", "the antenna stands on land", "20.0 m high"],
+        ),
+        ("[[land]]\ngeojson = \"tall.geojson\"", vec!["land[0].geojson", "height_m = 12000"]),
+        (
             "[[land]]\npolygon_m = [[0.0, 500.0], [100.0, 500.0], [100.0, 600.0], [0.0, 600.0]]\n[[object]]\nname = \"stranded\"\nshape = \"sphere\"\nradius_m = 1.0\nposition_m = [50.0, 550.0, 1.0]",
             vec!["object[0].position_m", "stranded", "on land", "land-0-0"],
         ),
@@ -322,4 +295,35 @@ fn bad_land_is_refused_naming_the_file_and_the_feature() {
         "{:?}",
         poly.rings[0][0]
     );
+    // A ring written closed is the same ring; an antenna on a mast above the land is fine.
+    let closed = "[radar]\nposition_m = [0.0, 0.0, 30.0]\nmax_range_m = 1500.0\n[[land]]\npolygon_m = [[-50.0, -50.0], [50.0, -50.0], [50.0, 50.0], [-50.0, 50.0], [-50.0, -50.0]]\nheight_m = 20.0";
+    let scene = xbandsim::model::Scene::from_toml_str(closed, "t").unwrap();
+    assert_eq!(scene.environment().land().polygons()[0].rings[0].len(), 4);
+}
+
+/// A low mole near the sea's specular point takes the sea paths of a target beyond it and
+/// leaves the straight ones: radar 15 m up, a 3 m mole 850–870 m out, a point target 2 m up
+/// at 1 km over a smooth sea. The straight line clears the mole (3.7 m above the sea there), the leg down to the
+/// specular point at 882 m does not (0.5 m): the label's multipath gain is gone (no sea path
+/// left) while it stays visible with the same RCS, and without the mole it has one.
+#[test]
+fn a_low_mole_near_the_reflection_point_takes_the_sea_paths_only() {
+    let base = "[radar]\nposition_m = [0.0, 0.0, 15.0]\nmax_range_m = 1500.0\nspokes = 360\n[environment]\nnoise = false\nclutter = false\nsea_rms_height_m = 0.0\nmultipath = true\n[[object]]\nname = \"ball\"\nshape = \"point\"\nrcs_m2 = 1.0\nposition_m = [0.0, 1000.0, 2.0]\n";
+    let mole = "[[land]]\npolygon_m = [[-300.0, 850.0], [300.0, 850.0], [300.0, 870.0], [-300.0, 870.0]]\nheight_m = 3.0\n";
+    let (_, open_sea) = crate::common::render(base, 1);
+    let (_, behind) = crate::common::render(&format!("{base}{mole}"), 1);
+    let gain = |f: &xbandsim::Frame| f.truth[0].multipath_gain_db;
+    assert!(
+        gain(&open_sea).is_some_and(|g| g.abs() > 0.5),
+        "{:?}",
+        gain(&open_sea)
+    );
+    assert_eq!(behind.truth[0].visibility, xbandsim::Visibility::Visible);
+    assert!(!behind.truth[0].shadowed_by_land);
+    assert!(
+        gain(&behind).is_none_or(|g| g.abs() < 1e-9),
+        "{:?}",
+        gain(&behind)
+    );
+    assert_eq!(open_sea.truth[0].rcs_m2, behind.truth[0].rcs_m2);
 }
