@@ -11,6 +11,7 @@
 
 pub mod assemble;
 pub mod check;
+pub mod coast;
 pub mod dist;
 pub mod error;
 pub mod generate;

@@ -42,6 +42,8 @@ pub struct DatasetSpec {
     pub vary: BTreeMap<String, Dist>,
     /// The targets.
     pub targets: Targets,
+    /// Procedural land per sample (`[coast]`; none without it).
+    pub coast: Option<crate::coast::CoastSpec>,
 }
 
 /// The artefacts labelled as their own categories with `[dataset] artefact_labels`, and
@@ -61,7 +63,7 @@ pub const ARTEFACT_CATEGORIES: [(xbandsim::products::artefacts::ArtefactKind, &s
 };
 
 /// The spec's top-level tables.
-pub const TOP_FIELDS: [&str; 4] = ["dataset", "scene", "vary", "targets"];
+pub const TOP_FIELDS: [&str; 5] = ["dataset", "scene", "vary", "targets", "coast"];
 /// The fields of `[dataset]`.
 pub const DATASET_FIELDS: [&str; 6] = [
     "frames",
@@ -393,7 +395,11 @@ impl DatasetSpec {
             min_separation_m,
             classes,
         };
+        let coast = table(&doc, "coast", "coast")?
+            .map(crate::coast::CoastSpec::parse)
+            .transpose()?;
         let spec = DatasetSpec {
+            coast,
             text: text.to_string(),
             base_dir: base_dir.to_path_buf(),
             frames,
@@ -603,6 +609,7 @@ mod schema_tests {
         let p = &schema["properties"];
         assert_eq!(keys(&p["dataset"]), sorted(&DATASET_FIELDS));
         assert_eq!(keys(&p["targets"]), sorted(&TARGETS_FIELDS));
+        assert_eq!(keys(&p["coast"]), sorted(&crate::coast::COAST_FIELDS));
         let class = &p["targets"]["properties"]["class"]["items"];
         assert_eq!(keys(class), sorted(&CLASS_FIELDS));
         let library: Vec<&str> = class["properties"]["library"]["enum"]
