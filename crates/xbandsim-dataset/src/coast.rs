@@ -191,11 +191,36 @@ pub struct SampleCoast {
     pub tables: Vec<toml::Table>,
     /// Every polygon's ring, m (for placing targets on the water).
     pub rings: Vec<Vec<(f64, f64)>>,
-    /// A harbour's channel: from the entrance toward the antenna, (start, end), and the
-    /// half-width its buoys stand off its axis.
-    pub channel: Option<((f64, f64), (f64, f64), f64)>,
-    /// A harbour's quay: from one end to the other, and the side the water is on (unit).
-    pub quay: Option<((f64, f64), (f64, f64), (f64, f64))>,
+    /// A harbour's channel.
+    pub channel: Option<Channel>,
+    /// A harbour's quay.
+    pub quay: Option<Quay>,
+}
+
+/// A point on the ground, m (x east, y north).
+pub type Point = (f64, f64);
+
+/// A harbour's channel: its axis from the entrance toward the antenna, and how far off the
+/// axis its buoys stand.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Channel {
+    /// Where it starts, off the entrance.
+    pub start: Point,
+    /// Where it ends, toward the antenna.
+    pub end: Point,
+    /// Its buoys' distance from the axis, m.
+    pub half_width_m: f64,
+}
+
+/// A harbour's quay wall.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Quay {
+    /// One end.
+    pub from: Point,
+    /// The other end.
+    pub to: Point,
+    /// Unit vector from the wall toward the water.
+    pub water: Point,
 }
 
 impl SampleCoast {
@@ -426,16 +451,16 @@ pub fn draw(
                     coast.rings.push(r);
                 }
             }
-            coast.channel = Some((
-                at(0.0, d - reach - 20.0),
-                at(0.0, 0.25 * d),
-                entrance / 2.0 + 15.0,
-            ));
-            coast.quay = Some((
-                at(-half_quay + 30.0, d),
-                at(half_quay - 30.0, d),
-                (-v_hat.0, -v_hat.1),
-            ));
+            coast.channel = Some(Channel {
+                start: at(0.0, d - reach - 20.0),
+                end: at(0.0, 0.25 * d),
+                half_width_m: entrance / 2.0 + 15.0,
+            });
+            coast.quay = Some(Quay {
+                from: at(-half_quay + 30.0, d),
+                to: at(half_quay - 30.0, d),
+                water: (-v_hat.0, -v_hat.1),
+            });
         }
     }
     Ok(Some(coast))
@@ -480,10 +505,14 @@ mod tests {
                 assert!(!c.on_land(origin), "{layout} {k}: the antenna is on land");
                 assert!(c.distance_to_coast_m(origin) >= 50.0, "{layout} {k}");
                 if layout == "harbour" {
-                    let (a, b, _) = c.channel.unwrap();
-                    assert!(!c.on_land(a) && !c.on_land(b), "{k}: channel on land");
-                    let (q0, q1, w) = c.quay.unwrap();
-                    for q in [q0, q1] {
+                    let ch = c.channel.unwrap();
+                    assert!(
+                        !c.on_land(ch.start) && !c.on_land(ch.end),
+                        "{k}: channel on land"
+                    );
+                    let quay = c.quay.unwrap();
+                    let w = quay.water;
+                    for q in [quay.from, quay.to] {
                         assert!(!c.on_land((q.0 + 5.0 * w.0, q.1 + 5.0 * w.1)), "{k}: quay");
                         assert!(c.on_land((q.0 - 5.0 * w.0, q.1 - 5.0 * w.1)), "{k}: quay");
                     }

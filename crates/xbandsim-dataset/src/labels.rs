@@ -447,7 +447,21 @@ impl ArtefactInput<'_> {
     }
 }
 
-/// Labels of a frame's objects (labelled for its image) with their masks, and of the
+/// A frame's land and what its mask is drawn from.
+#[derive(Clone, Copy)]
+pub struct LandInput<'a> {
+    /// Each polar cell's land polygon, −1 for none (`land_polygon.npy`).
+    pub polygon: &'a [i32],
+    /// The image's scan converter.
+    pub converter: &'a ScanConverter,
+    /// Range bins per spoke of `polygon`.
+    pub bins: usize,
+}
+
+/// Labels of a frame's objects (labelled for its image) with their masks, of the land
+/// (with a `land` category: one segmentation of every pixel whose nearest polar cell shows
+/// land, `iscrowd` 1 — a region, not an instance — no YOLO line, `track_id` null, the
+/// polygons it shows under `"land"`), and of the
 /// artefacts whose kind has a category in `ctx.categories`
 /// ([`crate::spec::ARTEFACT_CATEGORIES`]): one label for each artefact — for each pulse of
 /// another radar — its mask the pixels of its polar boxes, with `track_id` null and its
@@ -457,6 +471,7 @@ pub fn frame_labels(
     objects: &[ObjectTruth],
     masks: &[Option<Mask>],
     artefacts: Option<ArtefactInput>,
+    land: Option<LandInput>,
 ) -> FrameLabels {
     let mut out = LabelLines {
         annotations: Vec::new(),
@@ -565,6 +580,49 @@ pub fn frame_labels(
                     mask.pixels[y * ctx.size_px + x0..y * ctx.size_px + x1].fill(false);
                 }
             }
+        }
+    }
+    if let (Some(land), Some(c)) = (
+        land,
+        ctx.categories
+            .iter()
+            .position(|c| c == crate::spec::LAND_CATEGORY),
+    ) {
+        let size = ctx.size_px;
+        let mut mask = Mask {
+            width: size,
+            height: size,
+            pixels: vec![false; size * size],
+        };
+        let mut shown: Vec<i32> = Vec::new();
+        for (pixel, p) in mask.pixels.iter_mut().enumerate() {
+            if let Some(&id) = land
+                .converter
+                .nearest_cell(pixel)
+                .and_then(|cell| land.polygon.get(cell))
+            {
+                if id >= 0 {
+                    *p = true;
+                    if !shown.contains(&id) {
+                        shown.push(id);
+                    }
+                }
+            }
+        }
+        shown.sort_unstable();
+        if let Some([x0, y0, x1, y1]) = mask.bounds() {
+            out.annotations.push(json!({
+                "category_id": c + 1,
+                "track_id": Value::Null,
+                "bbox": [round6(x0), round6(y0), round6(x1 - x0), round6(y1 - y0)],
+                "area": mask.area(),
+                "segmentation": {
+                    "size": [mask.height, mask.width],
+                    "counts": rle_string(&mask.rle_counts()),
+                },
+                "iscrowd": 1,
+                "land": { "polygons": shown },
+            }));
         }
     }
     FrameLabels {

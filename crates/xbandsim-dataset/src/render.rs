@@ -5,7 +5,9 @@
 //! [`crate::webdataset`] into a tar shard.
 
 use crate::error::{DatasetError, Result};
-use crate::labels::{frame_labels, mask_spokes, object_masks, ArtefactInput, FrameContext};
+use crate::labels::{
+    frame_labels, mask_spokes, object_masks, ArtefactInput, FrameContext, LandInput,
+};
 use crate::layout::{frame_file, frame_subdir, Format};
 use crate::spec::DatasetSpec;
 use std::path::Path;
@@ -102,6 +104,11 @@ pub fn render_sample(
                 artefacts: &encoded.artefacts,
                 converter: &encoded.converter,
                 bins: frame.range_bins,
+            }),
+            frame.land.as_ref().map(|land| LandInput {
+                polygon: &land.polygon,
+                converter: &encoded.converter,
+                bins: land.range_bins,
             }),
         );
         let mut files = encoded.files;

@@ -200,7 +200,8 @@ impl DatasetSpec {
                 let along = unit_draw(&mut rng);
                 let side = if unit_draw(&mut rng) < 0.5 { -1.0 } else { 1.0 };
                 match (c.channel, c.quay) {
-                    (Some((a, b, half)), _) if buoy => {
+                    (Some(ch), _) if buoy => {
+                        let (a, b, half) = (ch.start, ch.end, ch.half_width_m);
                         let (dx, dy) = (b.0 - a.0, b.1 - a.1);
                         let len = dx.hypot(dy).max(1.0);
                         position = (
@@ -209,7 +210,8 @@ impl DatasetSpec {
                         );
                         placed_ok = c.clear(position, extent.min(5.0));
                     }
-                    (_, Some((a, b, water))) if speed <= 0.0 && role < 0.5 => {
+                    (_, Some(quay)) if speed <= 0.0 && role < 0.5 => {
+                        let (a, b, water) = (quay.from, quay.to, quay.water);
                         let beam = object
                             .get("beam_m")
                             .and_then(as_f64)
@@ -226,7 +228,8 @@ impl DatasetSpec {
                                 (p.0 - position.0).hypot(p.1 - position.1) >= t.min_separation_m
                             });
                     }
-                    (Some((a, b, _)), _) if speed > 0.0 && role < 0.5 => {
+                    (Some(ch), _) if speed > 0.0 && role < 0.5 => {
+                        let (a, b) = (ch.start, ch.end);
                         position = (a.0 + (b.0 - a.0) * along, a.1 + (b.1 - a.1) * along);
                         // In (toward the entrance) or out.
                         let out = (b.0 - a.0).atan2(b.1 - a.1).to_degrees();

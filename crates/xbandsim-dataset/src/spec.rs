@@ -62,6 +62,10 @@ pub const ARTEFACT_CATEGORIES: [(xbandsim::products::artefacts::ArtefactKind, &s
     ]
 };
 
+/// The category of land's segmentation, in specs whose samples can have land (`[coast]`,
+/// or `[[scene.land]]` in the base scene).
+pub const LAND_CATEGORY: &str = "land";
+
 /// The spec's top-level tables.
 pub const TOP_FIELDS: [&str; 5] = ["dataset", "scene", "vary", "targets", "coast"];
 /// The fields of `[dataset]`.
@@ -254,7 +258,15 @@ impl DatasetSpec {
                 }
             }
         }
+        if self.has_land() && !names.iter().any(|n| n == LAND_CATEGORY) {
+            names.push(LAND_CATEGORY.to_string());
+        }
         names
+    }
+
+    /// Whether samples can have land: a `[coast]` table or land in the base scene.
+    pub fn has_land(&self) -> bool {
+        self.coast.is_some() || self.base_scene.contains_key("land")
     }
 
     /// Whether sample `index` is in the validation split.
@@ -413,6 +425,12 @@ impl DatasetSpec {
             targets,
         };
         spec.check_extremes()?;
+        if spec.has_land() && spec.targets.classes.iter().any(|c| c.name == LAND_CATEGORY) {
+            return Err(DatasetError::spec(
+                "targets.class",
+                format!("a target class is named \"{LAND_CATEGORY}\", the land's category: rename the class"),
+            ));
+        }
         if spec.artefact_labels {
             let mut plain = spec.clone();
             plain.artefact_labels = false;

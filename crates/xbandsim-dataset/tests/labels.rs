@@ -757,3 +757,74 @@ fn coarse_spec_relabels_the_fine_specs_scenes() {
         }
     }
 }
+
+/// A spec with `[coast]` labels land: the `land` category last, one `iscrowd` annotation
+/// (track null, the polygons it shows) for each frame with a `land_mask.npy` and none for
+/// one without, its RLE decoding to its `area` pixels, and no YOLO line for it.
+#[test]
+fn coast_samples_label_their_land_as_a_region() {
+    let text = format!(
+        "{SPEC}\n[coast]\nprobability = 1.0\nlayout = \"harbour\"\ndistance_fraction = {{ uniform = [0.4, 0.6] }}\n"
+    );
+    let spec = DatasetSpec::parse(&text, Path::new(".")).unwrap();
+    let cats = spec.categories();
+    assert_eq!(cats.last().map(String::as_str), Some("land"));
+    let land_id = cats.len() as u64;
+    let dir = tempfile::tempdir().unwrap();
+    let request = Request {
+        count: 3,
+        seed: 9,
+        shard: Shard::ALL,
+        jobs: 2,
+        format: Format::Dir,
+        assemble: true,
+    };
+    generate(&spec, dir.path(), &request, &|| {}).unwrap();
+    let mut regions = 0;
+    for i in 0..3u64 {
+        let sample = sample_dir(dir.path(), i);
+        let coco = json(&sample.join("coco.json"));
+        let lands: Vec<&serde_json::Value> = coco["annotations"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|a| a["category_id"].as_u64() == Some(land_id))
+            .collect();
+        let mask_file = sample.join("land_mask.npy");
+        if !mask_file.exists() {
+            assert!(lands.is_empty());
+            continue;
+        }
+        assert_eq!(lands.len(), 1, "sample {i}");
+        let a = lands[0];
+        assert_eq!(a["iscrowd"], 1);
+        assert!(a["track_id"].is_null());
+        assert!(!a["land"]["polygons"].as_array().unwrap().is_empty());
+        let size = a["segmentation"]["size"][0].as_u64().unwrap() as usize;
+        let mask = rle_decode(a["segmentation"]["counts"].as_str().unwrap(), size, size);
+        assert_eq!(
+            mask.iter().filter(|&&p| p).count() as u64,
+            a["area"].as_u64().unwrap()
+        );
+        assert!(a["area"].as_u64().unwrap() > 0);
+        // YOLO lines name only target classes.
+        let yolo = std::fs::read_to_string(sample.join("yolo.txt")).unwrap();
+        for line in yolo.lines() {
+            let class: u64 = line.split_whitespace().next().unwrap().parse().unwrap();
+            assert!(class < land_id - 1, "a YOLO line for land: {line}");
+        }
+        regions += 1;
+    }
+    assert!(
+        regions >= 2,
+        "{regions} of 3 harbour samples show their land"
+    );
+    let index = json(&dir.path().join("annotations.json"));
+    let names: Vec<&str> = index["categories"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names.last(), Some(&"land"));
+}
