@@ -470,6 +470,11 @@ fn dataset_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<
         &DETECTION_SPEC.replace("[scene.radar]", "[scene.receiver]\n\n[scene.radar]"),
         Path::new("."),
     )?;
+    // The shipped spec with a procedural coast (any layout) in every sample.
+    let with_coast = DatasetSpec::parse(
+        &format!("{DETECTION_SPEC}\n[coast]\nprobability = 1.0\n"),
+        Path::new("."),
+    )?;
     let n = DATASET_BENCH_SAMPLES;
     // Each run writes a fresh folder, and all are removed at the end: on ext4, files made
     // just after many were deleted cost the inode allocator a search past them
@@ -492,6 +497,7 @@ fn dataset_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<
         n as f64 / t
     };
     let (all, at_least_one, video) = (rate(&spec), rate(&one_to_ten), rate(&with_video));
+    let coast = rate(&with_coast);
     for dir in dirs {
         let _ = std::fs::remove_dir_all(&dir);
     }
@@ -515,6 +521,18 @@ fn dataset_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<
     put(
         "receiver video's cost over the dataset rate (same run)",
         100.0 * (all / video - 1.0),
+        "%",
+    );
+    put(
+        &format!(
+            "labelled 512^2 frames/s, detection.toml with [coast] in every sample ({n} samples)"
+        ),
+        coast,
+        "frames/s",
+    );
+    put(
+        "a procedural coast's cost over the dataset rate (same run)",
+        100.0 * (all / coast - 1.0),
         "%",
     );
     // One core, stage by stage (a one-thread pool: the stages' own parallel loops too).

@@ -13,7 +13,9 @@ Items follow torchvision's detection convention::
 ``artefacts`` marks the labels of artefacts (a dataset made with ``[dataset]
 artefact_labels``: sidelobe, second-trace, indirect and multiple echoes, interference, racons,
 SARTs, each its own category): echoes where there is no target, which have no track; their
-``track_ids`` are -1 (COCO gives null).
+``track_ids`` are -1 (COCO gives null). A dataset with land (``[coast]``) has one ``land``
+label per frame that shows land: a region (``iscrowd`` 1, as torchvision's detection
+references skip in training), track -1.
 
 ``image_id`` is the id annotations.json gives the same image (sample index x frames per
 sample + frame + 1), so predictions score against the dataset's own COCO file. A dataset

@@ -124,7 +124,8 @@ pub struct LandPolygon {
     pub name: String,
     /// Which `[[land]]` table it came from.
     pub table: usize,
-    /// Where it came from, for errors and truth: `file#feature k` or `land[i].polygon_m`.
+    /// Where it came from, for errors and truth: `"file": feature k ("name")` or
+    /// `land[i].polygon_m`.
     pub source: String,
     /// Outer ring then holes, each without the closing corner repeated, m.
     pub rings: Vec<Vec<DVec2>>,

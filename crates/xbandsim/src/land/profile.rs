@@ -150,6 +150,15 @@ impl<'a> LandView<'a> {
         self.origin
     }
 
+    /// Whether no land can lie on the bearing `az_rad`: no coast edge in its bin and the
+    /// antenna on the water (a ray there crosses nothing and starts at sea).
+    pub fn clear_bearing(&self, az_rad: f64) -> bool {
+        let theta = az_rad.rem_euclid(std::f64::consts::TAU);
+        let bin =
+            ((theta / std::f64::consts::TAU * ANGLE_BINS as f64) as usize).min(ANGLE_BINS - 1);
+        self.offsets[bin] == self.offsets[bin + 1] && self.inside_at_origin.is_empty()
+    }
+
     /// The crossings of the ray at bearing `az_rad` into `out`, by increasing ground range.
     pub fn crossings(&self, az_rad: f64, out: &mut Vec<Crossing>) {
         out.clear();
@@ -211,6 +220,18 @@ impl<'a> LandView<'a> {
         scratch: &mut Vec<Crossing>,
     ) -> Option<f64> {
         self.crossings(az_rad, scratch);
+        self.max_land_elevation_along(scratch, ground_m, antenna_m, curvature)
+    }
+
+    /// [`LandView::max_land_elevation_rad`] on a ray whose crossings are `crossings`.
+    pub fn max_land_elevation_along(
+        &self,
+        crossings: &[Crossing],
+        ground_m: f64,
+        antenna_m: f64,
+        curvature: bool,
+    ) -> Option<f64> {
+        let scratch = crossings;
         let mut walk = self.walk(scratch);
         let mut best: Option<f64> = None;
         let mut consider = |z: f64, g: f64| {
@@ -269,14 +290,25 @@ impl LandView<'_> {
     pub fn blocks_segment(
         &self,
         az_rad: f64,
+        from: (f64, f64),
+        to: (f64, f64),
+        scratch: &mut Vec<Crossing>,
+    ) -> bool {
+        self.crossings(az_rad, scratch);
+        self.blocks_segment_along(scratch, from, to)
+    }
+
+    /// [`LandView::blocks_segment`] on a ray whose crossings are `crossings`.
+    pub fn blocks_segment_along(
+        &self,
+        crossings: &[Crossing],
         (g0, z0): (f64, f64),
         (g1, z1): (f64, f64),
-        scratch: &mut Vec<Crossing>,
     ) -> bool {
         if g1 <= g0 {
             return false;
         }
-        self.crossings(az_rad, scratch);
+        let scratch = crossings;
         let line = |g: f64| z0 + (z1 - z0) * (g - g0) / (g1 - g0);
         let mut stops: Vec<f64> = vec![g0];
         stops.extend(

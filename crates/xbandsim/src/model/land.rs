@@ -185,7 +185,7 @@ fn build_table(
     for (j, r) in raw.iter().enumerate() {
         let what = match &file {
             Some(f) => format!("{f:?}: {}", r.describe()),
-            None => format!("{:?}", "polygon_m"),
+            None => format!("land[{i}].polygon_m"),
         };
         let rings: Vec<Vec<DVec2>> = r
             .rings

@@ -30,7 +30,7 @@ pub struct LandPolygonTruth {
     pub id: usize,
     /// Name.
     pub name: String,
-    /// Where it came from: `file: feature k ("name")` or `"polygon_m"`.
+    /// Where it came from: `file: feature k ("name")` or `land[i].polygon_m`.
     pub source: String,
     /// Which `[[land]]` table.
     pub table: usize,

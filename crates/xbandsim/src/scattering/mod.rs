@@ -292,26 +292,35 @@ pub fn shade_by_land(scene: &Scene, set: &mut ScatterSet) {
             (c - r - 1.0, c + r + 1.0)
         })
         .collect();
-    let mut scratch = Vec::new();
     let mut shadowed = vec![0u32; scene.objects().len()];
+    // A ray's crossings are kept for the next leg on the same bearing (a tube's returns and
+    // an object's contributions share their bearings).
+    let mut crossings: Vec<crate::land::profile::Crossing> = Vec::new();
+    let mut crossings_az = f64::NAN;
     let mut hidden = |az: f64, el: f64, range_m: f64, (lo, hi): (f64, f64)| -> bool {
+        if view.clear_bearing(az) {
+            return false;
+        }
+        if az.to_bits() != crossings_az.to_bits() {
+            view.crossings(az, &mut crossings);
+            crossings_az = az;
+        }
         let ground = range_m * el.cos();
         let straight_z = h + range_m * el.sin();
         let via_sea = !(lo..=hi).contains(&straight_z) && (lo..=hi).contains(&-straight_z);
         if !via_sea {
             let seen_at = crate::land::profile::elevation_rad(straight_z, ground, h, curvature);
             return view
-                .max_land_elevation_rad(az, ground, h, curvature, &mut scratch)
+                .max_land_elevation_along(&crossings, ground, h, curvature)
                 .is_some_and(|top| top > seen_at);
         }
         let z = -straight_z;
         let specular = ground * h / (h + z.max(0.0)).max(1e-9);
-        view.crossings(az, &mut scratch);
-        if view.walk(&scratch).at(specular).is_some() {
+        if view.walk(&crossings).at(specular).is_some() {
             return true;
         }
-        view.blocks_segment(az, (0.0, h), (specular, 0.0), &mut scratch)
-            || view.blocks_segment(az, (specular, 0.0), (ground, z), &mut scratch)
+        view.blocks_segment_along(&crossings, (0.0, h), (specular, 0.0))
+            || view.blocks_segment_along(&crossings, (specular, 0.0), (ground, z))
     };
     set.contributions.retain(|c| {
         let range = 0.5 * c.path_m;
@@ -319,8 +328,10 @@ pub fn shade_by_land(scene: &Scene, set: &mut ScatterSet) {
             .get(c.object as usize)
             .copied()
             .unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+        let same_leg = c.az_tx_rad.to_bits() == c.az_rx_rad.to_bits()
+            && c.el_tx_rad.to_bits() == c.el_rx_rad.to_bits();
         let gone = hidden(c.az_tx_rad, c.el_tx_rad, range, extent)
-            || hidden(c.az_rx_rad, c.el_rx_rad, range, extent);
+            || (!same_leg && hidden(c.az_rx_rad, c.el_rx_rad, range, extent));
         if gone {
             if let Some(n) = shadowed.get_mut(c.object as usize) {
                 *n += 1;

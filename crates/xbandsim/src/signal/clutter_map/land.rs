@@ -36,28 +36,62 @@ fn hashed_normal(seed: u64, ix: i64, iy: i64, salt: u64) -> f64 {
 
 /// The unit-variance Gaussian field at `p` (ground metres) for `seed`.
 pub fn texture_gaussian(seed: u64, p: DVec2) -> f64 {
-    let q = p / LAND_TEXTURE_LENGTH_M;
-    let (fx, fy) = (q.x.floor(), q.y.floor());
-    let (tx, ty) = (q.x - fx, q.y - fy);
-    let (ix, iy) = (fx as i64, fy as i64);
-    let w = [
-        (1.0 - tx) * (1.0 - ty),
-        tx * (1.0 - ty),
-        (1.0 - tx) * ty,
-        tx * ty,
-    ];
-    let z = w[0] * hashed_normal(seed, ix, iy, 0x1a4d)
-        + w[1] * hashed_normal(seed, ix + 1, iy, 0x1a4d)
-        + w[2] * hashed_normal(seed, ix, iy + 1, 0x1a4d)
-        + w[3] * hashed_normal(seed, ix + 1, iy + 1, 0x1a4d);
-    z / w.iter().map(|v| v * v).sum::<f64>().sqrt()
+    TextureField::new(seed).at(p)
+}
+
+/// The texture's Gaussian field for one seed, keeping the grid square last read: cells along
+/// a spoke, a range sample apart, mostly share their four grid values (the same values).
+struct TextureField {
+    seed: u64,
+    last: Option<((i64, i64), [f64; 4])>,
+}
+
+impl TextureField {
+    fn new(seed: u64) -> TextureField {
+        TextureField { seed, last: None }
+    }
+
+    /// The field at `p`.
+    fn at(&mut self, p: DVec2) -> f64 {
+        let q = p / LAND_TEXTURE_LENGTH_M;
+        let (fx, fy) = (q.x.floor(), q.y.floor());
+        let (tx, ty) = (q.x - fx, q.y - fy);
+        let key = (fx as i64, fy as i64);
+        let nodes = match self.last {
+            Some((k, nodes)) if k == key => nodes,
+            _ => {
+                let (ix, iy, seed) = (key.0, key.1, self.seed);
+                let nodes = [
+                    hashed_normal(seed, ix, iy, 0x1a4d),
+                    hashed_normal(seed, ix + 1, iy, 0x1a4d),
+                    hashed_normal(seed, ix, iy + 1, 0x1a4d),
+                    hashed_normal(seed, ix + 1, iy + 1, 0x1a4d),
+                ];
+                self.last = Some((key, nodes));
+                nodes
+            }
+        };
+        let w = [
+            (1.0 - tx) * (1.0 - ty),
+            tx * (1.0 - ty),
+            (1.0 - tx) * ty,
+            tx * ty,
+        ];
+        let z = w[0] * nodes[0] + w[1] * nodes[1] + w[2] * nodes[2] + w[3] * nodes[3];
+        z / w.iter().map(|v| v * v).sum::<f64>().sqrt()
+    }
 }
 
 /// The texture `T` (mean 1) of a cell whose field value is `z`, Weibull amplitude shape `c`.
 pub fn weibull_texture(z: f64, shape: f64) -> f64 {
+    weibull_texture_normed(z, shape, crate::special::ln_gamma(1.0 + 2.0 / shape).exp())
+}
+
+/// [`weibull_texture`] with its normalisation `Γ(1 + 2/c)` given.
+fn weibull_texture_normed(z: f64, shape: f64, gamma_2_over_c: f64) -> f64 {
     // 1 − Φ(z) = erfc(z/√2)/2, kept away from 0 so that the log stays finite.
     let tail = (0.5 * crate::special::erfc(z / std::f64::consts::SQRT_2)).max(1e-300);
-    (-tail.ln()).powf(2.0 / shape) / crate::special::ln_gamma(1.0 + 2.0 / shape).exp()
+    (-tail.ln()).powf(2.0 / shape) / gamma_2_over_c
 }
 
 /// The frozen land echo of one spoke into `echo` (noise-rms units, empty where the spoke has
@@ -87,7 +121,19 @@ pub(super) fn spoke_echo(
     }
     let samples = ground_m.len();
     echo.resize(samples, Complex32::new(0.0, 0.0));
-    for (n, e) in echo.iter_mut().enumerate() {
+    // Only the samples where some neighbouring row has land.
+    let (mut lo, mut hi) = (samples, 0);
+    for t in 0..weights.len() {
+        let row = &power_rows[neighbour(t)];
+        if let Some(first) = row.iter().position(|&p| p > 0.0) {
+            let last = row.iter().rposition(|&p| p > 0.0).unwrap_or(first);
+            lo = lo.min(first);
+            hi = hi.max(last + 1);
+        }
+    }
+    let mut field = TextureField::new(seed);
+    let mut norm: Option<(u32, f64)> = None;
+    for (n, e) in echo.iter_mut().enumerate().take(hi).skip(lo) {
         let (mut mean, mut top, mut dominant) = (0f32, 0f32, NO_POLYGON);
         for (t, &w) in weights.iter().enumerate() {
             let j = neighbour(t);
@@ -106,7 +152,15 @@ pub(super) fn spoke_echo(
         }
         let cell = origin + dir * ground_m[n];
         let shape = land.polygons()[dominant as usize].weibull_shape;
-        let texture = weibull_texture(texture_gaussian(seed, cell), shape);
+        let gamma_2_over_c = match norm {
+            Some((p, g)) if p == dominant => g,
+            _ => {
+                let g = crate::special::ln_gamma(1.0 + 2.0 / shape).exp();
+                norm = Some((dominant, g));
+                g
+            }
+        };
+        let texture = weibull_texture_normed(field.at(cell), shape, gamma_2_over_c);
         let amplitude = (mean as f64 * texture).sqrt();
         let h = splitmix64(splitmix64(seed ^ 0x9a5e) ^ ((k as u64) << 32 | n as u64));
         let phase = std::f64::consts::TAU * ((h >> 11) as f64 / (1u64 << 53) as f64);
