@@ -82,7 +82,7 @@ impl Terrain {
     /// γ at `freq_ghz`, dB: `γ10 + 5·log10(f/10 GHz)` (Barton, "Land clutter models for radar
     /// design and analysis", Proc. IEEE 73(2), 1985).
     pub fn gamma_db(&self, freq_ghz: f64) -> f64 {
-        self.gamma_db_at_10_ghz() + 5.0 * (freq_ghz / 10.0).log10()
+        gamma_db_at(self.gamma_db_at_10_ghz(), freq_ghz)
     }
 
     /// Weibull shape `c` of a cell's amplitude (c = 2 is Rayleigh; Billingsley's spread
@@ -102,6 +102,12 @@ impl Terrain {
             Terrain::Urban => 0.8,
         }
     }
+}
+
+/// γ at `freq_ghz` from its value at 10 GHz, dB: `γ10 + 5·log10(f/10 GHz)` (Barton 1985;
+/// docs/physics.md §16).
+pub fn gamma_db_at(gamma_db_at_10_ghz: f64, freq_ghz: f64) -> f64 {
+    gamma_db_at_10_ghz + 5.0 * (freq_ghz / 10.0).log10()
 }
 
 /// How the ground rises from the shoreline to the polygon's top.
@@ -142,6 +148,11 @@ pub struct LandPolygon {
 }
 
 impl LandPolygon {
+    /// Its γ at `freq_ghz`, linear ([`gamma_db_at`]).
+    pub fn gamma_linear(&self, freq_ghz: f64) -> f64 {
+        10f64.powf(gamma_db_at(self.gamma_db_at_10_ghz, freq_ghz) / 10.0)
+    }
+
     /// Height of the ground at `distance_m` inland from the shoreline, m.
     #[inline]
     pub fn height_at(&self, distance_m: f64) -> f64 {

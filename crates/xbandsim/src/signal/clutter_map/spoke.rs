@@ -84,6 +84,15 @@ impl<'a> SpokeStage<'a> {
         }
     }
 
+    /// The rain cells' chords along the line from `radar_xy` in direction `dir` (empty
+    /// without rain): one-way dB as a function of ground range.
+    fn rain_chords(&self, radar_xy: DVec2, dir: DVec2) -> Vec<(f64, f64, f64)> {
+        self.attenuator
+            .as_ref()
+            .map(|a| a.chords(radar_xy, dir))
+            .unwrap_or_default()
+    }
+
     /// Spoke k's texture-free sea and rain power per patch (noise units, the rain row empty
     /// without rain) into `sea_row` and `rain_row`; when `textured`, the sea cells' sample
     /// index and drifted field coordinates into `textured_cells`.
@@ -104,11 +113,7 @@ impl<'a> SpokeStage<'a> {
         let dir = DVec2::new(az.sin(), az.cos());
         // Rain attenuation intervals along this spoke (one-way dB as a function of ground
         // range).
-        let chords = self
-            .attenuator
-            .as_ref()
-            .map(|a| a.chords(radar_xy, dir))
-            .unwrap_or_default();
+        let chords = self.rain_chords(radar_xy, dir);
         let rain_db = |g: f64, r: f64| {
             self.attenuator
                 .as_ref()
@@ -222,15 +227,12 @@ impl SpokeStage<'_> {
         let tilted = g.ant.tilted_by(tilt);
         let radar_xy = self.radar.position_m().truncate();
         let dir = DVec2::new(az.sin(), az.cos());
-        let chords = self
-            .attenuator
-            .as_ref()
-            .map(|a| a.chords(radar_xy, dir))
-            .unwrap_or_default();
+        let chords = self.rain_chords(radar_xy, dir);
         let polygons = view.land().polygons();
         let mut walk = view.walk(crossings);
         let mut highest: Option<f64> = None;
         let mut any = false;
+        let mut gamma = (usize::MAX, 0.0);
         for n in 1..land_row.len() {
             let r = n as f64 * g.dr;
             if r <= h {
@@ -261,8 +263,11 @@ impl SpokeStage<'_> {
             highest = Some(alpha);
             let Some((p, _)) = here else { continue };
             let poly = &polygons[p];
-            let gamma =
-                10f64.powf((poly.gamma_db_at_10_ghz + 5.0 * (g.freq_ghz / 10.0).log10()) / 10.0);
+            // γ changes only where the polygon does: recomputed then.
+            if gamma.0 != p {
+                gamma = (p, poly.gamma_linear(g.freq_ghz));
+            }
+            let gamma = gamma.1;
             let rain_loss = self.attenuator.as_ref().map_or(1.0, |a| {
                 two_way_rain_loss(a.one_way_db_path_along(&chords, ground, r, h, z))
             });
