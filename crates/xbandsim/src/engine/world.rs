@@ -7,8 +7,8 @@
 
 use super::trace_cache::{TraceCache, TracedWorld};
 use crate::geometry::Bvh;
-use crate::model::{Revolution, Scene};
-use crate::scattering::{build_scene_bvh, trace_scene};
+use crate::model::{Revolution, Scene, SceneObject};
+use crate::scattering::{build_scene_bvh, scene_primitives_of, trace_scene};
 use std::sync::{Arc, OnceLock};
 
 /// A scene's traced world (safe to share between threads).
@@ -18,6 +18,10 @@ pub struct World {
     /// The BVH of the scene as written, built on first use: a moving scene's revolutions
     /// build their own (so a dataset sample with moving targets builds one BVH, not two).
     bvh: OnceLock<Arc<Bvh>>,
+    /// The static level of a moving scene's two-level BVH: every object without a motion
+    /// (structures, moored ships, buoys), built once; None when all move or none has
+    /// primitives.
+    static_bvh: OnceLock<Option<Arc<Bvh>>>,
     states: TraceCache<TracedWorld>,
 }
 
@@ -27,6 +31,7 @@ impl World {
         World {
             scene,
             bvh: OnceLock::new(),
+            static_bvh: OnceLock::new(),
             states: TraceCache::default(),
         }
     }
@@ -55,6 +60,49 @@ impl World {
             .get_or_init(|| Arc::new(build_scene_bvh(self.scene.objects())))
     }
 
+    /// The static level: the primitives of every object that has no motion.
+    fn static_bvh(&self) -> Option<&Arc<Bvh>> {
+        self.static_bvh
+            .get_or_init(|| {
+                let objects = self.scene.objects();
+                let fixed =
+                    |_: usize, o: &SceneObject| o.motion().is_none() && !o.shape().is_point();
+                let count = objects
+                    .iter()
+                    .enumerate()
+                    .filter(|(i, o)| fixed(*i, o))
+                    .count();
+                if count == 0 || objects.iter().all(|o| o.motion().is_none()) {
+                    return None;
+                }
+                Some(Arc::new(Bvh::build(scene_primitives_of(objects, fixed))))
+            })
+            .as_ref()
+    }
+
+    /// A moving scene's BVH for one revolution's `scene`: the moving objects' level over
+    /// the static one when every object without a motion stands where it stood (it does
+    /// unless a revolution moves the world), else one level over all.
+    fn revolution_bvh(&self, scene: &Scene) -> Bvh {
+        let written = self.scene.objects();
+        let objects = scene.objects();
+        if let Some(fixed) = self.static_bvh() {
+            let unmoved = objects.len() == written.len()
+                && objects.iter().zip(written).all(|(now, then)| {
+                    then.motion().is_some()
+                        || (now.position_m() == then.position_m()
+                            && now.rotation() == then.rotation())
+                });
+            if unmoved {
+                return Bvh::over_static(
+                    Arc::clone(fixed),
+                    scene_primitives_of(objects, |k, _| written[k].motion().is_some()),
+                );
+            }
+        }
+        build_scene_bvh(objects)
+    }
+
     /// The traced state of the revolution starting at `start_time_s` whose beam crossings are
     /// sought from `lead_s` before it, from the cache or traced now (the `bool`); a still
     /// scene is traced once for all times.
@@ -65,7 +113,7 @@ impl World {
             let bvh = if still {
                 Arc::clone(self.bvh())
             } else {
-                Arc::new(build_scene_bvh(revolution.scene().objects()))
+                Arc::new(self.revolution_bvh(revolution.scene()))
             };
             let set = Arc::new(trace_scene(revolution.scene(), &bvh));
             TracedWorld { bvh, set }

@@ -20,6 +20,7 @@
 
 use super::{Aabb, Hit, Primitive, Ray};
 use glam::DVec3;
+use std::sync::Arc;
 
 const NUM_BINS: usize = 16;
 const MAX_LEAF_SIZE: usize = 4;
@@ -295,6 +296,9 @@ pub struct Bvh {
     bounds: Aabb,
     /// Whether every box is within the f32 test's reach.
     f32_boxes: bool,
+    /// The static level of a two-level hierarchy ([`Bvh::over_static`]): what does not move
+    /// (structures, still objects), built once and shared by every revolution's BVH.
+    static_level: Option<Arc<Bvh>>,
 }
 
 impl Bvh {
@@ -310,6 +314,7 @@ impl Bvh {
                 wide_depth: 0,
                 bounds: Aabb::EMPTY,
                 f32_boxes: true,
+                static_level: None,
             };
         }
         let bounds: Vec<Aabb> = primitives.iter().map(|p| p.bounds()).collect();
@@ -395,7 +400,23 @@ impl Bvh {
             wide_depth,
             bounds: nodes[0].bounds,
             f32_boxes,
+            static_level: None,
         }
+    }
+
+    /// A two-level hierarchy: `dynamic` built now over the shared `static_level`. Queries
+    /// take the nearer hit of both; `primitives` and `num_nodes` are the dynamic level's,
+    /// an object's primitives and bounds are found in either.
+    pub fn over_static(static_level: Arc<Bvh>, dynamic: Vec<Primitive>) -> Bvh {
+        let mut bvh = Bvh::build(dynamic);
+        bvh.bounds = bvh.bounds.union(&static_level.bounds);
+        bvh.static_level = Some(static_level);
+        bvh
+    }
+
+    /// The static level of a two-level hierarchy, if it is one.
+    pub fn static_level(&self) -> Option<&Arc<Bvh>> {
+        self.static_level.as_ref()
     }
 
     /// The primitives, in the hierarchy's order (hit indices refer to this order).
@@ -435,6 +456,15 @@ impl Bvh {
     /// by a binary search: a scene's objects each ask for theirs, and a scan of all
     /// primitives per object would grow as objects × primitives.
     pub fn object_primitives(&self, object: u32) -> impl Iterator<Item = &Primitive> + '_ {
+        let fixed = self
+            .static_level
+            .iter()
+            .flat_map(move |s| s.own_object_primitives(object));
+        self.own_object_primitives(object).chain(fixed)
+    }
+
+    /// [`Bvh::object_primitives`] of this level alone.
+    fn own_object_primitives(&self, object: u32) -> impl Iterator<Item = &Primitive> + '_ {
         let tag = |i: &u32| self.primitives[*i as usize].object;
         let start = self.by_object.partition_point(|i| tag(i) < object);
         let end = self.by_object.partition_point(|i| tag(i) <= object);
@@ -470,6 +500,19 @@ impl Bvh {
 
     /// Closest intersection before `t_max_m`.
     pub fn closest_hit(&self, ray: &Ray, t_max_m: f64) -> Option<Hit> {
+        let own = self.own_closest_hit(ray, t_max_m);
+        match &self.static_level {
+            None => own,
+            Some(s) => {
+                let reach = own.map_or(t_max_m, |h| h.t_m);
+                s.own_closest_hit(ray, reach).or(own)
+            }
+        }
+    }
+
+    /// [`Bvh::closest_hit`] of this level alone.
+    #[inline]
+    fn own_closest_hit(&self, ray: &Ray, t_max_m: f64) -> Option<Hit> {
         traverse!(self, closest_hit_with, ray, t_max_m, None)
     }
 
@@ -541,6 +584,16 @@ impl Bvh {
 
     /// Whether anything blocks the ray before `t_max_m` (shadow test).
     pub fn any_hit(&self, ray: &Ray, t_max_m: f64) -> bool {
+        self.own_any_hit(ray, t_max_m)
+            || self
+                .static_level
+                .as_ref()
+                .is_some_and(|s| s.own_any_hit(ray, t_max_m))
+    }
+
+    /// [`Bvh::any_hit`] of this level alone.
+    #[inline]
+    fn own_any_hit(&self, ray: &Ray, t_max_m: f64) -> bool {
         traverse!(self, any_hit_with, ray, t_max_m, false)
     }
 

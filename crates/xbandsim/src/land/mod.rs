@@ -18,8 +18,13 @@
 //! give a cliff mirror-like flashes no measured coast shows.
 
 pub mod geojson;
+pub mod height_map;
 pub mod profile;
 pub mod projection;
+pub mod structure;
+
+pub use height_map::HeightMap;
+pub use structure::{Structure, StructureKind};
 
 use crate::error::{Error, Problem, Result};
 use glam::DVec2;
@@ -145,6 +150,12 @@ pub struct LandPolygon {
     pub gamma_db_at_10_ghz: f64,
     /// Weibull amplitude shape (the terrain's unless the scene sets it).
     pub weibull_shape: f64,
+    /// A height map that gives the ground's height inside it instead of the flat top (the
+    /// edge's slope still applies at the shore); `top_m` is then its highest point.
+    pub height_map: Option<std::sync::Arc<HeightMap>>,
+    /// The scene object whose footprint this is, for a structure's (see
+    /// [`Land::with_structures`]); None for land.
+    pub structure: Option<u32>,
 }
 
 impl LandPolygon {
@@ -153,12 +164,37 @@ impl LandPolygon {
         10f64.powf(gamma_db_at(self.gamma_db_at_10_ghz, freq_ghz) / 10.0)
     }
 
-    /// Height of the ground at `distance_m` inland from the shoreline, m.
+    /// Height of the ground at `p`, `distance_m` inland from the shoreline, m.
     #[inline]
-    pub fn height_at(&self, distance_m: f64) -> f64 {
+    pub fn height_at(&self, p: DVec2, distance_m: f64) -> f64 {
+        let top = match &self.height_map {
+            Some(map) => map.height_at(p),
+            None => self.top_m,
+        };
         match self.edge {
-            Edge::Cliff => self.top_m,
-            Edge::Beach { width_m } => self.top_m * (distance_m / width_m).clamp(0.0, 1.0),
+            Edge::Cliff => top,
+            Edge::Beach { width_m } => top * (distance_m / width_m).clamp(0.0, 1.0),
+        }
+    }
+
+    /// Whether its height is the same everywhere but on a beach's slope (no height map).
+    #[inline]
+    pub fn is_flat(&self) -> bool {
+        self.height_map.is_none()
+    }
+
+    /// The step at which its heights are sampled along a line, m (None: flat, a cliff's
+    /// top needs no samples): an eighth of a beach's width, half a height map's cell.
+    pub fn sample_step_m(&self) -> Option<f64> {
+        let map = self.height_map.as_ref().map(|m| 0.5 * m.cell_m());
+        let beach = match self.edge {
+            Edge::Beach { width_m } => Some(width_m / 8.0),
+            Edge::Cliff => None,
+        };
+        match (map, beach) {
+            (Some(a), Some(b)) => Some(a.min(b).max(0.25)),
+            (Some(a), None) | (None, Some(a)) => Some(a.max(0.25)),
+            (None, None) => None,
         }
     }
 
@@ -195,31 +231,64 @@ pub fn point_segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     (a + ab * t - p).length()
 }
 
-/// All the scene's land: validated polygons.
+/// All the scene's land: validated polygons, then the footprints of its structures (the
+/// surface that hides the sea in the clutter map; see [`Land::surface`]).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Land {
+    /// Land polygons then structure footprints.
     polygons: Vec<LandPolygon>,
+    /// How many of `polygons` are land.
+    land_count: usize,
 }
 
 impl Land {
     /// Land of these polygons (each already checked by [`check_rings`]).
     pub fn new(polygons: Vec<LandPolygon>) -> Land {
-        Land { polygons }
+        let land_count = polygons.len();
+        Land {
+            polygons,
+            land_count,
+        }
     }
 
-    /// The polygons, in scene order (their index is their truth id).
+    /// This land with structures' footprints on it (each with `structure` set), listed after
+    /// the land so that the ground they stand on is theirs.
+    pub fn with_structures(mut self, footprints: Vec<LandPolygon>) -> Land {
+        self.polygons.truncate(self.land_count);
+        self.polygons.extend(footprints);
+        self
+    }
+
+    /// The land polygons, in scene order (their index is their truth id).
     pub fn polygons(&self) -> &[LandPolygon] {
+        &self.polygons[..self.land_count]
+    }
+
+    /// The land polygons then the structures' footprints: every surface that is not sea.
+    pub fn surface(&self) -> &[LandPolygon] {
         &self.polygons
     }
 
-    /// Whether there is no land.
+    /// Whether there is no land (structures aside).
     pub fn is_empty(&self) -> bool {
+        self.land_count == 0
+    }
+
+    /// Whether there is neither land nor a structure.
+    pub fn has_no_surface(&self) -> bool {
         self.polygons.is_empty()
+    }
+
+    /// The structure footprint `p` lies in, if any: its index in [`Land::surface`].
+    pub fn structure_at(&self, p: DVec2) -> Option<usize> {
+        (self.land_count..self.polygons.len())
+            .rev()
+            .find(|&i| self.polygons[i].contains(p))
     }
 
     /// The polygon `p` lies in (the last listed where polygons overlap), if any.
     pub fn polygon_at(&self, p: DVec2) -> Option<usize> {
-        (0..self.polygons.len())
+        (0..self.land_count)
             .rev()
             .find(|&i| self.polygons[i].contains(p))
     }
@@ -228,13 +297,13 @@ impl Land {
     pub fn height_at(&self, p: DVec2) -> f64 {
         self.polygon_at(p).map_or(0.0, |i| {
             let poly = &self.polygons[i];
-            poly.height_at(poly.distance_to_boundary_m(p))
+            poly.height_at(p, poly.distance_to_boundary_m(p))
         })
     }
 
     /// Distance from `p` to the nearest coast (any polygon's boundary), m; None without land.
     pub fn distance_to_coast_m(&self, p: DVec2) -> Option<f64> {
-        self.polygons
+        self.polygons()
             .iter()
             .map(|poly| poly.distance_to_boundary_m(p))
             .reduce(f64::min)
@@ -432,13 +501,15 @@ mod tests {
             terrain: Terrain::Rock,
             gamma_db_at_10_ghz: 0.0,
             weibull_shape: 1.0,
+            height_map: None,
+            structure: None,
         };
         assert!(poly.contains(DVec2::new(1.0, 1.0)));
         assert!(!poly.contains(DVec2::new(5.0, 5.0)));
         assert!(!poly.contains(DVec2::new(11.0, 5.0)));
         assert_eq!(poly.distance_to_boundary_m(DVec2::new(1.0, 5.0)), 1.0);
-        assert_eq!(poly.height_at(1.0), 2.5);
-        assert_eq!(poly.height_at(7.0), 5.0);
+        assert_eq!(poly.height_at(DVec2::ZERO, 1.0), 2.5);
+        assert_eq!(poly.height_at(DVec2::ZERO, 7.0), 5.0);
     }
 
     #[test]

@@ -13,7 +13,7 @@
 //! point is seen when its α is at least every nearer point's on the same bearing; this is
 //! the shadow test for land, sea and targets alike.
 
-use super::{Edge, Land};
+use super::{Edge, Land, LandPolygon};
 use crate::propagation::EFFECTIVE_EARTH_RADIUS_M;
 use glam::DVec2;
 
@@ -48,6 +48,8 @@ pub struct Crossing {
 #[derive(Debug, Clone)]
 pub struct LandView<'a> {
     land: &'a Land,
+    /// The polygons it sees: the land's, or the land's and the structures' footprints.
+    polygons: &'a [LandPolygon],
     origin: DVec2,
     /// Edges as (a, b, polygon).
     edges: Vec<(DVec2, DVec2, u32)>,
@@ -65,10 +67,21 @@ fn bearing(v: DVec2) -> f64 {
 }
 
 impl<'a> LandView<'a> {
-    /// The view of `land` from the ground point `origin` (the antenna's x, y).
+    /// The view of `land` from the ground point `origin` (the antenna's x, y): its land
+    /// polygons only.
     pub fn new(land: &'a Land, origin: DVec2) -> LandView<'a> {
+        Self::of(land, land.polygons(), origin)
+    }
+
+    /// The view of the whole surface that is not sea: land and structures' footprints
+    /// ([`Land::surface`]).
+    pub fn surface(land: &'a Land, origin: DVec2) -> LandView<'a> {
+        Self::of(land, land.surface(), origin)
+    }
+
+    fn of(land: &'a Land, polygons: &'a [LandPolygon], origin: DVec2) -> LandView<'a> {
         let mut edges = Vec::new();
-        for (p, poly) in land.polygons().iter().enumerate() {
+        for (p, poly) in polygons.iter().enumerate() {
             for ring in &poly.rings {
                 let n = ring.len();
                 for i in 0..n {
@@ -123,8 +136,7 @@ impl<'a> LandView<'a> {
                 fill[bin] += 1;
             }
         }
-        let inside_at_origin = land
-            .polygons()
+        let inside_at_origin = polygons
             .iter()
             .enumerate()
             .filter(|(_, p)| p.contains(origin))
@@ -132,6 +144,7 @@ impl<'a> LandView<'a> {
             .collect();
         LandView {
             land,
+            polygons,
             origin,
             edges,
             offsets,
@@ -143,6 +156,11 @@ impl<'a> LandView<'a> {
     /// The land.
     pub fn land(&self) -> &Land {
         self.land
+    }
+
+    /// The polygons it sees (indexed as the crossings' `polygon`).
+    pub fn polygons(&self) -> &'a [LandPolygon] {
+        self.polygons
     }
 
     /// The antenna's ground point.
@@ -195,11 +213,13 @@ impl<'a> LandView<'a> {
         });
     }
 
-    /// A walk outward along a ray whose crossings are `crossings` (from [`LandView::crossings`]).
-    pub fn walk<'c>(&'c self, crossings: &'c [Crossing]) -> Walk<'c> {
+    /// A walk outward on the bearing `az_rad` along a ray whose crossings are `crossings`
+    /// (from [`LandView::crossings`]).
+    pub fn walk<'c>(&'c self, az_rad: f64, crossings: &'c [Crossing]) -> Walk<'c> {
         let active = self.inside_at_origin.iter().map(|&p| (p, None)).collect();
         Walk {
             view: self,
+            dir: DVec2::new(az_rad.sin(), az_rad.cos()),
             crossings,
             next: 0,
             active,
@@ -220,19 +240,20 @@ impl<'a> LandView<'a> {
         scratch: &mut Vec<Crossing>,
     ) -> Option<f64> {
         self.crossings(az_rad, scratch);
-        self.max_land_elevation_along(scratch, ground_m, antenna_m, curvature)
+        self.max_land_elevation_along(az_rad, scratch, ground_m, antenna_m, curvature)
     }
 
     /// [`LandView::max_land_elevation_rad`] on a ray whose crossings are `crossings`.
     pub fn max_land_elevation_along(
         &self,
+        az_rad: f64,
         crossings: &[Crossing],
         ground_m: f64,
         antenna_m: f64,
         curvature: bool,
     ) -> Option<f64> {
         let scratch = crossings;
-        let mut walk = self.walk(scratch);
+        let mut walk = self.walk(az_rad, scratch);
         let mut best: Option<f64> = None;
         let mut consider = |z: f64, g: f64| {
             let a = elevation_rad(z, g, antenna_m, curvature);
@@ -250,10 +271,10 @@ impl<'a> LandView<'a> {
             }
             let mid = 0.5 * (g0 + g1);
             let Some((p, _)) = walk.at(mid) else { continue };
-            let poly = &self.land.polygons()[p];
+            let poly = &self.polygons[p];
             let start = g0.max(1e-3);
-            match poly.edge {
-                Edge::Cliff => {
+            match poly.sample_step_m() {
+                None => {
                     let h = poly.top_m;
                     consider(h, start);
                     consider(h, g1);
@@ -264,10 +285,9 @@ impl<'a> LandView<'a> {
                         }
                     }
                 }
-                Edge::Beach { width_m } => {
-                    let step = (width_m / 8.0).max(0.25);
+                Some(step) => {
                     let n = ((g1 - start) / step).ceil().clamp(1.0, 1e5) as usize;
-                    let mut w2 = self.walk(scratch);
+                    let mut w2 = self.walk(az_rad, scratch);
                     for i in 0..=n {
                         let g = start + (g1 - start) * i as f64 / n as f64;
                         if let Some((_, z)) = w2.at(g.min(g1 - 1e-9).max(start)) {
@@ -295,12 +315,13 @@ impl LandView<'_> {
         scratch: &mut Vec<Crossing>,
     ) -> bool {
         self.crossings(az_rad, scratch);
-        self.blocks_segment_along(scratch, from, to)
+        self.blocks_segment_along(az_rad, scratch, from, to)
     }
 
     /// [`LandView::blocks_segment`] on a ray whose crossings are `crossings`.
     pub fn blocks_segment_along(
         &self,
+        az_rad: f64,
         crossings: &[Crossing],
         (g0, z0): (f64, f64),
         (g1, z1): (f64, f64),
@@ -318,7 +339,7 @@ impl LandView<'_> {
                 .filter(|&g| g > g0 && g < g1),
         );
         stops.push(g1);
-        let mut walk = self.walk(scratch);
+        let mut walk = self.walk(az_rad, scratch);
         for w in stops.windows(2) {
             let (a, b) = (w[0], w[1]);
             if b <= a {
@@ -327,13 +348,12 @@ impl LandView<'_> {
             let Some((p, _)) = walk.at(0.5 * (a + b)) else {
                 continue;
             };
-            let poly = &self.land.polygons()[p];
-            let blocked = match poly.edge {
-                Edge::Cliff => poly.top_m > line(a) || poly.top_m > line(b),
-                Edge::Beach { width_m } => {
-                    let n =
-                        (((b - a) / (width_m / 8.0).max(0.25)).ceil() as usize).clamp(1, 100_000);
-                    let mut w2 = self.walk(scratch);
+            let poly = &self.polygons[p];
+            let blocked = match poly.sample_step_m() {
+                None => poly.top_m > line(a) || poly.top_m > line(b),
+                Some(step) => {
+                    let n = (((b - a) / step).ceil() as usize).clamp(1, 100_000);
+                    let mut w2 = self.walk(az_rad, scratch);
                     (0..=n).any(|i| {
                         let g = a + (b - a) * i as f64 / n as f64;
                         w2.at(g.clamp(a + 1e-9, b - 1e-9))
@@ -353,6 +373,8 @@ impl LandView<'_> {
 #[derive(Debug, Clone)]
 pub struct Walk<'c> {
     view: &'c LandView<'c>,
+    /// The ray's unit direction on the ground.
+    dir: DVec2,
     crossings: &'c [Crossing],
     next: usize,
     /// Polygons the walk is inside, with the crossing it entered by (None: the antenna
@@ -377,9 +399,11 @@ impl Walk<'_> {
             self.next += 1;
         }
         let &(p, entry) = self.active.iter().max_by_key(|(p, _)| *p)?;
-        let poly = &self.view.land.polygons()[p as usize];
+        let poly = &self.view.polygons[p as usize];
+        let point = || self.view.origin + self.dir * ground_m;
         let height = match poly.edge {
-            Edge::Cliff => poly.top_m,
+            Edge::Cliff if poly.is_flat() => poly.top_m,
+            Edge::Cliff => poly.height_at(point(), 0.0),
             Edge::Beach { .. } => {
                 // Distance to the coast: the perpendicular to the edge it entered by and to
                 // the edge it will leave by, the nearer.
@@ -396,7 +420,7 @@ impl Walk<'_> {
                         poly.distance_to_boundary_m(o)
                     }
                 };
-                poly.height_at(d)
+                poly.height_at(point(), d)
             }
         };
         Some((p as usize, height))
@@ -405,7 +429,7 @@ impl Walk<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{LandPolygon, Terrain};
+    use super::super::Terrain;
     use super::*;
 
     fn poly(rings: Vec<Vec<DVec2>>, top_m: f64, edge: Edge) -> LandPolygon {
@@ -419,6 +443,8 @@ mod tests {
             terrain: Terrain::Rock,
             gamma_db_at_10_ghz: 0.0,
             weibull_shape: 1.0,
+            height_map: None,
+            structure: None,
         }
     }
 
@@ -463,7 +489,7 @@ mod tests {
             for k in 0..720 {
                 let az = k as f64 * std::f64::consts::TAU / 720.0 + 1e-4;
                 view.crossings(az, &mut crossings);
-                let mut walk = view.walk(&crossings);
+                let mut walk = view.walk(az, &crossings);
                 let dir = DVec2::new(az.sin(), az.cos());
                 for i in 1..300 {
                     let g = i as f64 * 10.0 + 0.37;
@@ -501,7 +527,7 @@ mod tests {
         view.crossings(az, &mut c);
         let shore = 1000.0 / az.sin();
         assert!((c[0].ground_m - shore).abs() < 1e-9);
-        let mut walk = view.walk(&c);
+        let mut walk = view.walk(az, &c);
         let (_, z) = walk.at(shore + 100.0).unwrap();
         assert!((z - 20.0 * 100.0 * az.sin() / 200.0).abs() < 1e-9);
         assert_eq!(walk.at(shore + 1000.0).unwrap().1, 20.0);

@@ -6,10 +6,12 @@ use super::checks::finite;
 use crate::error::{Error, Problem, Result};
 use crate::land::geojson::{read_polygons, RawPolygon};
 use crate::land::projection::LocalProjection;
-use crate::land::{check_rings, Edge, Land, LandPolygon};
-use crate::scene::{GeoSpec, LandCrs, LandEdgeName, LandSpec};
+use crate::land::structure::{box_footprint, circle_footprint};
+use crate::land::{check_rings, Edge, HeightMap, Land, LandPolygon, Structure};
+use crate::scene::{BuiltStructureSpec, GeoSpec, LandCrs, LandEdgeName, LandSpec};
 use glam::DVec2;
 use std::path::Path;
+use std::sync::Arc;
 
 /// The land of `tables`, GeoJSON files found relative to `base_dir`.
 pub(super) fn build_land(
@@ -123,6 +125,7 @@ fn build_table(
             "must be within 0.2..4 (2 is Rayleigh; smaller is spikier)",
         ));
     }
+    let height_map = build_height_map(i, t, base_dir)?;
     let crs = t.crs.unwrap_or_default();
     let (raw, what_field, file): (Vec<RawPolygon>, String, Option<String>) =
         match (&t.geojson, &t.polygon_m) {
@@ -228,17 +231,338 @@ fn build_table(
             .map(|n| if raw.len() > 1 { format!("{n}-{j}") } else { n })
             .or_else(|| r.name.clone())
             .unwrap_or_else(|| format!("land-{i}-{j}"));
+        if let Some(map) = &height_map {
+            if let Some(p) = rings.iter().flatten().find(|p| !map.covers(**p)) {
+                return Err(Error::invalid(
+                    Problem::Conflict,
+                    field("height_map_extent_m"),
+                    format!("{:?}", t.height_map_extent_m.unwrap_or_default()),
+                    format!(
+                        "{what} has a corner at [{:.1}, {:.1}] m outside the height map's extent: the map must cover every polygon of its table",
+                        p.x, p.y
+                    ),
+                ));
+            }
+        }
         out.push(LandPolygon {
             name,
             table: i,
             source: what,
             rings,
-            top_m: r.height_m.unwrap_or(height_m),
+            top_m: height_map
+                .as_ref()
+                .map_or(r.height_m.unwrap_or(height_m), |m| m.top_m()),
             edge,
             terrain,
             gamma_db_at_10_ghz: gamma_db,
             weibull_shape: shape,
+            height_map: height_map.clone(),
+            structure: None,
         });
     }
     Ok(out)
+}
+
+/// A table's height map, if it has one: the file read and scaled, its extent checked.
+fn build_height_map(i: usize, t: &LandSpec, base_dir: &Path) -> Result<Option<Arc<HeightMap>>> {
+    let field = |f: &str| format!("land[{i}].{f}");
+    let Some(file) = &t.height_map else {
+        for (name, given) in [
+            ("height_map_extent_m", t.height_map_extent_m.is_some()),
+            ("height_map_scale_m", t.height_map_scale_m.is_some()),
+        ] {
+            if given {
+                return Err(Error::invalid(
+                    Problem::Conflict,
+                    field(name),
+                    "given",
+                    "only a table with a `height_map` file takes this",
+                ));
+            }
+        }
+        return Ok(None);
+    };
+    if t.height_m.is_some() {
+        return Err(Error::invalid(
+            Problem::Conflict,
+            field("height_m"),
+            t.height_m.unwrap_or_default(),
+            "a table with a height map takes its heights from the map: leave height_m out",
+        ));
+    }
+    let extent = t.height_map_extent_m.ok_or_else(|| {
+        Error::missing(
+            field("height_map_extent_m"),
+            "a height map needs its extent [x_min, y_min, x_max, y_max] in local metres",
+        )
+    })?;
+    let scale = finite(
+        &field("height_map_scale_m"),
+        t.height_map_scale_m.unwrap_or(1.0),
+    )?;
+    if scale <= 0.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            field("height_map_scale_m"),
+            scale,
+            "must be > 0 m per unit",
+        ));
+    }
+    let map = HeightMap::read(&field("height_map"), &base_dir.join(file), extent, scale)?;
+    if map.top_m() > 9000.0 {
+        return Err(Error::invalid(
+            Problem::OutOfRange,
+            field("height_map_scale_m"),
+            scale,
+            format!(
+                "the map's highest point comes to {:.0} m, over 9000 m",
+                map.top_m()
+            ),
+        ));
+    }
+    Ok(Some(Arc::new(map)))
+}
+
+/// The structures of `tables` (`[[structure]]`), GeoJSON files found relative to
+/// `base_dir`; `land` gives a base its default height (the ground under its first corner).
+pub(super) fn build_structures(
+    tables: &[BuiltStructureSpec],
+    geo: Option<&GeoSpec>,
+    base_dir: &Path,
+    land: &Land,
+) -> Result<Vec<Structure>> {
+    let origin = match geo {
+        Some(g) if tables.iter().any(|t| t.crs == Some(LandCrs::Wgs84)) => Some(build_origin(g)?),
+        _ => None,
+    };
+    let mut out = Vec::new();
+    for (i, t) in tables.iter().enumerate() {
+        out.extend(build_structure_table(
+            i,
+            t,
+            origin.as_ref(),
+            base_dir,
+            land,
+        )?);
+    }
+    Ok(out)
+}
+
+fn build_structure_table(
+    i: usize,
+    t: &BuiltStructureSpec,
+    origin: Option<&LocalProjection>,
+    base_dir: &Path,
+    land: &Land,
+) -> Result<Vec<Structure>> {
+    let field = |f: &str| format!("structure[{i}].{f}");
+    let kind = t.kind.unwrap_or_default();
+    let crs = t.crs.unwrap_or_default();
+    let given = [
+        ("polygon_m", t.polygon_m.is_some()),
+        ("geojson", t.geojson.is_some()),
+        ("size_m", t.size_m.is_some()),
+        ("radius_m", t.radius_m.is_some()),
+    ];
+    let footprints: Vec<_> = given.iter().filter(|g| g.1).map(|g| g.0).collect();
+    match footprints.as_slice() {
+        [] => {
+            return Err(Error::missing(
+                field("polygon_m"),
+                "a structure needs a footprint: `polygon_m`, `geojson`, a box (`position_m` and `size_m`) or a circle (`position_m` and `radius_m`)",
+            ))
+        }
+        [_] => {}
+        [_, second, ..] => {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                field(second),
+                "given",
+                format!("a structure has one footprint: {} and {second} are both given", footprints[0]),
+            ))
+        }
+    }
+    if (t.size_m.is_some() || t.radius_m.is_some()) != t.position_m.is_some() {
+        return Err(if t.position_m.is_some() {
+            Error::invalid(
+                Problem::Conflict,
+                field("position_m"),
+                "given",
+                "only a box (`size_m`) or a circle (`radius_m`) is placed by its centre",
+            )
+        } else {
+            Error::missing(
+                field("position_m"),
+                "a box or a circle needs its centre [x, y] in metres",
+            )
+        });
+    }
+    if t.yaw_deg.is_some() && t.size_m.is_none() {
+        return Err(Error::invalid(
+            Problem::Conflict,
+            field("yaw_deg"),
+            t.yaw_deg.unwrap_or_default(),
+            "only a box (`size_m`) has a heading",
+        ));
+    }
+    if crs == LandCrs::Wgs84 && t.geojson.is_none() {
+        return Err(Error::invalid(
+            Problem::Conflict,
+            field("crs"),
+            "wgs84",
+            "only a GeoJSON footprint is read in lon/lat",
+        ));
+    }
+    if crs == LandCrs::Wgs84 && origin.is_none() {
+        return Err(Error::missing(
+            "geo.origin_lon_deg",
+            format!("structure[{i}] is in lon/lat (crs = \"wgs84\"): add [geo] with origin_lon_deg and origin_lat_deg"),
+        ));
+    }
+    let positive = |name: &str, v: f64| -> Result<f64> {
+        let v = finite(&field(name), v)?;
+        if v <= 0.0 {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                field(name),
+                v,
+                "must be > 0 m",
+            ));
+        }
+        Ok(v)
+    };
+    let mut raw: Vec<Footprint> = Vec::new();
+    let mut what_field = field("polygon_m");
+    if let Some(corners) = &t.polygon_m {
+        let mut corners = corners.clone();
+        if corners.len() > 3 && corners.first() == corners.last() {
+            corners.pop();
+        }
+        let ring = corners.iter().map(|&[x, y]| DVec2::new(x, y)).collect();
+        raw.push(Footprint::written(field("polygon_m"), ring));
+    } else if let Some(path) = &t.geojson {
+        what_field = field("geojson");
+        let full = base_dir.join(path);
+        let file = full.display().to_string();
+        for r in read_polygons(&what_field, &full)? {
+            let rings = r
+                .rings
+                .iter()
+                .map(|ring| {
+                    ring.iter()
+                        .map(|&[x, y]| match (crs, origin) {
+                            (LandCrs::Wgs84, Some(o)) => o.to_local_m(x, y),
+                            _ => DVec2::new(x, y),
+                        })
+                        .collect()
+                })
+                .collect();
+            raw.push(Footprint {
+                what: format!("{file:?}: {}", r.describe()),
+                name: r.name.clone(),
+                rings,
+                height_m: r.height_m,
+            });
+        }
+    } else {
+        let [cx, cy] = t.position_m.unwrap_or_default();
+        let centre = DVec2::new(
+            finite(&field("position_m"), cx)?,
+            finite(&field("position_m"), cy)?,
+        );
+        let ring = if let Some([length, width]) = t.size_m {
+            what_field = field("size_m");
+            let (length, width) = (positive("size_m", length)?, positive("size_m", width)?);
+            let yaw = finite(&field("yaw_deg"), t.yaw_deg.unwrap_or(0.0))?;
+            box_footprint(centre, length, width, yaw.to_radians())
+        } else {
+            what_field = field("radius_m");
+            circle_footprint(
+                centre,
+                positive("radius_m", t.radius_m.unwrap_or_default())?,
+            )
+        };
+        raw.push(Footprint::written(what_field.clone(), ring));
+    }
+    let mut out = Vec::with_capacity(raw.len());
+    let count = raw.len();
+    for (j, f) in raw.into_iter().enumerate() {
+        let Footprint {
+            what,
+            name: feature_name,
+            rings,
+            height_m: file_height,
+        } = f;
+        check_rings(&what_field, &what, &rings)?;
+        let height = match (file_height, t.height_m) {
+            (Some(h), _) => h,
+            (None, Some(h)) => h,
+            (None, None) => {
+                return Err(Error::missing(
+                    field("height_m"),
+                    format!("{what} has no height: set height_m (its top over its base, m)"),
+                ))
+            }
+        };
+        let height = finite(&field("height_m"), height)?;
+        if !(height > 0.0 && height <= 1000.0) {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                field("height_m"),
+                height,
+                format!("{what}: a structure's height must be within 0..1000 m and above 0"),
+            ));
+        }
+        let base = match t.base_m {
+            Some(b) => finite(&field("base_m"), b)?,
+            None => land.height_at(rings[0][0]),
+        };
+        if !(0.0..=9000.0).contains(&base) {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                field("base_m"),
+                base,
+                "must be within 0..9000 m over the sea",
+            ));
+        }
+        let name = t
+            .name
+            .clone()
+            .map(|n| if count > 1 { format!("{n}-{j}") } else { n })
+            .or(feature_name)
+            .unwrap_or_else(|| format!("structure-{i}-{j}"));
+        out.push(Structure {
+            name,
+            kind,
+            source: what,
+            rings,
+            base_m: base,
+            top_m: base + height,
+        });
+    }
+    Ok(out)
+}
+
+/// One footprint as read, before its checks.
+struct Footprint {
+    /// How errors and truth name it.
+    what: String,
+    /// The feature's `name` property.
+    name: Option<String>,
+    /// Outer ring then holes, local m.
+    rings: Vec<Vec<DVec2>>,
+    /// The feature's `height_m` property.
+    height_m: Option<f64>,
+}
+
+impl Footprint {
+    /// A footprint written in the scene (one ring, no properties).
+    fn written(what: String, ring: Vec<DVec2>) -> Footprint {
+        Footprint {
+            what,
+            name: None,
+            rings: vec![ring],
+            height_m: None,
+        }
+    }
 }

@@ -155,6 +155,33 @@ fn check_objects_on_water(objects: &[SceneObject], land: &crate::land::Land) -> 
     Ok(())
 }
 
+/// Refuses objects standing inside a structure's footprint.
+fn check_objects_outside_structures(
+    objects: &[SceneObject],
+    land: &crate::land::Land,
+) -> Result<()> {
+    for (i, o) in objects.iter().enumerate() {
+        let p = o.position_m();
+        if let Some(k) = land.structure_at(p.truncate()) {
+            let s = &land.surface()[k];
+            if p.z < s.top_m {
+                return Err(Error::invalid(
+                    Problem::Conflict,
+                    format!("object[{i}].position_m"),
+                    fmt_vec(p),
+                    format!(
+                        "object {:?} stands inside structure {:?} from {}; move it onto the water",
+                        o.name(),
+                        s.name,
+                        s.source
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 impl Scene {
     /// Whether `other` is this scene but for its radar's waveform and receiver
     /// ([`Radar::with_waveform_of`]): the same objects, environment, scattering, own ship,
@@ -278,21 +305,42 @@ impl Scene {
     /// `[display]` table is not part of the model (see [`crate::products::ppi::PpiSettings`]).
     pub fn from_spec_in(spec: &SceneSpec, base_dir: &Path) -> Result<Scene> {
         let radar = radar::build_radar(&spec.radar, spec.environment.polarisation, base_dir)?;
-        let environment = environment::build_environment(
-            &spec.environment,
-            radar.carrier_freq_hz(),
-            radar.polarisation() == Polarisation::Hh,
-        )?
-        .with_land(land::build_land(&spec.land, spec.geo.as_ref(), base_dir)?);
+        let ground = land::build_land(&spec.land, spec.geo.as_ref(), base_dir)?;
+        let structures =
+            land::build_structures(&spec.structure, spec.geo.as_ref(), base_dir, &ground)?;
         let scattering = scattering::build_scattering(&spec.scattering)?;
-        let objects = spec
+        let mut objects = spec
             .objects
             .iter()
             .enumerate()
             .map(|(i, o)| world::build_object(i, o, base_dir))
             .collect::<Result<Vec<_>>>()?;
-        check_objects_on_water(&objects, environment.land())?;
-        check_antenna_above_ground(&radar, environment.land())?;
+        check_objects_on_water(&objects, &ground)?;
+        check_antenna_above_ground(&radar, &ground)?;
+        let first_structure = objects.len();
+        let footprints = structures
+            .iter()
+            .enumerate()
+            .map(|(k, s)| s.footprint(k, (first_structure + k) as u32))
+            .collect();
+        for s in &structures {
+            objects.push(SceneObject::new(
+                s.name.clone(),
+                s.kind.as_str(),
+                crate::geometry::ShapeGeometry::Mesh {
+                    mesh: std::sync::Arc::new(s.mesh()?),
+                },
+                s.anchor_m(),
+                glam::DMat3::IDENTITY,
+            )?);
+        }
+        let environment = environment::build_environment(
+            &spec.environment,
+            radar.carrier_freq_hz(),
+            radar.polarisation() == Polarisation::Hh,
+        )?
+        .with_land(ground.with_structures(footprints));
+        check_objects_outside_structures(&objects[..first_structure], environment.land())?;
         let processing = processing::build_processing(&spec.processing, &radar)?;
         let video = spec
             .receiver

@@ -1,6 +1,7 @@
 //! The files of one rendered frame, written as a set: `polar.npy`, `ppi.png`, `ppi_gray.png`
 //! and `truth.json`, and `doppler_cube.npy`, `radial_velocity.npy`, `iq.npy`,
-//! `iq_pulses.npy`, `video.npy`, `land_mask.npy` and `land_polygon.npy` when the frame has
+//! `iq_pulses.npy`, `video.npy`, `land_mask.npy`, `land_polygon.npy`, `structure_mask.npy` and
+//! `land_ppi.png` when the frame has
 //! them (docs/formats.md). The truth file holds no timings,
 //! so the same scene and seed give byte-identical files.
 
@@ -59,9 +60,12 @@ struct TraceCounts {
 /// The land's files and polygons.
 #[derive(Serialize)]
 struct LandAxes<'a> {
-    /// Shape of land_mask.npy and land_polygon.npy.
+    /// Shape of land_mask.npy, land_polygon.npy and structure_mask.npy.
     shape: [usize; 2],
     polygons: &'a [super::land::LandPolygonTruth],
+    /// The structures (left out of scenes without them).
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    structures: &'a [super::land::StructureTruth],
 }
 
 /// The axes of doppler_cube.npy.
@@ -252,6 +256,17 @@ pub fn encode_frame_files(
             "land_polygon.npy",
             npy_i32_bytes(&[l.spokes, l.range_bins], &l.polygon),
         ));
+        if l.has_structures() {
+            files.push((
+                "structure_mask.npy",
+                npy_i32_bytes(&[l.spokes, l.range_bins], &l.structure),
+            ));
+        }
+        let classes = land_ppi_classes(&p.converter, l);
+        files.push((
+            "land_ppi.png",
+            png_bytes(&out.join("land_ppi.png"), size, size, 1, &classes)?,
+        ));
     }
     if let Some(c) = &frame.doppler_cube {
         files.push((
@@ -390,6 +405,7 @@ pub fn frame_products(
         land: frame.land.as_ref().map(|l| LandAxes {
             shape: [l.spokes, l.range_bins],
             polygons: &l.polygons,
+            structures: &l.structures,
         }),
         trace: TraceCounts::of(&frame.stats),
     };
@@ -405,6 +421,27 @@ pub fn frame_products(
         artefacts,
     })
 }
+
+/// `land_ppi.png`'s pixels: the polar land and structure masks scan-converted like
+/// `ppi.png` (nearest cell): [`LAND_PPI_SEA`] where a pixel's cell is sea (or outside the
+/// display), [`LAND_PPI_LAND`] land, [`LAND_PPI_STRUCTURE`] a structure.
+fn land_ppi_classes(conv: &ScanConverter, land: &super::land::LandTruth) -> Vec<u8> {
+    let size = conv.size_px() as usize;
+    (0..size * size)
+        .map(|px| match conv.nearest_cell(px) {
+            Some(i) if land.polygon.get(i).is_some_and(|&p| p >= 0) => LAND_PPI_LAND,
+            Some(i) if land.structure.get(i).is_some_and(|&s| s >= 0) => LAND_PPI_STRUCTURE,
+            _ => LAND_PPI_SEA,
+        })
+        .collect()
+}
+
+/// `land_ppi.png`'s value for sea, land seen nowhere, and pixels outside the display.
+pub const LAND_PPI_SEA: u8 = 0;
+/// `land_ppi.png`'s value for land whose echo the cell is.
+pub const LAND_PPI_LAND: u8 = 1;
+/// `land_ppi.png`'s value for a structure's footprint in view.
+pub const LAND_PPI_STRUCTURE: u8 = 2;
 
 /// The video's levels drawn like `ppi.png` (same geometry, colour map and range rings), the
 /// colour scale spanning level 0 to the largest.

@@ -21,6 +21,26 @@ pub struct LandTruth {
     pub polygon: Vec<i32>,
     /// The polygons, in scene order.
     pub polygons: Vec<LandPolygonTruth>,
+    /// Each cell's structure (its object id), −1 where the cell is not a structure's seen
+    /// footprint; spokes × bins row-major.
+    pub structure: Vec<i32>,
+    /// The structures, in scene order.
+    pub structures: Vec<StructureTruth>,
+}
+
+/// One structure in a frame's truth.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StructureTruth {
+    /// Its object id (the value in `structure_mask.npy`; its echo's label is that object's).
+    pub id: u32,
+    /// Name.
+    pub name: String,
+    /// Where it came from: `structure[i].polygon_m`, `file: feature k ("name")`, ….
+    pub source: String,
+    /// Height of its top over the sea, m (its base is its object's `position_m[2]`).
+    pub top_m: f64,
+    /// Polar cells of its footprint in view (0 when hidden or out of range).
+    pub cells: usize,
 }
 
 /// One land polygon in a frame's truth.
@@ -46,17 +66,31 @@ impl LandTruth {
     /// The land of `map` (records of at least `range_bins` samples), None when no spoke
     /// meets land.
     pub fn of(map: &ClutterMap, land: &Land, range_bins: usize) -> Option<LandTruth> {
-        if land.is_empty() || !map.has_land() {
+        if land.has_no_surface() || !map.has_land() {
             return None;
         }
         let (spokes, samples) = map.shape();
         let mut polygon = vec![-1i32; spokes * range_bins];
         let mut cells = vec![0usize; land.polygons().len()];
+        let footprints = &land.surface()[land.polygons().len()..];
+        let mut structure = vec![
+            -1i32;
+            if footprints.is_empty() {
+                0
+            } else {
+                spokes * range_bins
+            }
+        ];
+        let mut structure_cells = vec![0usize; footprints.len()];
         for k in 0..spokes {
             for n in 0..range_bins.min(samples) {
                 if let Some(p) = map.land_polygon(k, n) {
                     polygon[k * range_bins + n] = p as i32;
                     cells[p] += 1;
+                } else if let Some(s) = map.structure_at(k, n) {
+                    structure[k * range_bins + n] =
+                        footprints[s].structure.map_or(-1, |o| o as i32);
+                    structure_cells[s] += 1;
                 }
             }
         }
@@ -74,12 +108,30 @@ impl LandTruth {
                 cells: cells[id],
             })
             .collect();
+        let structures = footprints
+            .iter()
+            .zip(&structure_cells)
+            .map(|(f, &cells)| StructureTruth {
+                id: f.structure.unwrap_or_default(),
+                name: f.name.clone(),
+                source: f.source.clone(),
+                top_m: f.top_m,
+                cells,
+            })
+            .collect();
         Some(LandTruth {
             spokes,
             range_bins,
             polygon,
             polygons,
+            structure,
+            structures,
         })
+    }
+
+    /// Whether the scene has structures (`structure_mask.npy` is written).
+    pub fn has_structures(&self) -> bool {
+        !self.structures.is_empty()
     }
 
     /// `land_mask.npy`'s values: 1 where the cell's echo is land's, else 0.

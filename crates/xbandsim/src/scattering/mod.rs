@@ -189,12 +189,21 @@ pub fn carrier_phase(path_m: f64, wavelength_m: f64) -> Complex64 {
 
 /// Builds the ray-tracing acceleration structure of a scene (all objects' primitives).
 pub fn build_scene_bvh(objects: &[SceneObject]) -> Bvh {
-    let prims: Vec<Primitive> = objects
+    Bvh::build(scene_primitives_of(objects, |_, _| true))
+}
+
+/// The world-frame primitives of the objects `keep(index, object)` takes, each tagged with
+/// its index in `objects`.
+pub fn scene_primitives_of(
+    objects: &[SceneObject],
+    keep: impl Fn(usize, &SceneObject) -> bool,
+) -> Vec<Primitive> {
+    objects
         .iter()
         .enumerate()
+        .filter(|(i, o)| keep(*i, o))
         .flat_map(|(i, o)| o.shape().primitives(o.position_m(), o.rotation(), i as u32))
-        .collect();
-    Bvh::build(prims)
+        .collect()
 }
 
 /// Traces the scene with its configured model, then applies the two-way rain attenuation
@@ -311,16 +320,16 @@ pub fn shade_by_land(scene: &Scene, set: &mut ScatterSet) {
         if !via_sea {
             let seen_at = crate::land::profile::elevation_rad(straight_z, ground, h, curvature);
             return view
-                .max_land_elevation_along(&crossings, ground, h, curvature)
+                .max_land_elevation_along(az, &crossings, ground, h, curvature)
                 .is_some_and(|top| top > seen_at);
         }
         let z = -straight_z;
         let specular = ground * h / (h + z.max(0.0)).max(1e-9);
-        if view.walk(&crossings).at(specular).is_some() {
+        if view.walk(az, &crossings).at(specular).is_some() {
             return true;
         }
-        view.blocks_segment_along(&crossings, (0.0, h), (specular, 0.0))
-            || view.blocks_segment_along(&crossings, (specular, 0.0), (ground, z))
+        view.blocks_segment_along(az, &crossings, (0.0, h), (specular, 0.0))
+            || view.blocks_segment_along(az, &crossings, (specular, 0.0), (ground, z))
     };
     set.contributions.retain(|c| {
         let range = 0.5 * c.path_m;

@@ -156,6 +156,43 @@ pub struct SceneSpec {
     /// Land: coast polygons with a height and a terrain (`[[land]]` tables).
     #[serde(default)]
     pub land: Vec<LandSpec>,
+    /// Man-made structures: breakwaters, quays, piers, buildings, tanks, cranes
+    /// (`[[structure]]` tables), traced as triangles like every object.
+    #[serde(default)]
+    pub structure: Vec<BuiltStructureSpec>,
+}
+
+/// `[[structure]]`: a breakwater, quay, pier, building, tank or crane: a footprint extruded
+/// to a height (a polygon written here, every polygon of a GeoJSON file, a box or a
+/// circle), made into triangles and traced with physical optics like an object.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BuiltStructureSpec {
+    /// Name (default: each feature's `name` property, else `structure-<i>`).
+    pub name: Option<String>,
+    /// What it is: "breakwater", "quay", "pier", "building" (default), "tank" or "crane";
+    /// its class in the ground truth.
+    pub kind: Option<crate::land::StructureKind>,
+    /// Footprint corners `[x, y]` in metres (local), not closed.
+    pub polygon_m: Option<Vec<[f64; 2]>>,
+    /// Footprints from a GeoJSON file of Polygon/MultiPolygon features (holes allowed),
+    /// relative to the scene file; a feature's `height_m` property overrides `height_m`.
+    pub geojson: Option<String>,
+    /// Coordinates of the GeoJSON: "local_m" (default) or "wgs84" (needs `[geo]`).
+    pub crs: Option<LandCrs>,
+    /// A box or circle's centre `[x, y]`, m (with `size_m` or `radius_m`).
+    pub position_m: Option<[f64; 2]>,
+    /// A box's length along its heading and its width, `[length, width]`, m.
+    pub size_m: Option<[f64; 2]>,
+    /// A box's heading: its length turned from north toward east, degrees (default 0).
+    pub yaw_deg: Option<f64>,
+    /// A circular footprint's radius (a tank), m.
+    pub radius_m: Option<f64>,
+    /// Height of its top over its base, m (required unless every feature sets `height_m`).
+    pub height_m: Option<f64>,
+    /// Height of its base over the sea, m (default: the ground's height under the
+    /// footprint's first corner: 0 on the water, the land's top on land).
+    pub base_m: Option<f64>,
 }
 
 /// `[geo]`: the scene's origin on the WGS84 ellipsoid. Lon/lat inputs (`[[land]]` with
@@ -218,6 +255,14 @@ pub struct LandSpec {
     pub gamma_db: Option<f64>,
     /// Weibull shape of a land cell's amplitude (default: the terrain's; 2 is Rayleigh).
     pub weibull_shape: Option<f64>,
+    /// A height map instead of the flat top: a 16-bit grey PNG or a 2-D `.npy` array
+    /// (north row first), relative to the scene file.
+    pub height_map: Option<String>,
+    /// The height map's extent `[x_min, y_min, x_max, y_max]`, local metres: its corner
+    /// samples lie on its corners; every polygon of the table must lie inside it.
+    pub height_map_extent_m: Option<[f64; 4]>,
+    /// Metres per unit of the height map's values (default 1).
+    pub height_map_scale_m: Option<f64>,
 }
 
 /// `[radar]`: every field overrides the preset's value.

@@ -118,6 +118,51 @@ fn bvh_matches_brute_force() {
     assert!(hits > 2_000, "too few hits to mean anything: {hits}");
 }
 
+/// A two-level BVH (half the objects in a shared static level) returns the brute-force
+/// closest hit of all the primitives (distance and object) and the same any-hit answer, and
+/// finds each object's primitives and bounds in whichever level holds them.
+#[test]
+fn two_level_bvh_matches_brute_force() {
+    let mut rng = Lcg(5);
+    let prims = random_scene(&mut rng);
+    let (fixed, moving): (Vec<Primitive>, Vec<Primitive>) =
+        prims.iter().cloned().partition(|p| p.object % 2 == 0);
+    let two = Bvh::over_static(std::sync::Arc::new(Bvh::build(fixed)), moving);
+    assert!(two.static_level().is_some());
+    let mut hits = 0;
+    for _ in 0..20_000 {
+        let origin = rng.vec(60.0);
+        let target = rng.vec(25.0);
+        let ray = Ray::new(origin, target - origin);
+        let a = two.closest_hit(&ray, f64::INFINITY);
+        let b = closest_hit_brute_force(&prims, &ray, f64::INFINITY);
+        match (a, b) {
+            (Some(x), Some(y)) => {
+                hits += 1;
+                assert!((x.t_m - y.t_m).abs() < 1e-9, "{x:?} vs {y:?}");
+                assert!(x.object == y.object || (x.t_m - y.t_m).abs() < 1e-12);
+            }
+            (None, None) => {}
+            (x, y) => panic!("two-level {x:?} vs brute force {y:?}"),
+        }
+        let t_max = rng.next() * 80.0;
+        assert_eq!(
+            two.any_hit(&ray, t_max),
+            closest_hit_brute_force(&prims, &ray, t_max).is_some()
+        );
+    }
+    assert!(hits > 2_000, "too few hits to mean anything: {hits}");
+    for tag in [0u32, 1, 2, 7, 58, 1000, 1001] {
+        let scanned = prims.iter().filter(|p| p.object == tag).count();
+        assert_eq!(two.object_primitives(tag).count(), scanned, "tag {tag}");
+        let bounds = prims
+            .iter()
+            .filter(|p| p.object == tag)
+            .fold(xbandsim::geometry::Aabb::EMPTY, |b, p| b.union(&p.bounds()));
+        assert_eq!(two.object_bounds(tag).min, bounds.min, "tag {tag}");
+    }
+}
+
 /// Centre of sphere `i` of [`sphere_chain`] on the x axis, m.
 fn centre_m(i: i32) -> f64 {
     17f64.powi(i)

@@ -22,6 +22,7 @@ mod pulse_modes;
 mod rcs;
 mod scene_errors;
 mod signal_chain;
+mod structures;
 mod targets;
 mod transmitter;
 mod video;

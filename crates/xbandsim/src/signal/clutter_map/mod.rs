@@ -72,6 +72,8 @@ pub struct ClutterMap {
     /// The land polygon each patch shows the radar ([`spoke::NO_POLYGON`] for water and land
     /// in shadow; rows empty where a spoke meets no land).
     land_polygon: Vec<Vec<u32>>,
+    /// How many of the surface's polygons are land (the rest are structures' footprints).
+    land_count: usize,
     /// Whether each patch's surface is seen: false where land or its shadow hides the sea
     /// (rows empty where a spoke meets no land).
     sea_seen: Vec<Vec<bool>>,
@@ -103,7 +105,7 @@ impl ClutterMap {
         samples: usize,
         beam_tilt_rad: &[f64],
     ) -> Option<ClutterMap> {
-        if env.clutter().is_none() && env.rain().is_none() && env.land().is_empty() {
+        if env.clutter().is_none() && env.rain().is_none() && env.land().has_no_surface() {
             return None;
         }
         let geometry = MapGeometry::of(radar);
@@ -116,8 +118,8 @@ impl ClutterMap {
         let spoke_stage = SpokeStage::new(radar, env, &geometry, &cells, key.frame, beam_tilt_rad);
         let has_rain = env.rain().is_some();
         let radar_xy = radar.position_m().truncate();
-        let view = (!env.land().is_empty())
-            .then(|| crate::land::profile::LandView::new(env.land(), radar_xy));
+        let view = (!env.land().has_no_surface())
+            .then(|| crate::land::profile::LandView::surface(env.land(), radar_xy));
         type Rows = (Vec<f32>, Vec<f32>, Vec<f32>, Vec<f32>, Vec<u32>, Vec<bool>);
         let per_spoke: Vec<Rows> = (0..geometry.spokes)
             .into_par_iter()
@@ -211,6 +213,7 @@ impl ClutterMap {
             land_power,
             land_echo,
             land_polygon,
+            land_count: env.land().polygons().len(),
             sea_seen,
             spokes: geometry.spokes,
             samples,
@@ -262,8 +265,17 @@ impl ClutterMap {
     pub fn land_polygon(&self, k: usize, n: usize) -> Option<usize> {
         self.land_polygon[k]
             .get(n)
-            .filter(|&&p| p != spoke::NO_POLYGON)
+            .filter(|&&p| (p as usize) < self.land_count)
             .map(|&p| p as usize)
+    }
+
+    /// The structure whose footprint patch (spoke `k`, sample `n`) is and is seen, if any: its
+    /// index among the structures ([`crate::land::Land::surface`] less the land).
+    pub fn structure_at(&self, k: usize, n: usize) -> Option<usize> {
+        self.land_polygon[k]
+            .get(n)
+            .filter(|&&p| p != spoke::NO_POLYGON && (p as usize) >= self.land_count)
+            .map(|&p| p as usize - self.land_count)
     }
 
     /// Whether the surface at patch (spoke `k`, sample `n`) is in view: false where land or

@@ -219,7 +219,10 @@ impl SpokeStage<'_> {
         let (h, delta) = (g.h, g.delta);
         let az = self.radar.spoke_azimuth_rad(k);
         view.crossings(az, crossings);
-        if crossings.is_empty() && view.land().polygon_at(view.origin()).is_none() {
+        if crossings.is_empty()
+            && view.land().polygon_at(view.origin()).is_none()
+            && view.land().structure_at(view.origin()).is_none()
+        {
             return false;
         }
         let curvature = self.env.earth_curvature();
@@ -228,8 +231,8 @@ impl SpokeStage<'_> {
         let radar_xy = self.radar.position_m().truncate();
         let dir = DVec2::new(az.sin(), az.cos());
         let chords = self.rain_chords(radar_xy, dir);
-        let polygons = view.land().polygons();
-        let mut walk = view.walk(crossings);
+        let polygons = view.polygons();
+        let mut walk = view.walk(az, crossings);
         let mut highest: Option<f64> = None;
         let mut any = false;
         let mut gamma = (usize::MAX, 0.0);
@@ -263,6 +266,12 @@ impl SpokeStage<'_> {
             highest = Some(alpha);
             let Some((p, _)) = here else { continue };
             let poly = &polygons[p];
+            if poly.structure.is_some() {
+                // A structure's footprint: its echo is traced (PO), it only hides what lies
+                // behind it; its cells are marked its.
+                polygon_row[n] = p as u32;
+                continue;
+            }
             // γ changes only where the polygon does: recomputed then.
             if gamma.0 != p {
                 gamma = (p, poly.gamma_linear(g.freq_ghz));
