@@ -432,6 +432,9 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     //    library targets, sea clutter, rain in a third), written with labels and manifests;
     //    then the same with 1-10 targets (no empty frames).
     dataset_rows(a.repeats.min(3), &mut put)?;
+    // 6. A coastal scene of 10^5 and 10^6 triangles: the harbour with 10 or 92 moored
+    //    10.8 k-triangle vessels; BVH build, a still revolution and one with a ship under way.
+    coastal_rows(a.repeats.min(3), &mut put)?;
     if let Some(mb) = peak_rss_mb() {
         put("peak resident memory (whole bench process)", mb, "MB");
     }
@@ -609,6 +612,140 @@ fn dataset_stages(spec: &xbandsim_dataset::DatasetSpec, n: u64) -> Result<[f64; 
         }
     }
     Ok(stages)
+}
+
+/// The harbour scene the coastal rows extend.
+const HARBOUR_SCENE: &str = include_str!("../../../scenes/harbour-calm.toml");
+
+/// The harbour scene at 3 km (720 spokes x 2049 bins, sea clutter, land and structures) with
+/// `moored` copies of the 10.8 k-triangle vessel mesh (`mesh_file`) moored in rows to the
+/// west, and its ship under way or not.
+fn coastal_scene(mesh_file: &Path, moored: usize, under_way: bool) -> Result<Scene> {
+    let mesh = mesh_file.display().to_string().replace('\\', "/");
+    let mut text = HARBOUR_SCENE
+        .replace("max_range_m = 1500.0", "max_range_m = 3070.0")
+        .replace("\"meshes/vessel.obj\"", &format!("{mesh:?}"));
+    if under_way {
+        text = text.replace(
+            "position_m = [350.0, 700.0, 0.0]\nyaw_deg = 30.0",
+            "position_m = [350.0, 700.0, 0.0]\nspeed_kn = 8.0\ncourse_deg = 30.0",
+        );
+    }
+    for i in 0..moored {
+        let (x, y) = (
+            -2640.0 + (i / 40) as f64 * 100.0,
+            -500.0 + (i % 40) as f64 * 32.0,
+        );
+        text.push_str(&format!(
+            "\n[[object]]\nname = \"moored-{i}\"\nclass = \"ship\"\nshape = \"mesh\"\nmesh_file = {mesh:?}\nposition_m = [{x}, {y}, 0.0]\nyaw_deg = 90.0\n"
+        ));
+    }
+    Ok(LoadedSpec::from_toml(&text, "coastal (built in)", Path::new("."))?.build()?)
+}
+
+/// Coastal rows: BVH build of 10^5 and 10^6 triangles (one level, all cores), a revolution
+/// of the still scene (trace cached) and of the scene with a ship under way (every object
+/// retraced, its BVH one moving level over the static one), and the peak memory.
+fn coastal_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<()> {
+    let dir = tempfile_dir();
+    std::fs::create_dir_all(&dir)?;
+    let mesh_file = dir.join("vessel.obj");
+    let vessel = xbandsim::geometry::mesh::vessel(30.0, 128);
+    std::fs::write(&mesh_file, vessel.to_obj("bench vessel"))?;
+    let triangles_of = |scene: &Scene| -> usize {
+        scene
+            .objects()
+            .iter()
+            .map(|o| match o.shape() {
+                xbandsim::geometry::ShapeGeometry::Mesh { mesh } => mesh.triangles.len(),
+                _ => 0,
+            })
+            .sum()
+    };
+    let harbour = Simulation::new(coastal_scene(&mesh_file, 0, false)?);
+    let mut frame = 0;
+    let t_harbour = median_s(repeats, || {
+        frame += 1;
+        std::hint::black_box(harbour.run(&Request::new(1).frame(frame)))
+            .expect("the harbour renders");
+    });
+    put(
+        "coastal: harbour revolution, 720 x 2049, clutter, land, structures (cached)",
+        t_harbour * 1e3,
+        "ms",
+    );
+    for moored in [10usize, 92] {
+        let scene = coastal_scene(&mesh_file, moored, false)?;
+        let triangles = triangles_of(&scene);
+        let t_build = median_s(repeats, || {
+            std::hint::black_box(build_scene_bvh(scene.objects()));
+        });
+        put(
+            &format!("coastal: BVH build, {triangles} triangles (harbour + {moored} moored)"),
+            t_build * 1e3,
+            "ms",
+        );
+        let sim = Simulation::new(scene);
+        let mut frame = 0;
+        let t_still = median_s(repeats, || {
+            frame += 1;
+            std::hint::black_box(sim.run(&Request::new(1).frame(frame)))
+                .expect("the coastal scene renders");
+        });
+        put(
+            &format!("coastal: revolution, {triangles} triangles, still (trace cached)"),
+            t_still * 1e3,
+            "ms",
+        );
+        put(
+            "  that revolution / the harbour's alone (same run)",
+            t_still / t_harbour,
+            "x",
+        );
+    }
+    let moving = coastal_scene(&mesh_file, 10, true)?;
+    let triangles = triangles_of(&moving);
+    let dynamic =
+        xbandsim::scattering::scene_primitives_of(moving.objects(), |_, o| o.motion().is_some());
+    let fixed = std::sync::Arc::new(Bvh::build(xbandsim::scattering::scene_primitives_of(
+        moving.objects(),
+        |_, o| o.motion().is_none(),
+    )));
+    let t_dynamic = median_s(repeats, || {
+        std::hint::black_box(Bvh::over_static(
+            std::sync::Arc::clone(&fixed),
+            dynamic.clone(),
+        ));
+    });
+    put(
+        &format!(
+            "coastal: a revolution's moving BVH level ({} primitives) over the static one",
+            dynamic.len()
+        ),
+        t_dynamic * 1e3,
+        "ms",
+    );
+    let sim = Simulation::new(moving);
+    let mut frame = 0;
+    let t_moving = median_s(repeats, || {
+        frame += 1;
+        std::hint::black_box(sim.run(&Request::new(1).frame(frame)))
+            .expect("the coastal scene renders");
+    });
+    put(
+        &format!("coastal: revolution, {triangles} triangles, a ship under way (retraced)"),
+        t_moving * 1e3,
+        "ms",
+    );
+    if let Some(mb) = peak_rss_mb() {
+        put(
+            "coastal: peak resident memory after the coastal rows",
+            mb,
+            "MB",
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+    Ok(())
 }
 
 /// A fresh folder under the system's temporary directory.

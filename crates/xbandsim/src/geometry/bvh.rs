@@ -20,6 +20,7 @@
 
 use super::{Aabb, Hit, Primitive, Ray};
 use glam::DVec3;
+use rayon::prelude::*;
 use std::sync::Arc;
 
 const NUM_BINS: usize = 16;
@@ -317,74 +318,34 @@ impl Bvh {
                 static_level: None,
             };
         }
-        let bounds: Vec<Aabb> = primitives.iter().map(|p| p.bounds()).collect();
-        let centres: Vec<DVec3> = bounds.iter().map(|b| b.centre()).collect();
+        let bounds: Vec<Aabb> = primitives.par_iter().map(|p| p.bounds()).collect();
+        let centres: Vec<DVec3> = bounds.par_iter().map(|b| b.centre()).collect();
         let mut order: Vec<u32> = (0..primitives.len() as u32).collect();
-        let mut nodes = Vec::with_capacity(2 * primitives.len());
-        nodes.push(BuildNode {
-            bounds: Aabb::EMPTY,
-            first: 0,
-            count: primitives.len() as u32,
-        });
-        let mut stack = vec![(0usize, 0usize)];
-        let mut binary_depth = 0;
-        while let Some((ni, depth)) = stack.pop() {
-            binary_depth = binary_depth.max(depth);
-            let first = nodes[ni].first as usize;
-            let count = nodes[ni].count as usize;
-            let slice = &mut order[first..first + count];
-            let mut nb = Aabb::EMPTY;
-            let mut cb = Aabb::EMPTY;
-            for &i in slice.iter() {
-                nb = nb.union(&bounds[i as usize]);
-                cb.grow(centres[i as usize]);
-            }
-            nodes[ni].bounds = nb;
-            if count <= MAX_LEAF_SIZE {
-                continue;
-            }
-            let (axis, mut left) = if depth < SAH_MAX_DEPTH {
-                let Some((axis, split_pos)) = best_split(slice, &bounds, &centres, &cb, &nb) else {
-                    continue;
-                };
-                let mut left = 0;
-                for j in 0..slice.len() {
-                    if centres[slice[j] as usize][axis] < split_pos {
-                        slice.swap(left, j);
-                        left += 1;
-                    }
-                }
-                (axis, left)
-            } else {
-                ((cb.max - cb.min).max_position(), 0)
+        // Every node of n primitives owns 2n − 1 slots: itself, then its two children, then
+        // each child's descendants in turn (2m − 2 slots for a child of m). The layout is a
+        // function of the tree alone, so subtrees build in parallel into disjoint slots and
+        // the tree is the same whatever the thread count (slots a leaf does not need stay
+        // unused; the wide tree is collapsed by following the links).
+        let n = primitives.len();
+        let mut nodes = vec![
+            BuildNode {
+                bounds: Aabb::EMPTY,
+                first: 0,
+                count: 0,
             };
-            if left == 0 || left == count {
-                left = count / 2;
-                slice.sort_by(|a, b| {
-                    centres[*a as usize][axis].total_cmp(&centres[*b as usize][axis])
-                });
-            }
-            let li = nodes.len();
-            nodes.push(BuildNode {
-                bounds: Aabb::EMPTY,
-                first: first as u32,
-                count: left as u32,
-            });
-            nodes.push(BuildNode {
-                bounds: Aabb::EMPTY,
-                first: (first + left) as u32,
-                count: (count - left) as u32,
-            });
-            nodes[ni].first = li as u32;
-            nodes[ni].count = 0;
-            stack.push((li, depth + 1));
-            stack.push((li + 1, depth + 1));
-        }
-        let reordered: Vec<Primitive> = order.iter().map(|&i| primitives[i as usize]).collect();
+            2 * n - 1
+        ];
+        let (root, rest) = nodes.split_at_mut(1);
+        let inputs = BuildInputs {
+            bounds: &bounds,
+            centres: &centres,
+        };
+        let binary_depth = build_node(&mut root[0], rest, 1, &mut order, 0, 0, &inputs);
+        let reordered: Vec<Primitive> = order.par_iter().map(|&i| primitives[i as usize]).collect();
         primitives.clear();
         let mut by_object: Vec<u32> = (0..reordered.len() as u32).collect();
         // Stable: within one object the indices stay ascending.
-        by_object.sort_by_key(|&i| reordered[i as usize].object);
+        by_object.par_sort_by_key(|&i| reordered[i as usize].object);
         let (wide, exact_boxes, wide_depth) = collapse(&nodes);
         let f32_boxes = exact_boxes.iter().flatten().all(|b| {
             b.min.cmpge(DVec3::splat(-F32_REACH_M)).all()
@@ -634,6 +595,100 @@ impl Bvh {
     }
 }
 
+/// What every node of a build reads: each primitive's box and centre.
+struct BuildInputs<'a> {
+    bounds: &'a [Aabb],
+    centres: &'a [DVec3],
+}
+
+/// Nodes of at least this many primitives build their two subtrees in parallel.
+const PARALLEL_BUILD_MIN: usize = 4096;
+
+/// Builds the subtree of the primitives `order` (positions `first..` of the whole order)
+/// into `root` and its descendants' slots `rest` (2n − 2 of them, the first at index
+/// `rest_base` of the whole array): binned SAH down to [`SAH_MAX_DEPTH`], then median
+/// splits. Returns the depth of its deepest node.
+fn build_node(
+    root: &mut BuildNode,
+    rest: &mut [BuildNode],
+    rest_base: usize,
+    order: &mut [u32],
+    first: usize,
+    depth: usize,
+    inputs: &BuildInputs<'_>,
+) -> usize {
+    let (bounds, centres) = (inputs.bounds, inputs.centres);
+    let count = order.len();
+    let mut nb = Aabb::EMPTY;
+    let mut cb = Aabb::EMPTY;
+    for &i in order.iter() {
+        nb = nb.union(&bounds[i as usize]);
+        cb.grow(centres[i as usize]);
+    }
+    *root = BuildNode {
+        bounds: nb,
+        first: first as u32,
+        count: count as u32,
+    };
+    if count <= MAX_LEAF_SIZE {
+        return depth;
+    }
+    let (axis, mut left) = if depth < SAH_MAX_DEPTH {
+        let Some((axis, split_pos)) = best_split(order, bounds, centres, &cb, &nb) else {
+            return depth;
+        };
+        let mut left = 0;
+        for j in 0..order.len() {
+            if centres[order[j] as usize][axis] < split_pos {
+                order.swap(left, j);
+                left += 1;
+            }
+        }
+        (axis, left)
+    } else {
+        ((cb.max - cb.min).max_position(), 0)
+    };
+    if left == 0 || left == count {
+        left = count / 2;
+        order.sort_by(|a, b| centres[*a as usize][axis].total_cmp(&centres[*b as usize][axis]));
+    }
+    root.first = rest_base as u32;
+    root.count = 0;
+    let (children, descendants) = rest.split_at_mut(2);
+    let (left_root, right_root) = children.split_at_mut(1);
+    let (left_rest, right_rest) = descendants.split_at_mut(2 * left - 2);
+    let (left_order, right_order) = order.split_at_mut(left);
+    let (left_base, right_base) = (rest_base + 2, rest_base + 2 + 2 * left - 2);
+    let mut build_left = || {
+        build_node(
+            &mut left_root[0],
+            left_rest,
+            left_base,
+            left_order,
+            first,
+            depth + 1,
+            inputs,
+        )
+    };
+    let mut build_right = || {
+        build_node(
+            &mut right_root[0],
+            right_rest,
+            right_base,
+            right_order,
+            first + left,
+            depth + 1,
+            inputs,
+        )
+    };
+    let (l, r) = if count >= PARALLEL_BUILD_MIN {
+        rayon::join(build_left, build_right)
+    } else {
+        (build_left(), build_right())
+    };
+    l.max(r)
+}
+
 /// The 4-wide tree of a binary one (`nodes[0]` its root): each node takes the binary node's
 /// children and replaces the one with the largest surface that is not a leaf by its two
 /// children until it has four. Returns the nodes, their children's f64 boxes and the depth.
@@ -700,21 +755,51 @@ fn best_split(
     centre_bounds: &Aabb,
     node_bounds: &Aabb,
 ) -> Option<(usize, f64)> {
+    let lo = centre_bounds.min;
+    let extent = centre_bounds.max - centre_bounds.min;
+    let live = [extent.x > 1e-12, extent.y > 1e-12, extent.z > 1e-12];
+    let scale = DVec3::new(
+        if live[0] {
+            NUM_BINS as f64 / extent.x
+        } else {
+            0.0
+        },
+        if live[1] {
+            NUM_BINS as f64 / extent.y
+        } else {
+            0.0
+        },
+        if live[2] {
+            NUM_BINS as f64 / extent.z
+        } else {
+            0.0
+        },
+    );
+    // All three axes' bins in one pass over the primitives (one visit of each box), in
+    // parallel chunks for large nodes: counts add and boxes unite exactly, in any grouping.
+    let bin = |chunk: &[u32]| {
+        let mut bins = Bins::EMPTY;
+        for &i in chunk {
+            let (c, b) = (centres[i as usize], &bounds[i as usize]);
+            for axis in 0..3 {
+                let k = (((c[axis] - lo[axis]) * scale[axis]) as usize).min(NUM_BINS - 1);
+                bins.counts[axis][k] += 1;
+                bins.boxes[axis][k] = bins.boxes[axis][k].union(b);
+            }
+        }
+        bins
+    };
+    let bins = if slice.len() >= PARALLEL_BINNING_MIN {
+        slice
+            .par_chunks(PARALLEL_BINNING_MIN / 4)
+            .map(bin)
+            .reduce(|| Bins::EMPTY, Bins::merged)
+    } else {
+        bin(slice)
+    };
     let mut best: Option<(f64, usize, f64)> = None;
-    for axis in 0..3 {
-        let lo = centre_bounds.min[axis];
-        let hi = centre_bounds.max[axis];
-        if hi - lo <= 1e-12 {
-            continue;
-        }
-        let mut bin_bounds = [Aabb::EMPTY; NUM_BINS];
-        let mut bin_counts = [0usize; NUM_BINS];
-        let scale = NUM_BINS as f64 / (hi - lo);
-        for &i in slice {
-            let b = (((centres[i as usize][axis] - lo) * scale) as usize).min(NUM_BINS - 1);
-            bin_counts[b] += 1;
-            bin_bounds[b] = bin_bounds[b].union(&bounds[i as usize]);
-        }
+    for axis in (0..3).filter(|&a| live[a]) {
+        let (bin_bounds, bin_counts) = (&bins.boxes[axis], &bins.counts[axis]);
         let mut left_area = [0.0; NUM_BINS];
         let mut left_count = [0usize; NUM_BINS];
         let mut acc = Aabb::EMPTY;
@@ -732,11 +817,39 @@ fn best_split(
             n += bin_counts[b];
             let cost = left_area[b - 1] * left_count[b - 1] as f64 + acc.surface_area() * n as f64;
             if left_count[b - 1] > 0 && n > 0 && best.is_none_or(|(c, _, _)| cost < c) {
-                best = Some((cost, axis, lo + b as f64 / scale));
+                best = Some((cost, axis, lo[axis] + b as f64 / scale[axis]));
             }
         }
     }
     let (cost, axis, pos) = best?;
     let leaf_cost = node_bounds.surface_area() * slice.len() as f64;
     (cost < leaf_cost || slice.len() > 16).then_some((axis, pos))
+}
+
+/// Nodes of at least this many primitives bin them in parallel chunks.
+const PARALLEL_BINNING_MIN: usize = 32_768;
+
+/// The SAH bins of one node on all three axes: each bin's primitive count and box.
+#[derive(Clone, Copy)]
+struct Bins {
+    counts: [[usize; NUM_BINS]; 3],
+    boxes: [[Aabb; NUM_BINS]; 3],
+}
+
+impl Bins {
+    const EMPTY: Bins = Bins {
+        counts: [[0; NUM_BINS]; 3],
+        boxes: [[Aabb::EMPTY; NUM_BINS]; 3],
+    };
+
+    /// Both bins' contents together.
+    fn merged(mut self, other: Bins) -> Bins {
+        for axis in 0..3 {
+            for k in 0..NUM_BINS {
+                self.counts[axis][k] += other.counts[axis][k];
+                self.boxes[axis][k] = self.boxes[axis][k].union(&other.boxes[axis][k]);
+            }
+        }
+        self
+    }
 }
