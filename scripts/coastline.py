@@ -1,17 +1,18 @@
 #!/usr/bin/env python3
 """Turn real coastline data into land for an xbandsim scene (docs/coastlines.md).
 
-Two sources, one output: a GeoJSON file of land polygons in lon/lat (WGS84) for a scene's
-`[[land]]` table with `crs = "wgs84"`, and optionally a scene file that uses it.
+Two sources, one output: GeoJSON files in lon/lat (WGS84) for a scene's `[[land]]` tables
+(coast, breakwaters) and `[[structure]]` tables (piers, buildings) with `crs = "wgs84"`, and
+a scene file that uses them.
 
   gshhg  a lon/lat box of the GSHHG shorelines through GMT (Debian: `gmt` and
          `gmt-gshhg-full`): `gmt coast -R... -Df -M -W` dumps the shorelines clipped to the
          box; the land polygons are closed along the box's edges.
   osm    a GeoJSON export from OpenStreetMap or QGIS: `natural=coastline` lines (land on
          their left, as OpenStreetMap draws them) merged and closed along the box, land
-         polygons (`natural=land`, `place=island|islet`), `man_made=breakwater|pier` (lines
-         become a strip per segment, polygons stay) and buildings with `height` or
-         `building:levels`.
+         polygons (`natural=land`, `place=island|islet`), `man_made=breakwater|groyne` as
+         land and `man_made=pier` as structures (lines become a strip per segment, polygons
+         stay), and buildings with `height` or `building:levels` as structures.
 
 Only the standard library; every coordinate stays in lon/lat (xbandsim places it about the
 scene's `[geo]` origin).
@@ -336,10 +337,11 @@ def building_height_m(props, default_m):
 
 
 def osm_layers(geojson, box, breakwater_width_m, breakwater_height_m, building_height_default_m):
-    """(coast polygons, breakwater polygons with heights, building polygons with heights)."""
+    """(coast polygons, breakwater polygons, pier polygons, building polygons; each but the
+    coast with its height and name)."""
     if geojson.get("type") != "FeatureCollection":
         raise CoastError("the OpenStreetMap/QGIS export must be a GeoJSON FeatureCollection")
-    coast_lines, land, moles, buildings = [], [], [], []
+    coast_lines, land, moles, piers, buildings = [], [], [], [], []
     for k, f in enumerate(geojson.get("features", [])):
         props = f.get("properties") or {}
         geom = f.get("geometry") or {}
@@ -356,10 +358,11 @@ def osm_layers(geojson, box, breakwater_width_m, breakwater_height_m, building_h
                 raise CoastError(f"feature {k}: natural=coastline should be a line, is a {kind}")
         elif props.get("man_made") in ("breakwater", "pier", "groyne"):
             h = building_height_m(props, breakwater_height_m)
+            into = piers if props.get("man_made") == "pier" else moles
             if kind == "LineString":
-                moles.extend((r, h, props.get("name")) for r in strip_polygons(coords, breakwater_width_m))
+                into.extend((r, h, props.get("name")) for r in strip_polygons(coords, breakwater_width_m))
             for p in polys:
-                moles.append((dedupe([tuple(q[:2]) for q in p[0]]), h, props.get("name")))
+                into.append((dedupe([tuple(q[:2]) for q in p[0]]), h, props.get("name")))
         elif "building" in props:
             for p in polys:
                 buildings.append((dedupe([tuple(q[:2]) for q in p[0]]), building_height_m(props, building_height_default_m), props.get("name")))
@@ -373,7 +376,7 @@ def osm_layers(geojson, box, breakwater_width_m, breakwater_height_m, building_h
         else:
             pieces.extend(box.clip_chain(chain))
     coast = close_along_box(pieces, box) + [r if signed_area(r) > 0 else r[::-1] for r in land]
-    return coast, moles, buildings
+    return coast, moles, piers, buildings
 
 
 # --- output ------------------------------------------------------------------------------
@@ -417,7 +420,7 @@ def write_collection(path, features, note):
     Path(path).write_text(json.dumps(data, indent=None, separators=(",", ":")) + "\n")
 
 
-def scene_text(origin, layers, max_range_m):
+def scene_text(origin, layers, max_range_m, structures=()):
     lines = [
         "# Made by scripts/coastline.py; add objects below.",
         "[radar]",
@@ -438,6 +441,8 @@ def scene_text(origin, layers, max_range_m):
     ]
     for file, table in layers:
         lines += ["", "[[land]]", f'geojson = "{file}"', 'crs = "wgs84"'] + table
+    for file, kind in structures:
+        lines += ["", "[[structure]]", f'geojson = "{file}"', 'crs = "wgs84"', f'kind = "{kind}"']
     return "\n".join(lines) + "\n"
 
 
@@ -494,25 +499,30 @@ def main(argv=None):
             note = "GSHHG shorelines (Wessel & Smith), LGPL-3.0; via GMT `gmt coast -M -W`"
             write_collection(out / "coast.geojson", [feature(r, f"coast-{i}") for i, r in enumerate(coast)], note)
             layers = [("coast.geojson", table)]
+            structures = []
             counts = {"coast": len(coast)}
         else:
             try:
                 data = json.loads(Path(args.geojson).read_text())
             except (OSError, json.JSONDecodeError) as e:
                 raise CoastError(f"{args.geojson}: {e}")
-            coast, moles, buildings = osm_layers(data, box, args.breakwater_width_m, args.breakwater_height_m, args.building_height_m)
-            check_origin_on_water(origin, coast + [r for r, _, _ in moles + buildings])
+            coast, moles, piers, buildings = osm_layers(data, box, args.breakwater_width_m, args.breakwater_height_m, args.building_height_m)
+            check_origin_on_water(origin, coast + [r for r, _, _ in moles + piers + buildings])
             note = "OpenStreetMap contributors, ODbL 1.0"
             write_collection(out / "coast.geojson", [feature(r, f"coast-{i}") for i, r in enumerate(coast)], note)
             layers = [("coast.geojson", table)]
+            structures = []
             if moles:
                 write_collection(out / "breakwaters.geojson", [feature(r, n, h) for r, h, n in moles], note)
                 layers.append(("breakwaters.geojson", ['terrain = "rock"']))
+            if piers:
+                write_collection(out / "piers.geojson", [feature(r, n, h) for r, h, n in piers], note)
+                structures.append(("piers.geojson", "pier"))
             if buildings:
                 write_collection(out / "buildings.geojson", [feature(r, n, h) for r, h, n in buildings], note)
-                layers.append(("buildings.geojson", ['terrain = "urban"']))
-            counts = {"coast": len(coast), "breakwaters": len(moles), "buildings": len(buildings)}
-        (out / "scene.toml").write_text(scene_text(origin, layers, args.max_range_m))
+                structures.append(("buildings.geojson", "building"))
+            counts = {"coast": len(coast), "breakwaters": len(moles), "piers": len(piers), "buildings": len(buildings)}
+        (out / "scene.toml").write_text(scene_text(origin, layers, args.max_range_m, structures))
     except CoastError as e:
         print(f"coastline.py: {e}", file=sys.stderr)
         return 2

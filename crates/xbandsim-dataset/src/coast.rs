@@ -23,7 +23,7 @@ use crate::error::{DatasetError, Result};
 use rand_pcg::Pcg64Mcg;
 
 /// Fields of `[coast]`.
-pub const COAST_FIELDS: [&str; 9] = [
+pub const COAST_FIELDS: [&str; 11] = [
     "probability",
     "layout",
     "distance_fraction",
@@ -33,6 +33,8 @@ pub const COAST_FIELDS: [&str; 9] = [
     "roughness",
     "islands",
     "entrance_m",
+    "hills",
+    "buildings",
 ];
 
 /// The `[coast]` table: how often a sample has land, and the laws of its layout.
@@ -57,6 +59,10 @@ pub struct CoastSpec {
     pub islands: Dist,
     /// Width of a harbour's entrance, m.
     pub entrance_m: Dist,
+    /// How many hills rise inland of a coast or harbour shore.
+    pub hills: Dist,
+    /// How many buildings stand behind a harbour's quay (`[[structure]]` tables).
+    pub buildings: Dist,
 }
 
 impl CoastSpec {
@@ -130,6 +136,8 @@ impl CoastSpec {
                     high: 160.0,
                 },
             )?,
+            hills: dist("hills", Dist::UniformInt { low: 0, high: 3 })?,
+            buildings: dist("buildings", Dist::UniformInt { low: 0, high: 6 })?,
         };
         // Every value each law can draw is checked here, not at sample 1234.
         for (field, d) in [("layout", &spec.layout), ("terrain", &spec.terrain)] {
@@ -154,6 +162,8 @@ impl CoastSpec {
             ("roughness", &spec.roughness, 0.0, 1.0),
             ("islands", &spec.islands, 1.0, 20.0),
             ("entrance_m", &spec.entrance_m, 20.0, 1000.0),
+            ("hills", &spec.hills, 0.0, 10.0),
+            ("buildings", &spec.buildings, 0.0, 40.0),
         ] {
             for v in law_values(d) {
                 let x = crate::dist::as_f64(&v).unwrap_or(f64::NAN);
@@ -189,6 +199,8 @@ fn law_values(d: &Dist) -> Vec<toml::Value> {
 pub struct SampleCoast {
     /// The `[[land]]` tables.
     pub tables: Vec<toml::Table>,
+    /// The `[[structure]]` tables (a harbour's buildings).
+    pub structures: Vec<toml::Table>,
     /// Every polygon's ring, m (for placing targets on the water).
     pub rings: Vec<Vec<(f64, f64)>>,
     /// A harbour's channel.
@@ -348,6 +360,7 @@ pub fn draw(
         )
     };
     let mut coast = SampleCoast::default();
+    let mut harbour_buildings: Option<(f64, f64)> = None;
     let far = 2.5 * max_range_m;
     let shore = |rng: &mut Pcg64Mcg, quay_half_m: f64| -> Vec<(f64, f64)> {
         let v = fractal_line(rng, 7, rough * d);
@@ -461,6 +474,85 @@ pub fn draw(
                 to: at(half_quay - 30.0, d),
                 water: (-v_hat.0, -v_hat.1),
             });
+            harbour_buildings = Some((half_quay, height));
+        }
+    }
+    // Hills and buildings draw from a stream of their own (the sample's, jumped ahead), so
+    // that adding them leaves every other draw of the sample as it was.
+    let mut extra = rng.clone();
+    extra.advance(1 << 64);
+    if layout != "islands" {
+        let count = spec.hills.sample_f64("coast.hills", &mut extra)?.round() as usize;
+        let land = coast.rings[0].clone();
+        for k in 0..count {
+            let radius = (0.08 + 0.12 * unit_draw(&mut extra)) * d;
+            let centre = at(
+                (2.0 * unit_draw(&mut extra) - 1.0) * 1.5 * d,
+                d * (1.0 + rough) + radius * (1.2 + unit_draw(&mut extra)),
+            );
+            let top = height * (1.5 + 1.5 * unit_draw(&mut extra));
+            let ring: Vec<(f64, f64)> = (0..32)
+                .map(|i| {
+                    let a = std::f64::consts::TAU * i as f64 / 32.0;
+                    let r = radius * (1.0 + 0.25 * (3.0 * a + 7.0 * k as f64).sin());
+                    (centre.0 + r * a.sin(), centre.1 + r * a.cos())
+                })
+                .collect();
+            // Only a hill wholly on the land (the shore may reach inland that far).
+            if ring.iter().all(|&p| ring_contains(&land, p)) {
+                let mut t = land_table(&format!("hill-{k}"), &ring, top, "forest");
+                t.insert("edge".into(), "beach".into());
+                t.insert("beach_width_m".into(), round_cm(0.6 * radius).into());
+                coast.tables.push(t);
+                coast.rings.push(ring);
+            }
+        }
+    }
+    if let Some((half_quay, ground_m)) = harbour_buildings {
+        let count = spec
+            .buildings
+            .sample_f64("coast.buildings", &mut extra)?
+            .round() as usize;
+        let yaw_deg = (u_hat.0.atan2(u_hat.1)).to_degrees().rem_euclid(360.0);
+        for k in 0..count {
+            let length = 20.0 + 40.0 * unit_draw(&mut extra);
+            let width = 12.0 + 18.0 * unit_draw(&mut extra);
+            let tall = 6.0 + 14.0 * unit_draw(&mut extra);
+            let u =
+                (2.0 * unit_draw(&mut extra) - 1.0) * (half_quay - 0.5 * length - 20.0).max(0.0);
+            let v = d + 25.0 + 0.5 * width + 60.0 * unit_draw(&mut extra);
+            let centre = at(u, v);
+            let mut t = toml::Table::new();
+            t.insert("name".into(), format!("building-{k}").into());
+            t.insert("kind".into(), "building".into());
+            t.insert(
+                "position_m".into(),
+                toml::Value::Array(vec![round_cm(centre.0).into(), round_cm(centre.1).into()]),
+            );
+            t.insert(
+                "size_m".into(),
+                toml::Value::Array(vec![round_cm(length).into(), round_cm(width).into()]),
+            );
+            t.insert("yaw_deg".into(), round_cm(yaw_deg).into());
+            t.insert("height_m".into(), round_cm(tall).into());
+            t.insert("base_m".into(), round_cm(ground_m).into());
+            // Buildings that would overlap are left out (the structures' checks allow it, a
+            // town does not).
+            let clear = coast.structures.iter().all(|o| {
+                let p = o
+                    .get("position_m")
+                    .and_then(|v| v.as_array())
+                    .map_or((0.0, 0.0), |a| {
+                        (
+                            a[0].as_float().unwrap_or(0.0),
+                            a[1].as_float().unwrap_or(0.0),
+                        )
+                    });
+                (p.0 - centre.0).hypot(p.1 - centre.1) > 0.5 * length + 45.0
+            });
+            if clear {
+                coast.structures.push(t);
+            }
         }
     }
     Ok(Some(coast))

@@ -287,6 +287,15 @@ impl DatasetSpec {
             objects.push(toml::Value::Table(object));
         }
         if let Some(c) = coast {
+            if !c.structures.is_empty() {
+                let tables = c.structures.into_iter().map(toml::Value::Table);
+                match doc.get_mut("structure").and_then(|v| v.as_array_mut()) {
+                    Some(fixed) => fixed.extend(tables),
+                    None => {
+                        doc.insert("structure".into(), toml::Value::Array(tables.collect()));
+                    }
+                }
+            }
             let tables = c.tables.into_iter().map(toml::Value::Table);
             match doc.get_mut("land").and_then(|v| v.as_array_mut()) {
                 Some(fixed) => fixed.extend(tables),
@@ -347,6 +356,7 @@ mod tests {
         let spec = DatasetSpec::read(&root.join("coastal.toml")).unwrap();
         assert!(spec.coast.is_some());
         let mut with_land = 0;
+        let (mut buildings, mut hills) = (0, 0);
         for i in 0..200u64 {
             let sample = spec.sample(5, i).unwrap();
             assert_eq!(sample, spec.sample(5, i).unwrap());
@@ -357,8 +367,23 @@ mod tests {
                 continue;
             }
             with_land += 1;
+            hills += land
+                .polygons()
+                .iter()
+                .filter(|p| p.name.starts_with("hill-"))
+                .count();
             for o in scene.objects() {
                 let p = o.position_m().truncate();
+                if o.class() == "building" {
+                    // A harbour's buildings stand on the land behind the quay.
+                    assert!(
+                        land.polygon_at(p).is_some(),
+                        "sample {i}: {} at sea",
+                        o.name()
+                    );
+                    buildings += 1;
+                    continue;
+                }
                 let d = land.distance_to_coast_m(p).unwrap();
                 assert!(
                     land.polygon_at(p).is_none(),
@@ -372,5 +397,7 @@ mod tests {
             (130..=190).contains(&with_land),
             "{with_land} of 200 samples with land"
         );
+        assert!(buildings > 20, "{buildings} buildings in 200 samples");
+        assert!(hills > 20, "{hills} hills in 200 samples");
     }
 }

@@ -344,11 +344,20 @@ impl Sim {
             Some(l) => {
                 let shape = [l.spokes, l.range_bins];
                 out.set_item("land_mask", l.mask().into_pyarray(py).reshape(shape)?)?;
+                if l.has_structures() {
+                    out.set_item(
+                        "structure_mask",
+                        l.structure.into_pyarray(py).reshape(shape)?,
+                    )?;
+                } else {
+                    out.set_item("structure_mask", py.None())?;
+                }
                 out.set_item("land_polygon", l.polygon.into_pyarray(py).reshape(shape)?)?;
             }
             None => {
                 out.set_item("land_mask", py.None())?;
                 out.set_item("land_polygon", py.None())?;
+                out.set_item("structure_mask", py.None())?;
             }
         }
         let truth =

@@ -86,7 +86,7 @@ def test_an_openstreetmap_export_becomes_coast_breakwaters_and_buildings(tmp_pat
     out = tmp_path / "osm"
     r = run(["osm", str(src), "--region=9.95/10.05/59.97/60.03", "--origin=10.0,59.99", "--out", str(out)], tmp_path)
     assert r.returncode == 0, r.stderr
-    assert "2 coast polygons, 2 breakwaters polygons, 1 buildings polygons" in r.stdout
+    assert "2 coast polygons, 2 breakwaters polygons, 0 piers polygons, 1 buildings polygons" in r.stdout
     coast = load_script()
     rings = polygons(out / "coast.geojson")
     on_land = lambda lon, lat: any(coast.inside((lon, lat), [tuple(p) for p in ring]) for ring in rings)
@@ -98,6 +98,11 @@ def test_an_openstreetmap_export_becomes_coast_breakwaters_and_buildings(tmp_pat
     frame = xbandsim.Simulation(out / "scene.toml").render(seed=2)
     names = [p["name"] for p in frame.truth["land"]["polygons"]]
     assert "Mole" in names and frame.land_mask.sum() > 0
+    # The building is a structure: an object of class "building" listed in land.structures.
+    assert "[[structure]]" in (out / "scene.toml").read_text()
+    [structure] = frame.truth["land"]["structures"]
+    assert frame.truth["objects"][structure["id"]]["class"] == "building"
+    assert (frame.structure_mask == structure["id"]).sum() == structure["cells"]
 
 
 @pytest.mark.parametrize("name", ["drobak-sound", "plymouth-sound"])

@@ -143,6 +143,10 @@ class Frame:
     land_polygon: Optional[np.ndarray] = None
     """The land polygon each land cell shows (``truth["land"]["polygons"]``), −1 elsewhere:
     int32 (spokes, range bins)."""
+    structure_mask: Optional[np.ndarray] = None
+    """The object id of the structure whose footprint each polar cell shows
+    (``truth["land"]["structures"]``), −1 elsewhere: int32 (spokes, range bins), scenes with
+    ``[[structure]]`` tables (docs/formats.md, "structure_mask.npy")."""
 
     @property
     def objects(self) -> List[Dict[str, Any]]:
@@ -220,6 +224,7 @@ class Simulation:
             video=out["video"],
             land_mask=out["land_mask"],
             land_polygon=out["land_polygon"],
+            structure_mask=out["structure_mask"],
         )
 
     def __repr__(self) -> str:
