@@ -136,8 +136,8 @@ impl CoastSpec {
                     high: 160.0,
                 },
             )?,
-            hills: dist("hills", Dist::UniformInt { low: 0, high: 3 })?,
-            buildings: dist("buildings", Dist::UniformInt { low: 0, high: 6 })?,
+            hills: dist("hills", Dist::Fixed(toml::Value::Integer(0)))?,
+            buildings: dist("buildings", Dist::Fixed(toml::Value::Integer(0)))?,
         };
         // Every value each law can draw is checked here, not at sample 1234.
         for (field, d) in [("layout", &spec.layout), ("terrain", &spec.terrain)] {
@@ -484,27 +484,38 @@ pub fn draw(
     if layout != "islands" {
         let count = spec.hills.sample_f64("coast.hills", &mut extra)?.round() as usize;
         let land = coast.rings[0].clone();
+        // Inland of the shore's farthest reach, and past a harbour's town.
+        let inland = (d * (1.0 + rough)).max(d + 160.0);
         for k in 0..count {
             let radius = (0.08 + 0.12 * unit_draw(&mut extra)) * d;
             let centre = at(
                 (2.0 * unit_draw(&mut extra) - 1.0) * 1.5 * d,
-                d * (1.0 + rough) + radius * (1.2 + unit_draw(&mut extra)),
+                inland + radius * (1.3 + unit_draw(&mut extra)),
             );
             let top = height * (1.5 + 1.5 * unit_draw(&mut extra));
-            let ring: Vec<(f64, f64)> = (0..32)
-                .map(|i| {
-                    let a = std::f64::consts::TAU * i as f64 / 32.0;
-                    let r = radius * (1.0 + 0.25 * (3.0 * a + 7.0 * k as f64).sin());
-                    (centre.0 + r * a.sin(), centre.1 + r * a.cos())
+            // Three terraces (cliff-edged rings at a third, two thirds and all of the rise
+            // over the land), so that the hill rises from the land's height, not the sea's.
+            let terraces: Vec<(Vec<(f64, f64)>, f64)> = (1..=3)
+                .map(|t| {
+                    let r_t = radius * (4 - t) as f64 / 3.0;
+                    let ring = (0..32)
+                        .map(|i| {
+                            let a = std::f64::consts::TAU * i as f64 / 32.0;
+                            let r = r_t * (1.0 + 0.2 * (3.0 * a + 7.0 * k as f64).sin());
+                            (centre.0 + r * a.sin(), centre.1 + r * a.cos())
+                        })
+                        .collect();
+                    (ring, height + (top - height) * t as f64 / 3.0)
                 })
                 .collect();
             // Only a hill wholly on the land (the shore may reach inland that far).
-            if ring.iter().all(|&p| ring_contains(&land, p)) {
-                let mut t = land_table(&format!("hill-{k}"), &ring, top, "forest");
-                t.insert("edge".into(), "beach".into());
-                t.insert("beach_width_m".into(), round_cm(0.6 * radius).into());
-                coast.tables.push(t);
-                coast.rings.push(ring);
+            if terraces[0].0.iter().all(|&p| ring_contains(&land, p)) {
+                for (t, (ring, z)) in terraces.into_iter().enumerate() {
+                    coast
+                        .tables
+                        .push(land_table(&format!("hill-{k}-{t}"), &ring, z, "forest"));
+                    coast.rings.push(ring);
+                }
             }
         }
     }

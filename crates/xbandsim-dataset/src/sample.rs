@@ -370,7 +370,7 @@ mod tests {
             hills += land
                 .polygons()
                 .iter()
-                .filter(|p| p.name.starts_with("hill-"))
+                .filter(|p| p.name.starts_with("hill-") && p.name.ends_with("-0"))
                 .count();
             for o in scene.objects() {
                 let p = o.position_m().truncate();

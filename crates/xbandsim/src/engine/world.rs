@@ -72,7 +72,12 @@ impl World {
                     .enumerate()
                     .filter(|(i, o)| fixed(*i, o))
                     .count();
-                if count == 0 || objects.iter().all(|o| o.motion().is_none()) {
+                // With an own ship every object is placed anew each revolution (where the
+                // beam meets it from the moving antenna): nothing stays where it was built.
+                if count == 0
+                    || objects.iter().all(|o| o.motion().is_none())
+                    || self.scene.own_ship().is_some()
+                {
                     return None;
                 }
                 Some(Arc::new(Bvh::build(scene_primitives_of(objects, fixed))))

@@ -53,7 +53,8 @@ pub struct Hit {
     pub t_m: f64,
     /// Unit surface normal at the hit (not oriented toward the ray).
     pub normal: DVec3,
-    /// Index of the primitive hit.
+    /// Index of the primitive hit, in [`Bvh::primitives`] of the level that holds it (a
+    /// two-level BVH's static level has primitives of its own: [`Bvh::static_level`]).
     pub primitive: u32,
     /// Scene object the primitive belongs to.
     pub object: u32,

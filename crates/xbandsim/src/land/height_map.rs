@@ -12,6 +12,10 @@ use crate::error::{Error, Problem, Result};
 use glam::DVec2;
 use std::path::Path;
 
+/// The most samples a height map may hold (2¹⁸ × 2¹⁸ would be 256 GiB of f32: far past any
+/// scene's need; 8192 × 8192 at 1 m covers 67 km²).
+pub const MAX_SAMPLES: usize = 1 << 26;
+
 /// A grid of ground heights over a rectangle.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HeightMap {
@@ -46,6 +50,11 @@ impl HeightMap {
                 "a height map needs at least 2 × 2 samples; it has {rows} × {cols}"
             )));
         }
+        if rows.checked_mul(cols).is_none_or(|n| n > MAX_SAMPLES) {
+            return Err(bad(format!(
+                "a height map of {rows} × {cols} samples is larger than this reader takes ({MAX_SAMPLES} samples)"
+            )));
+        }
         if heights_m.len() != rows * cols {
             return Err(bad(format!(
                 "it holds {} heights, not {rows} × {cols}",
@@ -54,9 +63,10 @@ impl HeightMap {
         }
         if let Some(i) = heights_m.iter().position(|h| !h.is_finite()) {
             return Err(bad(format!(
-                "the height at row {}, column {} is not a number",
+                "the height at row {}, column {} is not finite ({}; too large for its scale?)",
                 i / cols,
-                i % cols
+                i % cols,
+                heights_m[i]
             )));
         }
         let [x0, y0, x1, y1] = extent_m;
@@ -66,7 +76,7 @@ impl HeightMap {
         {
             return Err(Error::invalid(
                 Problem::OutOfRange,
-                field,
+                field.replace("height_map", "height_map_extent_m"),
                 format!("{extent_m:?}"),
                 "the extent [x_min, y_min, x_max, y_max] must be finite with x_max > x_min and y_max > y_min",
             ));
@@ -164,6 +174,11 @@ fn read_png16(bytes: &[u8]) -> std::result::Result<(usize, usize, Vec<f64>), Str
         ));
     }
     let (cols, rows) = (info.width as usize, info.height as usize);
+    if rows.checked_mul(cols).is_none_or(|n| n > MAX_SAMPLES) {
+        return Err(format!(
+            "a height map of {rows} × {cols} samples is larger than this reader takes ({MAX_SAMPLES} samples)"
+        ));
+    }
     let mut buf = vec![0u8; reader.output_buffer_size()];
     let frame = reader
         .next_frame(&mut buf)
@@ -187,6 +202,7 @@ fn read_npy_2d(bytes: &[u8]) -> std::result::Result<(usize, usize, Vec<f64>), St
             u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize,
             12,
         ),
+        2 | 3 => return Err("a truncated .npy file".into()),
         v => return Err(format!("an .npy file of version {v}, which is not read")),
     };
     let header = bytes
@@ -219,7 +235,16 @@ fn read_npy_2d(bytes: &[u8]) -> std::result::Result<(usize, usize, Vec<f64>), St
             "a height map is a 2-D array (rows × columns); this one has shape {shape:?}"
         ));
     }
-    let data = &bytes[start + header_len..];
+    if shape[0]
+        .checked_mul(shape[1])
+        .is_none_or(|n| n > MAX_SAMPLES)
+    {
+        return Err(format!(
+            "a height map of {} × {} samples is larger than this reader takes ({MAX_SAMPLES} samples)",
+            shape[0], shape[1]
+        ));
+    }
+    let data = bytes.get(start + header_len..).unwrap_or_default();
     let values: Vec<f64> = match descr {
         "<u2" => data
             .chunks_exact(2)

@@ -90,6 +90,26 @@ impl Structure {
         DVec3::new(a.x, a.y, self.base_m)
     }
 
+    /// The middle of its bounding box, m.
+    pub fn bounding_centre_m(&self) -> DVec3 {
+        let (lo, hi) = self.rings[0].iter().fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let mid = 0.5 * (lo + hi);
+        DVec3::new(mid.x, mid.y, 0.5 * (self.base_m + self.top_m))
+    }
+
+    /// Radius of the sphere about [`Structure::bounding_centre_m`] that holds it, m.
+    pub fn bounding_radius_m(&self) -> f64 {
+        let c = self.bounding_centre_m();
+        let half_height = 0.5 * (self.top_m - self.base_m);
+        self.rings[0]
+            .iter()
+            .map(|p| (p.x - c.x).hypot(p.y - c.y).hypot(half_height))
+            .fold(0.0, f64::max)
+    }
+
     /// Its triangles relative to [`Structure::anchor_m`]: the walls of every ring (outer and
     /// holes) and the top, triangulated with its holes. No floor: it stands on the sea or
     /// the ground, where no ray reaches its underside.
@@ -139,8 +159,8 @@ impl Structure {
         let ears = earcutr::earcut(&flat, &holes, 2).map_err(|e| {
             Error::invalid(
                 Problem::Unusable,
-                "structure",
                 self.source.clone(),
+                format!("{:?}", self.name),
                 format!("its footprint cannot be triangulated ({e:?})"),
             )
         })?;

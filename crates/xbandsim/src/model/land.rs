@@ -232,6 +232,14 @@ fn build_table(
             .or_else(|| r.name.clone())
             .unwrap_or_else(|| format!("land-{i}-{j}"));
         if let Some(map) = &height_map {
+            if r.height_m.is_some() {
+                return Err(Error::invalid(
+                    Problem::Conflict,
+                    what_field.clone(),
+                    what,
+                    "the feature has a height_m property but its table takes heights from a height map: drop one",
+                ));
+            }
             if let Some(p) = rings.iter().flatten().find(|p| !map.covers(**p)) {
                 return Err(Error::invalid(
                     Problem::Conflict,
@@ -525,11 +533,19 @@ fn build_structure_table(
                 "must be within 0..9000 m over the sea",
             ));
         }
+        if t.name.as_deref().is_some_and(|n| n.trim().is_empty()) {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                field("name"),
+                "\"\"",
+                "a structure's name must not be empty",
+            ));
+        }
         let name = t
             .name
             .clone()
             .map(|n| if count > 1 { format!("{n}-{j}") } else { n })
-            .or(feature_name)
+            .or(feature_name.filter(|n| !n.trim().is_empty()))
             .unwrap_or_else(|| format!("structure-{i}-{j}"));
         out.push(Structure {
             name,

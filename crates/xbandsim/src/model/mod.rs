@@ -324,8 +324,30 @@ impl Scene {
             .map(|(k, s)| s.footprint(k, (first_structure + k) as u32))
             .collect();
         for s in &structures {
+            // A footprint named like an earlier object (features of one name: a pier's
+            // segments) takes the first free `-k`.
+            let mut name = s.name.clone();
+            let mut k = 1;
+            while objects.iter().any(|o| o.name() == name) {
+                name = format!("{}-{k}", s.name);
+                k += 1;
+            }
+            let centre = s.bounding_centre_m();
+            let radius = s.bounding_radius_m();
+            if (centre - radar.position_m()).length() < radius.max(0.5) {
+                return Err(Error::invalid(
+                    Problem::Conflict,
+                    s.source.clone(),
+                    format!("{:?}", s.name),
+                    format!(
+                        "the radar (radar.position_m = {}) stands within structure {:?}'s bounding sphere ({radius:.0} m about its middle), where its ray tubes cannot be aimed: split it into shorter structures or move the radar",
+                        fmt_vec(radar.position_m()),
+                        s.name
+                    ),
+                ));
+            }
             objects.push(SceneObject::new(
-                s.name.clone(),
+                name,
                 s.kind.as_str(),
                 crate::geometry::ShapeGeometry::Mesh {
                     mesh: std::sync::Arc::new(s.mesh()?),

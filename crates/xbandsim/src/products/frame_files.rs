@@ -262,11 +262,13 @@ pub fn encode_frame_files(
                 npy_i32_bytes(&[l.spokes, l.range_bins], &l.structure),
             ));
         }
-        let classes = land_ppi_classes(&p.converter, l);
-        files.push((
-            "land_ppi.png",
-            png_bytes(&out.join("land_ppi.png"), size, size, 1, &classes)?,
-        ));
+        if images.colour || images.gray {
+            let classes = land_ppi_classes(&p.converter, l);
+            files.push((
+                "land_ppi.png",
+                png_bytes(&out.join("land_ppi.png"), size, size, 1, &classes)?,
+            ));
+        }
     }
     if let Some(c) = &frame.doppler_cube {
         files.push((

@@ -312,10 +312,49 @@ fn bad_structures_and_height_maps_are_refused_by_name() {
             "land[0].height_map_scale_m",
         ),
     ];
+    // A header claiming more samples than fit (no data behind it), and a structure around
+    // the radar: errors, not panics.
+    std::fs::write(dir.path().join("huge.npy"), {
+        let header =
+            "{'descr': '<u2', 'fortran_order': False, 'shape': (4294967296, 4294967296), }";
+        let h = format!("{header}\n");
+        let mut b = b"\x93NUMPY\x01\x00".to_vec();
+        b.extend_from_slice(&(h.len() as u16).to_le_bytes());
+        b.extend_from_slice(h.as_bytes());
+        b
+    })
+    .unwrap();
+    let huge = format!(
+        "{land}height_map = \"huge.npy\"\nheight_map_extent_m = [0.0, 0.0, 200.0, 700.0]\n"
+    );
+    let around = "[[structure]]\nname = \"mole\"\npolygon_m = [[-500.0, -10.0], [500.0, -10.0], [500.0, 10.0], [-500.0, 10.0]]\nheight_m = 4.0\nbase_m = 0.0\n";
+    let mut cases = cases.to_vec();
+    cases.push((&huge, "larger than this reader takes"));
+    cases.push((around, "structure[0].polygon_m"));
     for (body, want) in cases {
         let e = load(body).expect_err(body);
         assert!(e.contains(want), "{body}: {e}");
     }
+    // Footprints of one name (a pier's segments) get names of their own.
+    std::fs::write(
+        dir.path().join("pier.geojson"),
+        r#"{"type":"FeatureCollection","features":[
+          {"type":"Feature","properties":{"name":"Pier"},"geometry":{"type":"Polygon","coordinates":[[[0,300],[10,300],[10,350],[0,350],[0,300]]]}},
+          {"type":"Feature","properties":{"name":"Pier"},"geometry":{"type":"Polygon","coordinates":[[[0,350],[10,350],[10,400],[0,400],[0,350]]]}}]}"#,
+    )
+    .unwrap();
+    let path = dir.path().join("scene.toml");
+    std::fs::write(
+        &path,
+        "[radar]\nmax_range_m = 1500.0\n[[structure]]\nkind = \"pier\"\ngeojson = \"pier.geojson\"\nheight_m = 2.0\n",
+    )
+    .unwrap();
+    let scene = xbandsim::scene::LoadedSpec::read(&path)
+        .unwrap()
+        .build()
+        .unwrap();
+    let names: Vec<&str> = scene.objects().iter().map(|o| o.name()).collect();
+    assert_eq!(names, ["Pier", "Pier-1"]);
     // A map that does not cover its polygons: the file, the feature and the corner named.
     std::fs::write(dir.path().join("small.npy"), {
         let header = "{'descr': '<u2', 'fortran_order': False, 'shape': (2, 2), }";
