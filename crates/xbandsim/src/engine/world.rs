@@ -11,6 +11,11 @@ use crate::model::{Revolution, Scene, SceneObject};
 use crate::scattering::{build_scene_bvh, scene_primitives_of, trace_scene};
 use std::sync::{Arc, OnceLock};
 
+/// Fewest primitives of the still objects for a moving scene's BVH to take them as a static
+/// level of their own (a function of the scene alone, so a frame's bytes do not depend on
+/// which frames were rendered before it).
+pub const STATIC_LEVEL_MIN_PRIMITIVES: usize = 20_000;
+
 /// A scene's traced world (safe to share between threads).
 #[derive(Debug)]
 pub struct World {
@@ -19,8 +24,8 @@ pub struct World {
     /// build their own (so a dataset sample with moving targets builds one BVH, not two).
     bvh: OnceLock<Arc<Bvh>>,
     /// The static level of a moving scene's two-level BVH: every object without a motion
-    /// (structures, moored ships, buoys), built once; None when all move or none has
-    /// primitives.
+    /// (structures, moored ships, buoys), built once; None when all move, with an own ship,
+    /// or when they hold fewer than [`STATIC_LEVEL_MIN_PRIMITIVES`] primitives.
     static_bvh: OnceLock<Option<Arc<Bvh>>>,
     states: TraceCache<TracedWorld>,
 }
@@ -80,7 +85,13 @@ impl World {
                 {
                     return None;
                 }
-                Some(Arc::new(Bvh::build(scene_primitives_of(objects, fixed))))
+                let primitives = scene_primitives_of(objects, fixed);
+                // A small static part is rebuilt with the moving objects in less time than a
+                // second traversal per ray costs (a dataset sample's buoys): one level then.
+                if primitives.len() < STATIC_LEVEL_MIN_PRIMITIVES {
+                    return None;
+                }
+                Some(Arc::new(Bvh::build(primitives)))
             })
             .as_ref()
     }
