@@ -190,32 +190,7 @@ fn build_table(
             Some(f) => format!("{f:?}: {}", r.describe()),
             None => format!("land[{i}].polygon_m"),
         };
-        let rings: Vec<Vec<DVec2>> = r
-            .rings
-            .iter()
-            .map(|ring| {
-                ring.iter()
-                    .map(|&[x, y]| match (crs, origin) {
-                        (LandCrs::Wgs84, Some(o)) => o.to_local_m(x, y),
-                        _ => DVec2::new(x, y),
-                    })
-                    .collect()
-            })
-            .collect();
-        if crs == LandCrs::Wgs84 {
-            if let Some(&[lon, lat]) =
-                r.rings.iter().flatten().find(|[lon, lat]| {
-                    !(-180.0..=360.0).contains(lon) || !(-90.0..=90.0).contains(lat)
-                })
-            {
-                return Err(Error::invalid(
-                    Problem::OutOfRange,
-                    what_field.clone(),
-                    what,
-                    format!("position [{lon}, {lat}] is not a lon/lat in degrees (is the file in metres? then crs = \"local_m\")"),
-                ));
-            }
-        }
+        let rings = local_rings(&what_field, &what, &r.rings, crs, origin)?;
         check_rings(&what_field, &what, &rings)?;
         if let Some(h) = r.height_m.filter(|h| *h > 9000.0) {
             return Err(Error::invalid(
@@ -269,6 +244,42 @@ fn build_table(
         });
     }
     Ok(out)
+}
+
+/// Rings as read (lon/lat or metres, as `crs` says) in local metres; lon/lat out of range
+/// is refused naming `what` (a file in metres read as lon/lat, say).
+fn local_rings(
+    what_field: &str,
+    what: &str,
+    rings: &[Vec<[f64; 2]>],
+    crs: LandCrs,
+    origin: Option<&LocalProjection>,
+) -> Result<Vec<Vec<DVec2>>> {
+    if crs == LandCrs::Wgs84 {
+        if let Some(&[lon, lat]) = rings
+            .iter()
+            .flatten()
+            .find(|[lon, lat]| !(-180.0..=360.0).contains(lon) || !(-90.0..=90.0).contains(lat))
+        {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                what_field,
+                what,
+                format!("position [{lon}, {lat}] is not a lon/lat in degrees (is the file in metres? then crs = \"local_m\")"),
+            ));
+        }
+    }
+    Ok(rings
+        .iter()
+        .map(|ring| {
+            ring.iter()
+                .map(|&[x, y]| match (crs, origin) {
+                    (LandCrs::Wgs84, Some(o)) => o.to_local_m(x, y),
+                    _ => DVec2::new(x, y),
+                })
+                .collect()
+        })
+        .collect())
 }
 
 /// A table's height map, if it has one: the file read and scaled, its extent checked.
@@ -453,20 +464,10 @@ fn build_structure_table(
         let full = base_dir.join(path);
         let file = full.display().to_string();
         for r in read_polygons(&what_field, &full)? {
-            let rings = r
-                .rings
-                .iter()
-                .map(|ring| {
-                    ring.iter()
-                        .map(|&[x, y]| match (crs, origin) {
-                            (LandCrs::Wgs84, Some(o)) => o.to_local_m(x, y),
-                            _ => DVec2::new(x, y),
-                        })
-                        .collect()
-                })
-                .collect();
+            let what = format!("{file:?}: {}", r.describe());
+            let rings = local_rings(&what_field, &what, &r.rings, crs, origin)?;
             raw.push(Footprint {
-                what: format!("{file:?}: {}", r.describe()),
+                what,
                 name: r.name.clone(),
                 rings,
                 height_m: r.height_m,

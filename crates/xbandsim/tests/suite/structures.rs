@@ -328,7 +328,15 @@ fn bad_structures_and_height_maps_are_refused_by_name() {
         "{land}height_map = \"huge.npy\"\nheight_map_extent_m = [0.0, 0.0, 200.0, 700.0]\n"
     );
     let around = "[[structure]]\nname = \"mole\"\npolygon_m = [[-500.0, -10.0], [500.0, -10.0], [500.0, 10.0], [-500.0, 10.0]]\nheight_m = 4.0\nbase_m = 0.0\n";
+    // Metres read as lon/lat: refused as land's are.
+    std::fs::write(
+        dir.path().join("shed.geojson"),
+        r#"{"type":"Polygon","coordinates":[[[0,300],[10,300],[10,310],[0,310],[0,300]]]}"#,
+    )
+    .unwrap();
+    let metres = "[geo]\norigin_lon_deg = 10.0\norigin_lat_deg = 60.0\n[[structure]]\ngeojson = \"shed.geojson\"\ncrs = \"wgs84\"\nheight_m = 5.0\n";
     let mut cases = cases.to_vec();
+    cases.push((metres, "is not a lon/lat in degrees"));
     cases.push((&huge, "larger than this reader takes"));
     cases.push((around, "structure[0].polygon_m"));
     for (body, want) in cases {
