@@ -525,6 +525,8 @@ pub fn draw(
             .sample_f64("coast.buildings", &mut extra)?
             .round() as usize;
         let yaw_deg = (u_hat.0.atan2(u_hat.1)).to_degrees().rem_euclid(360.0);
+        // The kept buildings' centres (as written, to the centimetre).
+        let mut placed: Vec<(f64, f64)> = Vec::new();
         for k in 0..count {
             let length = 20.0 + 40.0 * unit_draw(&mut extra);
             let width = 12.0 + 18.0 * unit_draw(&mut extra);
@@ -549,19 +551,12 @@ pub fn draw(
             t.insert("base_m".into(), round_cm(ground_m).into());
             // Buildings that would overlap are left out (the structures' checks allow it, a
             // town does not).
-            let clear = coast.structures.iter().all(|o| {
-                let p = o
-                    .get("position_m")
-                    .and_then(|v| v.as_array())
-                    .map_or((0.0, 0.0), |a| {
-                        (
-                            a[0].as_float().unwrap_or(0.0),
-                            a[1].as_float().unwrap_or(0.0),
-                        )
-                    });
-                (p.0 - centre.0).hypot(p.1 - centre.1) > 0.5 * length + 45.0
-            });
+            let at_cm = (round_cm(centre.0), round_cm(centre.1));
+            let clear = placed
+                .iter()
+                .all(|p: &(f64, f64)| (p.0 - at_cm.0).hypot(p.1 - at_cm.1) > 0.5 * length + 45.0);
             if clear {
+                placed.push(at_cm);
                 coast.structures.push(t);
             }
         }

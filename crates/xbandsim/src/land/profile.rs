@@ -168,13 +168,18 @@ impl<'a> LandView<'a> {
         self.origin
     }
 
+    /// Whether the antenna stands on the water (in none of the polygons it sees).
+    pub fn starts_at_sea(&self) -> bool {
+        self.inside_at_origin.is_empty()
+    }
+
     /// Whether no land can lie on the bearing `az_rad`: no coast edge in its bin and the
     /// antenna on the water (a ray there crosses nothing and starts at sea).
     pub fn clear_bearing(&self, az_rad: f64) -> bool {
         let theta = az_rad.rem_euclid(std::f64::consts::TAU);
         let bin =
             ((theta / std::f64::consts::TAU * ANGLE_BINS as f64) as usize).min(ANGLE_BINS - 1);
-        self.offsets[bin] == self.offsets[bin + 1] && self.inside_at_origin.is_empty()
+        self.offsets[bin] == self.offsets[bin + 1] && self.starts_at_sea()
     }
 
     /// The crossings of the ray at bearing `az_rad` into `out`, by increasing ground range.

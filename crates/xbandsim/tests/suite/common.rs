@@ -20,3 +20,21 @@ pub fn render(toml_text: &str, seed: u64) -> (Simulation, Frame) {
     let frame = sim.render(seed);
     (sim, frame)
 }
+
+/// A scene from TOML text and its clutter map for frame key (3, 0) over the whole record
+/// (one sample past it), with that sample count; panics when the scene makes no map.
+pub fn clutter_map_of(
+    toml_text: &str,
+) -> (Scene, xbandsim::signal::clutter_map::ClutterMap, usize) {
+    let scene = scene(toml_text);
+    let radar = scene.radar();
+    let samples = (radar.max_range_m() / radar.range_bin_m()).ceil() as usize + 2;
+    let map = xbandsim::signal::clutter_map::ClutterMap::new(
+        radar,
+        scene.environment(),
+        xbandsim::rng::FrameKey::new(3, 0),
+        samples,
+    )
+    .expect("the scene makes a clutter map");
+    (scene, map, samples)
+}

@@ -3,8 +3,6 @@
 
 use xbandsim::land::profile::elevation_rad;
 use xbandsim::propagation::EFFECTIVE_EARTH_RADIUS_M;
-use xbandsim::rng::FrameKey;
-use xbandsim::signal::clutter_map::ClutterMap;
 
 /// A scene of one rectangular island `[x0, x1] × [y0, y1]`, `extra` appended to its table.
 fn island_scene(radar: &str, environment: &str, rect: [f64; 4], extra: &str) -> String {
@@ -14,14 +12,7 @@ fn island_scene(radar: &str, environment: &str, rect: [f64; 4], extra: &str) -> 
     )
 }
 
-fn map_of(text: &str) -> (xbandsim::model::Scene, ClutterMap, usize) {
-    let scene = crate::common::scene(text);
-    let radar = scene.radar();
-    let samples = (radar.max_range_m() / radar.range_bin_m()).ceil() as usize + 2;
-    let map = ClutterMap::new(radar, scene.environment(), FrameKey::new(3, 0), samples)
-        .expect("land makes a map");
-    (scene, map, samples)
-}
+use crate::common::clutter_map_of as map_of;
 
 /// A flat land top seen from above returns `σ0 = γ·sin ψ` over the cell's area: the map's
 /// mean land power of each cell (130 spokes × 600 samples of one island) against

@@ -19,14 +19,7 @@ fn a_quay_wall_returns_its_wall_and_sea_dihedral_rcs() {
     }
 }
 
-fn map_of(text: &str) -> (Scene, ClutterMap, usize) {
-    let scene = crate::common::scene(text);
-    let radar = scene.radar();
-    let samples = (radar.max_range_m() / radar.range_bin_m()).ceil() as usize + 2;
-    let map = ClutterMap::new(radar, scene.environment(), FrameKey::new(3, 0), samples)
-        .expect("structures make a map");
-    (scene, map, samples)
-}
+use crate::common::clutter_map_of as map_of;
 
 /// Ground range of sample `n` for an antenna `h` high.
 fn ground_of(scene: &Scene, n: usize) -> f64 {
@@ -171,17 +164,8 @@ fn the_structure_mask_names_each_structure_by_its_object_id() {
 fn height_maps_give_the_heights_they_hold() {
     let dir = tempfile::tempdir().unwrap();
     let npy = |name: &str, rows: usize, cols: usize, values: &[f32]| {
-        let header =
-            format!("{{'descr': '<f4', 'fortran_order': False, 'shape': ({rows}, {cols}), }}");
-        let pad = 64 - (10 + header.len() + 1) % 64;
-        let h = format!("{header}{}\n", " ".repeat(pad));
-        let mut b = b"\x93NUMPY\x01\x00".to_vec();
-        b.extend_from_slice(&(h.len() as u16).to_le_bytes());
-        b.extend_from_slice(h.as_bytes());
-        for v in values {
-            b.extend_from_slice(&v.to_le_bytes());
-        }
-        std::fs::write(dir.path().join(name), b).unwrap();
+        let bytes = xbandsim::products::output::npy_f32_bytes(&[rows, cols], values);
+        std::fs::write(dir.path().join(name), bytes).unwrap();
     };
     npy("flat.npy", 2, 2, &[12.0; 4]);
     // A ridge along x, 40 m high at y = 1400, falling to 0 at y = 1000 and 2200 (5 rows
@@ -364,16 +348,10 @@ fn bad_structures_and_height_maps_are_refused_by_name() {
     let names: Vec<&str> = scene.objects().iter().map(|o| o.name()).collect();
     assert_eq!(names, ["Pier", "Pier-1"]);
     // A map that does not cover its polygons: the file, the feature and the corner named.
-    std::fs::write(dir.path().join("small.npy"), {
-        let header = "{'descr': '<u2', 'fortran_order': False, 'shape': (2, 2), }";
-        let pad = 64 - (10 + header.len() + 1) % 64;
-        let h = format!("{header}{}\n", " ".repeat(pad));
-        let mut b = b"\x93NUMPY\x01\x00".to_vec();
-        b.extend_from_slice(&(h.len() as u16).to_le_bytes());
-        b.extend_from_slice(h.as_bytes());
-        b.extend_from_slice(&[0u8; 8]);
-        b
-    })
+    std::fs::write(
+        dir.path().join("small.npy"),
+        xbandsim::products::output::npy_f32_bytes(&[2, 2], &[0.0; 4]),
+    )
     .unwrap();
     let e = load(&format!(
         "{land}height_map = \"small.npy\"\nheight_map_extent_m = [0.0, 0.0, 50.0, 700.0]\n"

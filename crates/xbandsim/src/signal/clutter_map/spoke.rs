@@ -219,10 +219,7 @@ impl SpokeStage<'_> {
         let (h, delta) = (g.h, g.delta);
         let az = self.radar.spoke_azimuth_rad(k);
         view.crossings(az, crossings);
-        if crossings.is_empty()
-            && view.land().polygon_at(view.origin()).is_none()
-            && view.land().structure_at(view.origin()).is_none()
-        {
+        if crossings.is_empty() && view.starts_at_sea() {
             return false;
         }
         let curvature = self.env.earth_curvature();
