@@ -6,7 +6,7 @@
 //! for the carrier phase. A small, allocation-free traversal over an enum of primitives does
 //! that directly; `benches/raycast.rs` measures it against brute force (docs/performance.md).
 //!
-//! The tree is built binary (binned SAH, Wald 2007), then each node takes up to four of its
+//! The tree is built binary (binned SAH, Wald 2007; `bvh_build.rs`), then each node takes up to four of its
 //! descendants as children, the largest first (Dammertz et al., "Shallow bounding volume
 //! hierarchies for fast SIMD ray tracing of incoherent rays", EGSR 2008). A node keeps its
 //! children's boxes in f32, rounded outward, as four lanes per plane, so one pass of plain
@@ -18,19 +18,12 @@
 //! "The ray caster"). Trees or rays beyond f32's reach (coordinates past 10^36 m) take the
 //! same traversal with f64 boxes.
 
+use super::bvh_build::{build_binary, BinaryNode, BinaryTree, SAH_MAX_DEPTH};
 use super::{Aabb, Hit, Primitive, Ray};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::sync::Arc;
 
-const NUM_BINS: usize = 16;
-const MAX_LEAF_SIZE: usize = 4;
-/// Below this depth nodes are split at the SAH's best plane; from it on, at the median of the
-/// widest axis of their centres, which halves the count each level. So no leaf is deeper
-/// than `SAH_MAX_DEPTH + 32` for up to 2^31 primitives (node indices are `u32`), however
-/// unbalanced the SAH's splits are (primitives spaced geometrically make it peel one off per
-/// level).
-const SAH_MAX_DEPTH: usize = 64;
 /// The deepest a binary tree gets, and so the 4-wide one (each of its levels is one or two
 /// binary levels).
 const MAX_DEPTH: usize = SAH_MAX_DEPTH + 32;
@@ -56,16 +49,6 @@ const F32_EPSILON_HALF_UP: f32 = 1.0 / 8_388_608.0;
 const ENTRY_SHRINK: f32 = 1.0 - 1.0 / 1_048_576.0;
 /// ...and the exit distance grown by this one.
 const EXIT_GROW: f32 = 1.0 + 1.0 / 1_048_576.0;
-
-/// A node of the binary tree, during the build only.
-#[derive(Debug, Clone, Copy)]
-struct BuildNode {
-    bounds: Aabb,
-    /// Interior: index of the left child (right = left + 1). Leaf: first primitive.
-    first: u32,
-    /// Number of primitives in a leaf; 0 for an interior node.
-    count: u32,
-}
 
 /// A node of the 4-wide tree: its children's boxes and where each child leads.
 #[derive(Debug, Clone, Copy)]
@@ -318,48 +301,31 @@ impl Bvh {
                 static_level: None,
             };
         }
-        let bounds: Vec<Aabb> = primitives.par_iter().map(|p| p.bounds()).collect();
-        let centres: Vec<DVec3> = bounds.par_iter().map(|b| b.centre()).collect();
-        let mut order: Vec<u32> = (0..primitives.len() as u32).collect();
-        // Every node of n primitives owns 2n − 1 slots: itself, then its two children, then
-        // each child's descendants in turn (2m − 2 slots for a child of m). The layout is a
-        // function of the tree alone, so subtrees build in parallel into disjoint slots and
-        // the tree is the same whatever the thread count (slots a leaf does not need stay
-        // unused; the wide tree is collapsed by following the links).
-        let n = primitives.len();
-        let mut nodes = vec![
-            BuildNode {
-                bounds: Aabb::EMPTY,
-                first: 0,
-                count: 0,
-            };
-            2 * n - 1
-        ];
-        let (root, rest) = nodes.split_at_mut(1);
-        let inputs = BuildInputs {
-            bounds: &bounds,
-            centres: &centres,
-        };
-        let binary_depth = build_node(&mut root[0], rest, 1, &mut order, 0, 0, &inputs);
-        let reordered: Vec<Primitive> = order.par_iter().map(|&i| primitives[i as usize]).collect();
+        let tree = build_binary(&primitives);
+        let reordered: Vec<Primitive> = (0..tree.len())
+            .into_par_iter()
+            .map(|k| primitives[tree.primitive_at(k) as usize])
+            .collect();
         primitives.clear();
         let mut by_object: Vec<u32> = (0..reordered.len() as u32).collect();
         // Stable: within one object the indices stay ascending.
         by_object.par_sort_by_key(|&i| reordered[i as usize].object);
-        let (wide, exact_boxes, wide_depth) = collapse(&nodes);
+        let (mut wide, wide_depth) = collapse(&tree.nodes);
+        let exact_boxes = refit(&mut wide, &tree);
         let f32_boxes = exact_boxes.iter().flatten().all(|b| {
             b.min.cmpge(DVec3::splat(-F32_REACH_M)).all()
                 && b.max.cmple(DVec3::splat(F32_REACH_M)).all()
                 || b == &Aabb::EMPTY
         });
+        let bounds = exact_boxes[0].iter().fold(Aabb::EMPTY, |a, b| a.union(b));
         Bvh {
             nodes: wide,
             exact_boxes,
             primitives: reordered,
             by_object,
-            binary_depth,
+            binary_depth: tree.depth,
             wide_depth,
-            bounds: nodes[0].bounds,
+            bounds,
             f32_boxes,
             static_level: None,
         }
@@ -595,106 +561,12 @@ impl Bvh {
     }
 }
 
-/// What every node of a build reads: each primitive's box and centre.
-struct BuildInputs<'a> {
-    bounds: &'a [Aabb],
-    centres: &'a [DVec3],
-}
-
-/// Nodes of at least this many primitives build their two subtrees in parallel.
-const PARALLEL_BUILD_MIN: usize = 4096;
-
-/// Builds the subtree of the primitives `order` (positions `first..` of the whole order)
-/// into `root` and its descendants' slots `rest` (2n − 2 of them, the first at index
-/// `rest_base` of the whole array): binned SAH down to [`SAH_MAX_DEPTH`], then median
-/// splits. Returns the depth of its deepest node.
-fn build_node(
-    root: &mut BuildNode,
-    rest: &mut [BuildNode],
-    rest_base: usize,
-    order: &mut [u32],
-    first: usize,
-    depth: usize,
-    inputs: &BuildInputs<'_>,
-) -> usize {
-    let (bounds, centres) = (inputs.bounds, inputs.centres);
-    let count = order.len();
-    let mut nb = Aabb::EMPTY;
-    let mut cb = Aabb::EMPTY;
-    for &i in order.iter() {
-        nb = nb.union(&bounds[i as usize]);
-        cb.grow(centres[i as usize]);
-    }
-    *root = BuildNode {
-        bounds: nb,
-        first: first as u32,
-        count: count as u32,
-    };
-    if count <= MAX_LEAF_SIZE {
-        return depth;
-    }
-    let (axis, mut left) = if depth < SAH_MAX_DEPTH {
-        let Some((axis, split_pos)) = best_split(order, bounds, centres, &cb, &nb) else {
-            return depth;
-        };
-        let mut left = 0;
-        for j in 0..order.len() {
-            if centres[order[j] as usize][axis] < split_pos {
-                order.swap(left, j);
-                left += 1;
-            }
-        }
-        (axis, left)
-    } else {
-        ((cb.max - cb.min).max_position(), 0)
-    };
-    if left == 0 || left == count {
-        left = count / 2;
-        order.sort_by(|a, b| centres[*a as usize][axis].total_cmp(&centres[*b as usize][axis]));
-    }
-    root.first = rest_base as u32;
-    root.count = 0;
-    let (children, descendants) = rest.split_at_mut(2);
-    let (left_root, right_root) = children.split_at_mut(1);
-    let (left_rest, right_rest) = descendants.split_at_mut(2 * left - 2);
-    let (left_order, right_order) = order.split_at_mut(left);
-    let (left_base, right_base) = (rest_base + 2, rest_base + 2 + 2 * left - 2);
-    let mut build_left = || {
-        build_node(
-            &mut left_root[0],
-            left_rest,
-            left_base,
-            left_order,
-            first,
-            depth + 1,
-            inputs,
-        )
-    };
-    let mut build_right = || {
-        build_node(
-            &mut right_root[0],
-            right_rest,
-            right_base,
-            right_order,
-            first + left,
-            depth + 1,
-            inputs,
-        )
-    };
-    let (l, r) = if count >= PARALLEL_BUILD_MIN {
-        rayon::join(build_left, build_right)
-    } else {
-        (build_left(), build_right())
-    };
-    l.max(r)
-}
-
 /// The 4-wide tree of a binary one (`nodes[0]` its root): each node takes the binary node's
 /// children and replaces the one with the largest surface that is not a leaf by its two
-/// children until it has four. Returns the nodes, their children's f64 boxes and the depth.
-fn collapse(binary: &[BuildNode]) -> (Vec<WideNode>, Vec<[Aabb; 4]>, usize) {
+/// children until it has four. Returns the nodes (their boxes not yet set: [`refit`]) and the
+/// depth. A child's node always comes after its parent's.
+fn collapse(binary: &[BinaryNode]) -> (Vec<WideNode>, usize) {
     let mut wide = vec![WideNode::EMPTY];
-    let mut exact = vec![[Aabb::EMPTY; 4]];
     let mut depth = 0;
     let mut stack = vec![(0usize, 0usize, 0usize)];
     while let Some((b, w, d)) = stack.pop() {
@@ -713,7 +585,7 @@ fn collapse(binary: &[BuildNode]) -> (Vec<WideNode>, Vec<[Aabb; 4]>, usize) {
             // The interior child with the largest surface (the first of equals).
             let mut widest: Option<(usize, f64)> = None;
             for (i, &c) in children[..len].iter().enumerate() {
-                let area = binary[c].bounds.surface_area();
+                let area = binary[c].area_m2;
                 if binary[c].count == 0 && widest.is_none_or(|(_, a)| area > a) {
                     widest = Some((i, area));
                 }
@@ -726,130 +598,58 @@ fn collapse(binary: &[BuildNode]) -> (Vec<WideNode>, Vec<[Aabb; 4]>, usize) {
             len += 1;
         }
         for (lane, &c) in children[..len].iter().enumerate() {
-            let bounds = binary[c].bounds;
-            exact[w][lane] = bounds;
-            for axis in 0..3 {
-                wide[w].planes[2 * axis][lane] = f32_down(bounds.min[axis]);
-                wide[w].planes[2 * axis + 1][lane] = f32_up(bounds.max[axis]);
-            }
             if binary[c].count > 0 {
                 wide[w].first[lane] = binary[c].first;
                 wide[w].count[lane] = binary[c].count;
             } else {
                 let child = wide.len();
                 wide.push(WideNode::EMPTY);
-                exact.push([Aabb::EMPTY; 4]);
                 wide[w].first[lane] = child as u32;
                 stack.push((c, child, d + 1));
             }
         }
     }
-    (wide, exact, depth)
+    (wide, depth)
 }
 
-/// Binned SAH: the axis and split position with the lowest cost, if any beats a leaf.
-fn best_split(
-    slice: &[u32],
-    bounds: &[Aabb],
-    centres: &[DVec3],
-    centre_bounds: &Aabb,
-    node_bounds: &Aabb,
-) -> Option<(usize, f64)> {
-    let lo = centre_bounds.min;
-    let extent = centre_bounds.max - centre_bounds.min;
-    let live = [extent.x > 1e-12, extent.y > 1e-12, extent.z > 1e-12];
-    let scale = DVec3::new(
-        if live[0] {
-            NUM_BINS as f64 / extent.x
-        } else {
-            0.0
-        },
-        if live[1] {
-            NUM_BINS as f64 / extent.y
-        } else {
-            0.0
-        },
-        if live[2] {
-            NUM_BINS as f64 / extent.z
-        } else {
-            0.0
-        },
-    );
-    // All three axes' bins in one pass over the primitives (one visit of each box), in
-    // parallel chunks for large nodes: counts add and boxes unite exactly, in any grouping.
-    let bin = |chunk: &[u32]| {
-        let mut bins = Bins::EMPTY;
-        for &i in chunk {
-            let (c, b) = (centres[i as usize], &bounds[i as usize]);
-            for axis in 0..3 {
-                let k = (((c[axis] - lo[axis]) * scale[axis]) as usize).min(NUM_BINS - 1);
-                bins.counts[axis][k] += 1;
-                bins.boxes[axis][k] = bins.boxes[axis][k].union(b);
+/// Sets every child's box of the 4-wide tree from its primitives' boxes in `tree`: the exact
+/// f64 boxes, returned, and the f32 planes rounded outward from them. Leaves first, in
+/// parallel; then interior children from their nodes' boxes, last node first (a child's
+/// node comes after its parent's).
+fn refit(wide: &mut [WideNode], tree: &BinaryTree) -> Vec<[Aabb; 4]> {
+    let mut exact = vec![[Aabb::EMPTY; 4]; wide.len()];
+    exact
+        .par_iter_mut()
+        .zip(wide.par_iter())
+        .with_min_len(256)
+        .for_each(|(boxes, node)| {
+            for lane in 0..4 {
+                let (first, count) = (node.first[lane] as usize, node.count[lane] as usize);
+                if count > 0 {
+                    boxes[lane] = tree.bounds_of(first..first + count);
+                }
             }
-        }
-        bins
-    };
-    let bins = if slice.len() >= PARALLEL_BINNING_MIN {
-        slice
-            .par_chunks(PARALLEL_BINNING_MIN / 4)
-            .map(bin)
-            .reduce(|| Bins::EMPTY, Bins::merged)
-    } else {
-        bin(slice)
-    };
-    let mut best: Option<(f64, usize, f64)> = None;
-    for axis in (0..3).filter(|&a| live[a]) {
-        let (bin_bounds, bin_counts) = (&bins.boxes[axis], &bins.counts[axis]);
-        let mut left_area = [0.0; NUM_BINS];
-        let mut left_count = [0usize; NUM_BINS];
-        let mut acc = Aabb::EMPTY;
-        let mut n = 0;
-        for b in 0..NUM_BINS - 1 {
-            acc = acc.union(&bin_bounds[b]);
-            n += bin_counts[b];
-            left_area[b] = acc.surface_area();
-            left_count[b] = n;
-        }
-        let mut acc = Aabb::EMPTY;
-        let mut n = 0;
-        for b in (1..NUM_BINS).rev() {
-            acc = acc.union(&bin_bounds[b]);
-            n += bin_counts[b];
-            let cost = left_area[b - 1] * left_count[b - 1] as f64 + acc.surface_area() * n as f64;
-            if left_count[b - 1] > 0 && n > 0 && best.is_none_or(|(c, _, _)| cost < c) {
-                best = Some((cost, axis, lo[axis] + b as f64 / scale[axis]));
+        });
+    for w in (0..wide.len()).rev() {
+        let (head, tail) = exact.split_at_mut(w + 1);
+        for lane in 0..4 {
+            let node = &wide[w];
+            if node.count[lane] == 0 && node.first[lane] != 0 {
+                let child = &tail[node.first[lane] as usize - w - 1];
+                head[w][lane] = child.iter().fold(Aabb::EMPTY, |a, b| a.union(b));
             }
         }
     }
-    let (cost, axis, pos) = best?;
-    let leaf_cost = node_bounds.surface_area() * slice.len() as f64;
-    (cost < leaf_cost || slice.len() > 16).then_some((axis, pos))
-}
-
-/// Nodes of at least this many primitives bin them in parallel chunks.
-const PARALLEL_BINNING_MIN: usize = 32_768;
-
-/// The SAH bins of one node on all three axes: each bin's primitive count and box.
-#[derive(Clone, Copy)]
-struct Bins {
-    counts: [[usize; NUM_BINS]; 3],
-    boxes: [[Aabb; NUM_BINS]; 3],
-}
-
-impl Bins {
-    const EMPTY: Bins = Bins {
-        counts: [[0; NUM_BINS]; 3],
-        boxes: [[Aabb::EMPTY; NUM_BINS]; 3],
-    };
-
-    /// Both bins' contents together.
-    fn merged(mut self, other: Bins) -> Bins {
-        for axis in 0..3 {
-            for k in 0..NUM_BINS {
-                self.counts[axis][k] += other.counts[axis][k];
-                self.boxes[axis][k] = self.boxes[axis][k].union(&other.boxes[axis][k]);
+    wide.par_iter_mut()
+        .zip(exact.par_iter())
+        .with_min_len(256)
+        .for_each(|(node, boxes)| {
+            for (lane, b) in boxes.iter().enumerate() {
+                for axis in 0..3 {
+                    node.planes[2 * axis][lane] = f32_down(b.min[axis]);
+                    node.planes[2 * axis + 1][lane] = f32_up(b.max[axis]);
+                }
             }
-        }
-        self
-    }
+        });
+    exact
 }

@@ -8,6 +8,7 @@
 //! construction of SAH-based bounding volume hierarchies", IEEE RT 2007).
 
 mod bvh;
+mod bvh_build;
 pub mod mesh;
 mod primitives;
 pub mod procedural;

@@ -7,7 +7,8 @@ use super::motion::{
 };
 use crate::error::{Error, Problem, Result};
 use crate::geometry::{
-    object_frame, BuoyParams, MeshUnit, ShapeGeometry, Superstructure, TriangleMesh, VesselParams,
+    object_frame, Aabb, BuoyParams, MeshUnit, ShapeGeometry, Superstructure, TriangleMesh,
+    VesselParams,
 };
 use crate::scene::{ObjectSpec, ShapeName};
 use glam::{DMat3, DVec3};
@@ -22,6 +23,9 @@ pub struct SceneObject {
     class: String,
     /// Shape and sizes.
     shape: ShapeGeometry,
+    /// The shape's box in object coordinates (kept: a mesh's takes a pass over its
+    /// triangles, and labels ask for it every frame).
+    local_bounds: Aabb,
     /// Reference position, ENU m.
     position_m: DVec3,
     /// Object-to-world rotation.
@@ -108,6 +112,7 @@ impl SceneObject {
         Ok(SceneObject {
             name,
             class: class.into(),
+            local_bounds: shape.local_bounds(),
             shape,
             position_m,
             rotation,
@@ -167,6 +172,7 @@ impl SceneObject {
             name: self.name.clone(),
             class: self.class.clone(),
             shape: self.shape.clone(),
+            local_bounds: self.local_bounds,
             position_m: k.position_m + shift_m,
             rotation: k.rotation,
             moving: None,
@@ -191,6 +197,11 @@ impl SceneObject {
     /// Shape and sizes.
     pub fn shape(&self) -> &ShapeGeometry {
         &self.shape
+    }
+
+    /// Bounding box of the shape's primitives in object coordinates (empty for a point).
+    pub fn local_bounds(&self) -> Aabb {
+        self.local_bounds
     }
 
     /// Reference position, ENU m.
@@ -413,6 +424,7 @@ pub(super) fn build_object(i: usize, o: &ObjectSpec, base_dir: &Path) -> Result<
     let object = SceneObject {
         class: o.class.clone().unwrap_or_else(|| "object".to_string()),
         name,
+        local_bounds: shape.local_bounds(),
         shape,
         position_m,
         rotation: object_frame(yaw.unwrap_or(0.0), pitch, roll),

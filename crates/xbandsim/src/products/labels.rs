@@ -606,7 +606,7 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
             let polar_box =
                 echo_region.and_then(|e| e.polar_box(bin_m, radar.num_range_bins(), spokes));
             let (size_m, footprint_m) =
-                footprint_of(&o.shape().local_bounds(), o.position_m(), o.rotation());
+                footprint_of(&o.local_bounds(), o.position_m(), o.rotation());
             let antenna = radar.position_m();
             let footprint_from_radar_m = footprint_m.map(|[e, n]| [e - antenna.x, n - antenna.y]);
             ObjectTruth {

@@ -20,6 +20,7 @@ use crate::geometry::{Bvh, Primitive};
 use crate::model::{Environment, Radar, ScatteringModel, Scene, SceneObject};
 use glam::DVec3;
 use num_complex::Complex64;
+use rayon::prelude::*;
 
 /// One scattering path, seen at the radar.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -196,13 +197,14 @@ pub fn build_scene_bvh(objects: &[SceneObject]) -> Bvh {
 /// its index in `objects`.
 pub fn scene_primitives_of(
     objects: &[SceneObject],
-    keep: impl Fn(usize, &SceneObject) -> bool,
+    keep: impl Fn(usize, &SceneObject) -> bool + Sync,
 ) -> Vec<Primitive> {
+    // In parallel by object; collected in the objects' order.
     objects
-        .iter()
+        .par_iter()
         .enumerate()
         .filter(|(i, o)| keep(*i, o))
-        .flat_map(|(i, o)| o.shape().primitives(o.position_m(), o.rotation(), i as u32))
+        .flat_map_iter(|(i, o)| o.shape().primitives(o.position_m(), o.rotation(), i as u32))
         .collect()
 }
 

@@ -79,7 +79,7 @@ pub fn abeam_objects(scene: &Scene, heading_rad: f64, multiple: &MultipleEchoes)
                 return false;
             };
             let d = o.position_m() - antenna;
-            let bounds = o.shape().local_bounds();
+            let bounds = o.local_bounds();
             let length_m = if bounds.min.is_finite() && bounds.max.is_finite() {
                 bounds.max.y - bounds.min.y
             } else {

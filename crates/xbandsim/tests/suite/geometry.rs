@@ -118,6 +118,65 @@ fn bvh_matches_brute_force() {
     assert!(hits > 2_000, "too few hits to mean anything: {hits}");
 }
 
+/// A BVH of four 10 848-triangle vessels (43 392 primitives: its top nodes bin in parallel
+/// chunks and build their subtrees in parallel) is the same tree on one thread as on four,
+/// and returns the brute-force closest hit and any-hit answer.
+#[test]
+fn large_bvh_is_the_same_on_any_thread_count_and_matches_brute_force() {
+    let vessel = ShapeGeometry::Mesh {
+        mesh: std::sync::Arc::new(xbandsim::geometry::mesh::vessel(30.0, 128)),
+    };
+    let prims: Vec<Primitive> = (0..4u32)
+        .flat_map(|i| {
+            let at = DVec3::new(40.0 * f64::from(i), 15.0 * f64::from(i % 2), 0.0);
+            vessel.primitives(at, object_frame(30.0 * f64::from(i), 0.0, 0.0), i)
+        })
+        .collect();
+    assert!(prims.len() > 40_000);
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a thread pool")
+            .install(|| Bvh::build(prims.clone()))
+    };
+    let (one, four) = (on(1), on(4));
+    assert_eq!(one.primitives(), four.primitives());
+    assert_eq!(
+        (one.num_nodes(), one.depth(), one.wide_depth(), one.bounds()),
+        (
+            four.num_nodes(),
+            four.depth(),
+            four.wide_depth(),
+            four.bounds()
+        )
+    );
+    let ordered = four.primitives().to_vec();
+    let mut rng = Lcg(41);
+    let mut hits = 0;
+    for _ in 0..400 {
+        let origin = DVec3::new(60.0, 0.0, 0.0) + rng.vec(150.0);
+        let target = DVec3::new(60.0, 7.0, 3.0) + DVec3::new(70.0, 15.0, 4.0) * rng.vec(1.0);
+        let ray = Ray::new(origin, target - origin);
+        let a = four.closest_hit(&ray, f64::INFINITY);
+        let b = closest_hit_brute_force(&ordered, &ray, f64::INFINITY);
+        match (a, b) {
+            (Some(x), Some(y)) => {
+                hits += 1;
+                assert!((x.t_m - y.t_m).abs() < 1e-9, "{x:?} vs {y:?}");
+            }
+            (None, None) => {}
+            (x, y) => panic!("bvh {x:?} vs brute force {y:?}"),
+        }
+        let t_max = rng.next() * 200.0;
+        assert_eq!(
+            four.any_hit(&ray, t_max),
+            closest_hit_brute_force(&ordered, &ray, t_max).is_some()
+        );
+    }
+    assert!(hits > 100, "too few hits to mean anything: {hits}");
+}
+
 /// A two-level BVH (half the objects in a shared static level) returns the brute-force
 /// closest hit of all the primitives (distance and object) and the same any-hit answer, and
 /// finds each object's primitives and bounds in whichever level holds them.
