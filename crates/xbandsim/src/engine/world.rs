@@ -8,7 +8,8 @@
 use super::trace_cache::{TraceCache, TracedWorld};
 use crate::geometry::Bvh;
 use crate::model::{Revolution, Scene, SceneObject};
-use crate::scattering::{build_scene_bvh, scene_primitives_of, trace_scene};
+use crate::scattering::po::StillTraces;
+use crate::scattering::{build_scene_bvh, scene_primitives_of, trace_scene_keeping};
 use std::sync::{Arc, OnceLock};
 
 /// Fewest primitives of the still objects for a moving scene's BVH to take them as a static
@@ -27,16 +28,25 @@ pub struct World {
     /// (structures, moored ships, buoys), built once; None when all move, with an own ship,
     /// or when they hold fewer than [`STATIC_LEVEL_MIN_PRIMITIVES`] primitives.
     static_bvh: OnceLock<Option<Arc<Bvh>>>,
+    /// The traces of a moving scene's still objects, kept across revolutions where no moving
+    /// object meets their rays (`scattering::po` "still"); used with the static level.
+    still_traces: StillTraces,
     states: TraceCache<TracedWorld>,
 }
 
 impl World {
     /// The world of `scene` (nothing traced yet).
     pub fn new(scene: Arc<Scene>) -> World {
+        let still = scene
+            .objects()
+            .iter()
+            .map(|o| o.motion().is_none())
+            .collect();
         World {
             scene,
             bvh: OnceLock::new(),
             static_bvh: OnceLock::new(),
+            still_traces: StillTraces::new(still),
             states: TraceCache::default(),
         }
     }
@@ -96,10 +106,10 @@ impl World {
             .as_ref()
     }
 
-    /// A moving scene's BVH for one revolution's `scene`: the moving objects' level over
-    /// the static one when every object without a motion stands where it stood (it does
-    /// unless a revolution moves the world), else one level over all.
-    fn revolution_bvh(&self, scene: &Scene) -> Bvh {
+    /// A moving scene's BVH for one revolution's `scene`, and whether it is two-level: the
+    /// moving objects' level over the static one when every object without a motion stands
+    /// where it stood (it does unless a revolution moves the world), else one level over all.
+    fn revolution_bvh(&self, scene: &Scene) -> (Bvh, bool) {
         let written = self.scene.objects();
         let objects = scene.objects();
         if let Some(fixed) = self.static_bvh() {
@@ -110,28 +120,36 @@ impl World {
                             && now.rotation() == then.rotation())
                 });
             if unmoved {
-                return Bvh::over_static(
+                let bvh = Bvh::over_static(
                     Arc::clone(fixed),
                     scene_primitives_of(objects, |k, _| written[k].motion().is_some()),
                 );
+                return (bvh, true);
             }
         }
-        build_scene_bvh(objects)
+        (build_scene_bvh(objects), false)
+    }
+
+    /// How many still objects' traces were reused from an earlier revolution so far.
+    pub fn still_traces_reused(&self) -> u64 {
+        self.still_traces.reused()
     }
 
     /// The traced state of the revolution starting at `start_time_s` whose beam crossings are
     /// sought from `lead_s` before it, from the cache or traced now (the `bool`); a still
-    /// scene is traced once for all times.
+    /// scene is traced once for all times. A moving scene's still objects keep their traces
+    /// between revolutions while no moving object meets their rays (the same bytes).
     pub fn traced(&self, start_time_s: f64, lead_s: f64) -> (Arc<TracedWorld>, bool) {
         let still = self.scene.is_still();
         self.states.get_or_trace(start_time_s, still, || {
             let revolution = Revolution::with_lead(&self.scene, start_time_s, lead_s);
-            let bvh = if still {
-                Arc::clone(self.bvh())
+            let (bvh, kept) = if still {
+                (Arc::clone(self.bvh()), None)
             } else {
-                Arc::new(self.revolution_bvh(revolution.scene()))
+                let (bvh, two_level) = self.revolution_bvh(revolution.scene());
+                (Arc::new(bvh), two_level.then_some(&self.still_traces))
             };
-            let set = Arc::new(trace_scene(revolution.scene(), &bvh));
+            let set = Arc::new(trace_scene_keeping(revolution.scene(), &bvh, kept));
             TracedWorld { bvh, set }
         })
     }

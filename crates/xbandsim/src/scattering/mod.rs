@@ -21,6 +21,7 @@ use crate::model::{Environment, Radar, ScatteringModel, Scene, SceneObject};
 use glam::DVec3;
 use num_complex::Complex64;
 use rayon::prelude::*;
+use std::sync::Arc;
 
 /// One scattering path, seen at the radar.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -211,12 +212,115 @@ pub fn scene_primitives_of(
 /// Traces the scene with its configured model, then applies the two-way rain attenuation
 /// along each contribution's outgoing and returning directions (ITU-R P.838-3, docs/physics.md).
 pub fn trace_scene(scene: &Scene, bvh: &Bvh) -> ScatterSet {
-    let mut set = match scene.scattering().model() {
-        ScatteringModel::PhysicalOptics => po::trace(scene, bvh),
-        ScatteringModel::Paper => paper::trace(scene, bvh),
+    trace_scene_keeping(scene, bvh, None)
+}
+
+/// [`trace_scene`], the PO model reusing and keeping the traces of `still`'s objects where no
+/// moving object meets their rays (`po::still`): the same bytes as [`trace_scene`].
+pub fn trace_scene_keeping(
+    scene: &Scene,
+    bvh: &Bvh,
+    still: Option<&po::StillTraces>,
+) -> ScatterSet {
+    let po_model = scene.scattering().model() == ScatteringModel::PhysicalOptics;
+    let Some(still) = still.filter(|_| po_model) else {
+        let mut set = match scene.scattering().model() {
+            ScatteringModel::PhysicalOptics => po::trace(scene, bvh),
+            ScatteringModel::Paper => paper::trace(scene, bvh),
+        };
+        land_and_rain(scene, &mut set);
+        return set;
     };
+    let objects = scene.objects();
+    // The bounding spheres of what may meet a still object's rays: every extended object
+    // that moves.
+    let movers: Vec<(DVec3, f64)> = objects
+        .iter()
+        .enumerate()
+        .filter(|(i, o)| !still.is_still(*i) && !o.shape().is_point())
+        .map(|(_, o)| (o.bounding_centre_m(), o.shape().bounding_radius_m()))
+        .collect();
+    let met = |reach: &po::ObjectReach| movers.iter().any(|&(c, r)| reach.met_by(c, r));
+    let kept: Vec<Option<Arc<po::KeptTrace>>> = (0..objects.len())
+        .map(|i| {
+            let kept = still.get(i).filter(|k| !met(&k.reach));
+            if kept.is_some() {
+                still.count_reuse();
+            }
+            kept
+        })
+        .collect();
+    let select: Vec<po::Selection> = (0..objects.len())
+        .map(|i| {
+            match (
+                &kept[i],
+                still.is_still(i) && !objects[i].shape().is_point(),
+            ) {
+                (Some(_), _) => po::Selection::Skip,
+                (None, true) => po::Selection::TraceRecording,
+                (None, false) => po::Selection::Trace,
+            }
+        })
+        .collect();
+    let (mut fresh, mut rays) = po::trace_selected(scene, bvh, &select);
+    land_and_rain(scene, &mut fresh);
+    // The kept objects' runs in among the new ones, in object order (each object's
+    // contributions are one run of either).
+    let mut set = ScatterSet {
+        contributions: Vec::with_capacity(
+            fresh.contributions.len()
+                + kept
+                    .iter()
+                    .flatten()
+                    .map(|k| k.contributions.len())
+                    .sum::<usize>(),
+        ),
+        rays_cast: 0,
+        tube_budgets: fresh.tube_budgets,
+        land_shadowed: fresh.land_shadowed,
+    };
+    let mut next = 0;
+    for (i, kept) in kept.iter().enumerate() {
+        if let Some(k) = kept {
+            set.contributions.extend_from_slice(&k.contributions);
+            set.rays_cast += k.rays;
+            set.tube_budgets[i] = k.budget;
+            if let Some(n) = set.land_shadowed.get_mut(i) {
+                *n = k.land_shadowed;
+            }
+            continue;
+        }
+        let start = next;
+        while next < fresh.contributions.len() && fresh.contributions[next].object as usize == i {
+            next += 1;
+        }
+        let run = &fresh.contributions[start..next];
+        set.contributions.extend_from_slice(run);
+        set.rays_cast += rays[i].rays;
+        // A still object's trace is kept when no moving object met its rays: it is then the
+        // trace of the world without them.
+        if let Some(reach) = rays[i].reach.take() {
+            if !met(&reach) {
+                still.keep(
+                    i,
+                    Arc::new(po::KeptTrace {
+                        contributions: run.to_vec(),
+                        rays: rays[i].rays,
+                        budget: set.tube_budgets[i],
+                        land_shadowed: set.land_shadowed.get(i).copied().unwrap_or(0),
+                        reach,
+                    }),
+                );
+            }
+        }
+    }
+    set
+}
+
+/// Land's shadows ([`shade_by_land`]) and the two-way rain attenuation of every contribution.
+fn land_and_rain(scene: &Scene, set: &mut ScatterSet) {
     if !scene.environment().land().is_empty() {
-        shade_by_land(scene, &mut set);
+        shade_by_land(scene, set);
     }
     if let Some(rain) = scene.environment().rain() {
         let radar = scene.radar();
@@ -274,7 +378,6 @@ pub fn trace_scene(scene: &Scene, bvh: &Bvh) -> ScatterSet {
             }
         }
     }
-    set
 }
 
 /// Takes away the contributions that land hides (docs/physics.md §16). A contribution's

@@ -30,9 +30,12 @@
 
 mod tube;
 
+mod still;
+
+pub use still::{KeptTrace, ObjectReach, StillTraces};
 pub use tube::{
-    polarisation_vector, sea_mirror, sea_reflect, trace_tube, ComplexVec3, Illumination,
-    SbrSettings, TubeCoverage, TubeGrid, TubeReturn,
+    polarisation_vector, sea_mirror, sea_reflect, trace_tube, trace_tube_with, ComplexVec3,
+    Illumination, RaySink, SbrSettings, TubeCoverage, TubeGrid, TubeReturn,
 };
 
 use super::{azimuth_elevation_rad, carrier_phase, vector_bits, Contribution, ScatterSet};
@@ -112,6 +115,20 @@ fn trace_object_runs(
     index: u32,
     s: &SbrSettings,
 ) -> ObjectRuns {
+    trace_object_runs_with(bvh, illumination, centre_m, radius_m, index, s, || ()).0
+}
+
+/// [`trace_object_runs`], handing every ray cast to a sink `new_sink` makes (one per run of
+/// rows traced together): the runs and their sinks, in order.
+fn trace_object_runs_with<R: RaySink + Send>(
+    bvh: &Bvh,
+    illumination: Illumination,
+    centre_m: DVec3,
+    radius_m: f64,
+    index: u32,
+    s: &SbrSettings,
+    new_sink: impl Fn() -> R + Sync + Send,
+) -> (ObjectRuns, Vec<R>) {
     let mut grids = vec![TubeGrid::new(
         illumination,
         centre_m,
@@ -147,6 +164,7 @@ fn trace_object_runs(
         capped: direct.capped,
     };
     let mut returns: Vec<Vec<TubeReturn>> = Vec::new();
+    let mut sinks = Vec::new();
     let mut rays = 0;
     let bounds = bvh.object_bounds(index);
     for grid in &grids {
@@ -157,33 +175,35 @@ fn trace_object_runs(
         // Rows in runs of at least four per task, each run's returns in one vector; the runs
         // are contiguous and collected in order, so the returns keep the row order whatever
         // the thread count.
-        let runs: Vec<(Vec<TubeReturn>, u64)> = rows
+        let runs: Vec<(Vec<TubeReturn>, u64, R)> = rows
             .into_par_iter()
             .with_min_len(4)
             .fold(
-                || (Vec::new(), 0u64),
-                |(mut out, mut rays), j| {
+                || (Vec::new(), 0u64, new_sink()),
+                |(mut out, mut rays, mut sink), j| {
                     for i in columns.clone() {
                         if coverage.covers(i, j) {
-                            rays += trace_tube(bvh, grid, i, j, index, s, &mut out);
+                            rays += trace_tube_with(bvh, grid, i, j, index, s, &mut out, &mut sink);
                         }
                     }
-                    (out, rays)
+                    (out, rays, sink)
                 },
             )
             .collect();
-        for (run, n) in runs {
+        for (run, n, sink) in runs {
             rays += n;
+            sinks.push(sink);
             if !run.is_empty() {
                 returns.push(run);
             }
         }
     }
-    ObjectRuns {
+    let runs = ObjectRuns {
         runs: returns,
         rays,
         budget,
-    }
+    };
+    (runs, sinks)
 }
 
 /// The hull points of the primitives of object `index` in `bvh`, for
@@ -331,6 +351,36 @@ fn point_leg(
 
 /// Traces every object of the scene with SBR/PO and converts to volts.
 pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
+    let all = vec![Selection::Trace; scene.objects().len()];
+    trace_selected(scene, bvh, &all).0
+}
+
+/// What [`trace_selected`] does with an object.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Selection {
+    /// Leaves it out (its returns are known already).
+    Skip,
+    /// Traces it.
+    Trace,
+    /// Traces it and records where its rays went.
+    TraceRecording,
+}
+
+/// What [`trace_selected`] gives beside the contributions, per object: the rays its trace
+/// cast and, for [`Selection::TraceRecording`], where they went.
+#[derive(Debug, Default)]
+pub struct ObjectRays {
+    pub rays: u64,
+    pub reach: Option<ObjectReach>,
+}
+
+/// [`trace`] of the objects `select` picks (a point is traced unless skipped), in object
+/// order: each object's contributions are one run of the set's.
+pub fn trace_selected(
+    scene: &Scene,
+    bvh: &Bvh,
+    select: &[Selection],
+) -> (ScatterSet, Vec<ObjectRays>) {
     let radar = scene.radar();
     let s = settings_for(scene);
     let volts = |r_tx: f64, r_rx: f64| {
@@ -340,9 +390,13 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         tube_budgets: vec![None; scene.objects().len()],
         ..ScatterSet::default()
     };
-    // Every extended object's tubes first (None for a point or an object that cannot be
-    // seen), so that the contributions are reserved once, not moved as each object adds its
-    // own; then the contributions in object order.
+    let selection = |idx: usize| select.get(idx).copied().unwrap_or(Selection::Trace);
+    let mut per_object: Vec<ObjectRays> = (0..scene.objects().len())
+        .map(|_| ObjectRays::default())
+        .collect();
+    // Every extended object's tubes first (None for a point, an object left out or one
+    // that cannot be seen), so that the contributions are reserved once, not moved as each
+    // object adds its own; then the contributions in object order.
     let traces: Vec<Option<ObjectRuns>> = scene
         .objects()
         .iter()
@@ -351,7 +405,7 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
             if let ShapeGeometry::Point { .. } = obj.shape() {
                 return None;
             }
-            if out_of_sight(scene, obj) {
+            if selection(idx) == Selection::Skip || out_of_sight(scene, obj) {
                 return None;
             }
             let centre = obj.bounding_centre_m();
@@ -359,14 +413,25 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
             let illumination = Illumination::FromPoint {
                 radar_m: radar.position_m(),
             };
-            Some(trace_object_runs(
-                bvh,
-                illumination,
-                centre,
-                radius,
-                idx as u32,
-                &s,
-            ))
+            if selection(idx) == Selection::Trace {
+                return Some(trace_object_runs(
+                    bvh,
+                    illumination,
+                    centre,
+                    radius,
+                    idx as u32,
+                    &s,
+                ));
+            }
+            let cones = ObjectReach::new(radar.position_m(), centre, radius, s.sea.is_some());
+            let (runs, sinks) =
+                trace_object_runs_with(bvh, illumination, centre, radius, idx as u32, &s, || {
+                    cones.same_cones()
+                });
+            let mut reach = cones;
+            reach.absorb(sinks);
+            per_object[idx].reach = Some(reach);
+            Some(runs)
         })
         .collect();
     let points = scene
@@ -386,6 +451,9 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
     );
     for (idx, obj) in scene.objects().iter().enumerate() {
         let index = idx as u32;
+        if selection(idx) == Selection::Skip {
+            continue;
+        }
         if let ShapeGeometry::Point { rcs_m2 } = obj.shape() {
             let ground = (obj.position_m() - radar.position_m()).truncate().length();
             if s.earth_curvature
@@ -409,6 +477,7 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
                 })
                 .collect();
             set.rays_cast += 2 * legs.len() as u64;
+            per_object[idx].rays = 2 * legs.len() as u64;
             for &(len_tx, dir_tx, g_tx, sea_tx) in &legs {
                 for &(len_rx, dir_rx, g_rx, sea_rx) in &legs {
                     let path_m = len_tx + len_rx;
@@ -435,6 +504,7 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
             continue;
         };
         set.rays_cast += traced.rays;
+        per_object[idx].rays = traced.rays;
         set.tube_budgets[idx] = Some(traced.budget);
         // A tube's returns share its launch direction (about half of all returns follow
         // another of the same tube): its angles are computed once, the same values.
@@ -462,5 +532,5 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
                 }
             }));
     }
-    set
+    (set, per_object)
 }

@@ -426,6 +426,20 @@ struct Exit {
     via_sea: bool,
 }
 
+/// Where a trace's rays went: every ray cast is handed over as a segment — its origin, unit
+/// direction and the length searched (∞ for a ray that met nothing) — so that a caller can
+/// tell later whether something placed elsewhere would have met one of them.
+pub trait RaySink {
+    /// One ray's segment.
+    fn segment(&mut self, origin_m: DVec3, dir: DVec3, length_m: f64);
+}
+
+/// No record kept.
+impl RaySink for () {
+    #[inline(always)]
+    fn segment(&mut self, _: DVec3, _: DVec3, _: f64) {}
+}
+
 /// Traces tube (i, j) of `grid` aimed at object `target` and pushes its returns into `out`.
 /// Returns the number of rays cast.
 pub fn trace_tube(
@@ -436,6 +450,21 @@ pub fn trace_tube(
     target: u32,
     s: &SbrSettings,
     out: &mut Vec<TubeReturn>,
+) -> u64 {
+    trace_tube_with(bvh, grid, i, j, target, s, out, &mut ())
+}
+
+/// [`trace_tube`], handing every ray it casts to `rays`.
+#[allow(clippy::too_many_arguments)]
+pub fn trace_tube_with(
+    bvh: &Bvh,
+    grid: &TubeGrid,
+    i: usize,
+    j: usize,
+    target: u32,
+    s: &SbrSettings,
+    out: &mut Vec<TubeReturn>,
+    rays_met: &mut impl RaySink,
 ) -> u64 {
     let Some((launch, k0, mut unit_u, mut unit_v, spread_ref_m)) = grid.launch(i, j) else {
         return 0;
@@ -476,8 +505,12 @@ pub fn trace_tube(
         let (t, normal, object) = match (hit, sea_t) {
             (Some(h), _) => (h.t_m, h.normal, Some(h.object)),
             (None, Some(ts)) => (ts, DVec3::Z, None),
-            (None, None) => break,
+            (None, None) => {
+                rays_met.segment(origin, k, f64::INFINITY);
+                break;
+            }
         };
+        rays_met.segment(origin, k, t);
         // Direct tubes must reach their object first; via-sea tubes the sea, then the object.
         let wanted = match (grid.via_sea, interaction) {
             (false, 1) => object == Some(target),
@@ -544,6 +577,7 @@ pub fn trace_tube(
         if n.dot(s_hat) > 0.0 {
             let clear = retraces || {
                 rays += 1;
+                rays_met.segment(lift, s_hat, range_rx_m - SURFACE_OFFSET_M);
                 !bvh.any_hit(
                     &Ray {
                         origin_m: lift,
@@ -579,6 +613,8 @@ pub fn trace_tube(
                     let up_len = up.length();
                     let clear = retraces_via_sea || {
                         rays += 2;
+                        rays_met.segment(lift, s2, t_sea);
+                        rays_met.segment(sea_pt, up / up_len, up_len);
                         !bvh.any_hit(
                             &Ray {
                                 origin_m: lift,
