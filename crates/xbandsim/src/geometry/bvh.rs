@@ -6,17 +6,17 @@
 //! for the carrier phase. A small, allocation-free traversal over an enum of primitives does
 //! that directly; `benches/raycast.rs` measures it against brute force (docs/performance.md).
 //!
-//! The tree is built binary (binned SAH, Wald 2007; `bvh_build.rs`), then each node takes up to four of its
-//! descendants as children, the largest first (Dammertz et al., "Shallow bounding volume
-//! hierarchies for fast SIMD ray tracing of incoherent rays", EGSR 2008). A node keeps its
-//! children's boxes in f32, rounded outward, as four lanes per plane, so one pass of plain
-//! lane loops (which the compiler turns into SSE2) tests all four. The f32 test only culls:
-//! a box is skipped only when no point of it can lie on the ray before the best hit so far,
-//! with the ray's origin rounded toward the box per slab and the products' rounding covered
-//! by a relative margin (Ize, "Robust BVH ray traversal", JCGT 2(2), 2013), so every
-//! primitive the exact f64 test would meet is still intersected in f64 (docs/architecture.md
-//! "The ray caster"). Trees or rays beyond f32's reach (coordinates past 10^36 m) take the
-//! same traversal with f64 boxes.
+//! The tree is built binary (binned SAH, Wald 2007; `bvh_build.rs`), then each node takes up
+//! to four of its descendants as children, the largest first (Dammertz et al., "Shallow
+//! bounding volume hierarchies for fast SIMD ray tracing of incoherent rays", EGSR 2008). A
+//! node keeps its children's boxes in f32, rounded outward, as four lanes per plane, so one
+//! pass of plain lane loops (which the compiler turns into SSE2) tests all four. The f32 test
+//! only culls: a box is skipped only when no point of it can lie on the ray before the best
+//! hit so far, with the ray's origin rounded toward the box per slab and the products'
+//! rounding covered by a relative margin (Ize, "Robust BVH ray traversal", JCGT 2(2), 2013),
+//! so every primitive the exact f64 test would meet is still intersected in f64
+//! (docs/architecture.md "The ray caster"). Trees or rays beyond f32's reach (coordinates past
+//! 10^36 m) take the same traversal with f64 boxes.
 
 use super::bvh_build::{build_binary, BinaryNode, BinaryTree, SAH_MAX_DEPTH};
 use super::{Aabb, Hit, Primitive, Ray};

@@ -13,6 +13,18 @@ use crate::geometry::{
 use crate::scene::{ObjectSpec, ShapeName};
 use glam::{DMat3, DVec3};
 use std::path::Path;
+use std::sync::OnceLock;
+
+/// A shape's box in object coordinates, made on first use. Two are equal whatever they hold:
+/// the box follows from the shape, which objects compare.
+#[derive(Debug, Clone, Default)]
+struct ShapeBox(OnceLock<Aabb>);
+
+impl PartialEq for ShapeBox {
+    fn eq(&self, _: &ShapeBox) -> bool {
+        true
+    }
+}
 
 /// A validated scene object.
 #[derive(Debug, Clone, PartialEq)]
@@ -23,9 +35,9 @@ pub struct SceneObject {
     class: String,
     /// Shape and sizes.
     shape: ShapeGeometry,
-    /// The shape's box in object coordinates (kept: a mesh's takes a pass over its
-    /// triangles, and labels ask for it every frame).
-    local_bounds: Aabb,
+    /// The shape's box in object coordinates, made on first use and kept: a mesh's takes a
+    /// pass over its triangles, and labels ask for it every frame.
+    local_bounds: ShapeBox,
     /// Reference position, ENU m.
     position_m: DVec3,
     /// Object-to-world rotation.
@@ -112,7 +124,7 @@ impl SceneObject {
         Ok(SceneObject {
             name,
             class: class.into(),
-            local_bounds: shape.local_bounds(),
+            local_bounds: ShapeBox::default(),
             shape,
             position_m,
             rotation,
@@ -172,7 +184,7 @@ impl SceneObject {
             name: self.name.clone(),
             class: self.class.clone(),
             shape: self.shape.clone(),
-            local_bounds: self.local_bounds,
+            local_bounds: self.local_bounds.clone(),
             position_m: k.position_m + shift_m,
             rotation: k.rotation,
             moving: None,
@@ -201,7 +213,10 @@ impl SceneObject {
 
     /// Bounding box of the shape's primitives in object coordinates (empty for a point).
     pub fn local_bounds(&self) -> Aabb {
-        self.local_bounds
+        *self
+            .local_bounds
+            .0
+            .get_or_init(|| self.shape.local_bounds())
     }
 
     /// Reference position, ENU m.
@@ -424,7 +439,7 @@ pub(super) fn build_object(i: usize, o: &ObjectSpec, base_dir: &Path) -> Result<
     let object = SceneObject {
         class: o.class.clone().unwrap_or_else(|| "object".to_string()),
         name,
-        local_bounds: shape.local_bounds(),
+        local_bounds: ShapeBox::default(),
         shape,
         position_m,
         rotation: object_frame(yaw.unwrap_or(0.0), pitch, roll),
