@@ -24,12 +24,34 @@ pub const ANGLE_BINS: usize = 4096;
 /// antenna `antenna_m` high, over the 4/3 earth when `curvature`.
 #[inline]
 pub fn elevation_rad(z_m: f64, ground_m: f64, antenna_m: f64, curvature: bool) -> f64 {
+    rise_m(z_m, ground_m, antenna_m, curvature).atan2(ground_m)
+}
+
+/// The rise of that point above the antenna's horizontal, m: its elevation is
+/// `rise.atan2(ground_m)` ([`elevation_rad`]).
+#[inline]
+pub fn rise_m(z_m: f64, ground_m: f64, antenna_m: f64, curvature: bool) -> f64 {
     let drop = if curvature {
         ground_m * ground_m / (2.0 * EFFECTIVE_EARTH_RADIUS_M)
     } else {
         0.0
     };
-    (z_m - antenna_m - drop).atan2(ground_m)
+    z_m - antenna_m - drop
+}
+
+/// Whether the point (`rise`, `ground`) is seen lower than (`rise_max`, `ground_max`) (both
+/// grounds above 0), exactly as their [`elevation_rad`]s compare: by the slopes
+/// `rise/ground` where they differ by more than 10⁻⁹ of themselves (the angles' rounding,
+/// a unit in the last place, cannot turn that around), else by the angles.
+#[inline]
+pub fn seen_lower(rise: f64, ground: f64, rise_max: f64, ground_max: f64) -> bool {
+    let (s, s_max) = (rise / ground, rise_max / ground_max);
+    let scale = s.abs().max(s_max.abs());
+    if (s - s_max).abs() > 1e-9 * scale && scale < 1e6 {
+        s < s_max
+    } else {
+        rise.atan2(ground) < rise_max.atan2(ground_max)
+    }
 }
 
 /// Where a ray crosses a coast.
@@ -436,6 +458,45 @@ impl Walk<'_> {
 mod tests {
     use super::super::Terrain;
     use super::*;
+
+    /// `seen_lower` against the angles it stands for, over points spread from the radar's
+    /// foot to far out, above and below it, and over near ties (the same slope scaled, and
+    /// slopes a few units in the last place apart).
+    #[test]
+    fn seen_lower_decides_as_the_angles_do() {
+        let mut state = 12345u64;
+        let mut next = || {
+            state = crate::rng::splitmix64(state);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut ties = 0;
+        for _ in 0..200_000 {
+            let g1 = 10f64.powf(next() * 5.0 - 1.0);
+            let r1 = (next() - 0.7) * 10f64.powf(next() * 4.0);
+            let (g2, r2) = match (next() * 3.0) as u32 {
+                0 => (
+                    10f64.powf(next() * 5.0 - 1.0),
+                    (next() - 0.7) * 10f64.powf(next() * 4.0),
+                ),
+                1 => {
+                    let k = 1.0 + next() * 5.0;
+                    (g1 * k, r1 * k)
+                }
+                _ => {
+                    let ulps = (next() * 8.0) as u64;
+                    (g1, f64::from_bits(r1.to_bits() + ulps))
+                }
+            };
+            let exact = r1.atan2(g1) < r2.atan2(g2);
+            ties += usize::from(r1.atan2(g1) == r2.atan2(g2));
+            assert_eq!(
+                seen_lower(r1, g1, r2, g2),
+                exact,
+                "({r1}, {g1}) vs ({r2}, {g2})"
+            );
+        }
+        assert!(ties > 1000, "near ties tested: {ties}");
+    }
 
     fn poly(rings: Vec<Vec<DVec2>>, top_m: f64, edge: Edge) -> LandPolygon {
         LandPolygon {

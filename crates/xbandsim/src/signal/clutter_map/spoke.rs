@@ -9,7 +9,7 @@
 use super::geometry::{CellGeometry, MapGeometry};
 use crate::environment::clutter::{git_sigma0_db, Sigma0Model};
 use crate::environment::rain::volume_reflectivity_m2_per_m3;
-use crate::land::profile::{elevation_rad, Crossing, LandView};
+use crate::land::profile::{rise_m, seen_lower, Crossing, LandView};
 use crate::model::{Environment, Radar};
 use crate::propagation::rain_attenuation::RainAttenuator;
 use glam::DVec2;
@@ -195,8 +195,9 @@ pub(super) const NO_POLYGON: u32 = u32::MAX;
 impl SpokeStage<'_> {
     /// Spoke k's land (docs/physics.md §16). Walking out along the spoke, each sample's
     /// surface point (ground range `g = √(r² − h²)`, the land's height or the sea's 0) is seen
-    /// at the elevation α ([`elevation_rad`]); it is seen when α is above every nearer point's
-    /// (running maximum M). A visible land patch subtends `Δα = α − M` in elevation and δ in
+    /// at the elevation α ([`crate::land::profile::elevation_rad`]); it is seen when α is
+    /// above every nearer point's (running maximum M; compared by slope,
+    /// [`crate::land::profile::seen_lower`], the same decisions). A visible land patch subtends `Δα = α − M` in elevation and δ in
     /// azimuth: with the constant-γ model its RCS is `γ·r²·cos α·Δα·δ` — γ times the area the
     /// patch shows the radar, which is `A·sin ψ` for a flat patch of area A at grazing ψ
     /// (`σ0 = γ·sin ψ`), and the visible face for a cliff — and its mean power that times
@@ -230,7 +231,9 @@ impl SpokeStage<'_> {
         let chords = self.rain_chords(radar_xy, dir);
         let polygons = view.polygons();
         let mut walk = view.walk(az, crossings);
-        let mut highest: Option<f64> = None;
+        // The highest point so far, as its (rise, ground): compared by slope, and its
+        // elevation taken only where a visible land patch needs it (`seen_lower`).
+        let mut highest: Option<(f64, f64)> = None;
         let mut any = false;
         let mut gamma = (usize::MAX, 0.0);
         for n in 1..land_row.len() {
@@ -241,18 +244,18 @@ impl SpokeStage<'_> {
             let ground = (r * r - h * h).sqrt();
             let here = walk.at(ground);
             let z = here.map_or(0.0, |x| x.1);
-            let alpha = elevation_rad(z, ground, h, curvature);
+            let rise = rise_m(z, ground, h, curvature);
             if here.is_some() {
                 any = true;
                 if let Some(v) = sea_row.get_mut(n) {
                     *v = 0.0;
                 }
             }
-            let Some(m) = highest else {
-                highest = Some(alpha);
+            let Some((rise_max, ground_max)) = highest else {
+                highest = Some((rise, ground));
                 continue;
             };
-            if alpha < m {
+            if seen_lower(rise, ground, rise_max, ground_max) {
                 // In shadow: neither sea nor land is seen.
                 if let Some(v) = sea_row.get_mut(n) {
                     *v = 0.0;
@@ -260,7 +263,7 @@ impl SpokeStage<'_> {
                 seen_row[n] = false;
                 continue;
             }
-            highest = Some(alpha);
+            highest = Some((rise, ground));
             let Some((p, _)) = here else { continue };
             let poly = &polygons[p];
             if poly.structure.is_some() {
@@ -274,6 +277,8 @@ impl SpokeStage<'_> {
                 gamma = (p, poly.gamma_linear(g.freq_ghz));
             }
             let gamma = gamma.1;
+            // The elevations as `elevation_rad` gives them (only here: a visible land patch).
+            let (alpha, m) = (rise.atan2(ground), rise_max.atan2(ground_max));
             let rain_loss = self.attenuator.as_ref().map_or(1.0, |a| {
                 two_way_rain_loss(a.one_way_db_path_along(&chords, ground, r, h, z))
             });
