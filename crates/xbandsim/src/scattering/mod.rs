@@ -62,7 +62,9 @@ impl Contribution {
 pub struct ScatterSet {
     /// All contributions, in a deterministic order.
     pub contributions: Vec<Contribution>,
-    /// Rays cast (including bounce and shadow rays).
+    /// Rays cast (including bounce and shadow rays) by the traces its contributions come
+    /// from: a still object's trace kept from an earlier revolution counts the rays it cast
+    /// then, so the count is the same whichever revolutions came before.
     pub rays_cast: u64,
     /// Per object (by index): the PO tube grid it was traced with; None for points, objects
     /// not traced (beyond the recorded range or the horizon) and the `paper` model. Empty

@@ -28,6 +28,11 @@ use std::sync::{Arc, Mutex};
 /// Relative margin on the spheres and cones, against rounding (1 part in 10⁹, plus 1 µm).
 const MARGIN: f64 = 1e-9;
 const MARGIN_M: f64 = 1e-6;
+/// A point this close to a cone's apex counts as in the cone: shadow rays end a surface
+/// offset (1 µm) off the radar, in any direction from it. A segment from a point in the cone
+/// to one within this of the apex stays within this of the cone, so a moving object's sphere
+/// is grown by it before it is tested against the cones.
+const APEX_SLACK_M: f64 = 1e-5;
 
 /// The rays of one object's trace, as cones and the segments that leave them.
 #[derive(Debug, Clone, Default)]
@@ -75,11 +80,12 @@ impl Cone {
         }
     }
 
-    /// Whether point `p` lies in the cone.
+    /// Whether point `p` lies in the cone, or within [`APEX_SLACK_M`] of its apex.
     fn holds(&self, p: DVec3) -> bool {
         let v = p - self.apex;
         let len = v.length();
-        len <= self.reach_m && v.dot(self.axis) >= len * self.cos_half_angle
+        len <= APEX_SLACK_M
+            || (len <= self.reach_m && v.dot(self.axis) >= len * self.cos_half_angle)
     }
 
     /// Whether the sphere (`centre`, `radius_m`) may meet the cone (never false when it
@@ -148,7 +154,9 @@ impl ObjectReach {
     /// when it does).
     pub fn met_by(&self, centre: DVec3, radius_m: f64) -> bool {
         let radius_m = radius_m * (1.0 + MARGIN) + MARGIN_M;
-        self.cones.iter().any(|c| c.may_meet(centre, radius_m))
+        self.cones
+            .iter()
+            .any(|c| c.may_meet(centre, radius_m + APEX_SLACK_M))
             || self
                 .segments
                 .iter()
@@ -261,10 +269,14 @@ mod tests {
         let mut r = reach.same_cones();
         r.segment(DVec3::new(100.0, 0.0, 10.0), DVec3::Z, f64::INFINITY);
         r.segment(DVec3::new(99.0, 0.0, 5.0), DVec3::X, 2.0);
+        // A shadow ray back to the radar, ending a surface offset off it, sideways.
+        let from = DVec3::new(96.0, 1.0, 6.0);
+        let end = radar + DVec3::new(0.0, -1e-6, 1e-6);
+        r.segment(from, (end - from).normalize(), (end - from).length());
         assert_eq!(
             r.num_segments(),
             1,
-            "the escaping ray kept, the bounce inside not"
+            "the escaping ray kept, the bounce inside and the shadow ray not"
         );
         assert!(r.met_by(DVec3::new(100.0, 2.9, 500.0), 3.0));
         assert!(!r.met_by(DVec3::new(100.0, 3.1, 500.0), 3.0));
