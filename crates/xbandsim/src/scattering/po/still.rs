@@ -20,7 +20,7 @@
 //! came before.
 
 use super::super::Contribution;
-use super::{RaySink, TubeBudget};
+use super::{sea_mirror, RaySink, TubeBudget};
 use glam::DVec3;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -118,11 +118,10 @@ impl ObjectReach {
     /// The cones of the trace of the object in the sphere (`centre`, `radius_m`) lit from
     /// `radar_m` (above the sea when `sea`): none of its segments yet.
     pub fn new(radar_m: DVec3, centre: DVec3, radius_m: f64, sea: bool) -> ObjectReach {
-        let mirror = |v: DVec3| DVec3::new(v.x, v.y, -v.z);
         let mut cones = vec![Cone::holding(radar_m, centre, radius_m)];
         if sea {
-            cones.push(Cone::holding(radar_m, mirror(centre), radius_m));
-            cones.push(Cone::holding(mirror(radar_m), centre, radius_m));
+            cones.push(Cone::holding(radar_m, sea_mirror(centre), radius_m));
+            cones.push(Cone::holding(sea_mirror(radar_m), centre, radius_m));
         }
         ObjectReach {
             cones,
