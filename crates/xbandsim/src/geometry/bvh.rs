@@ -287,7 +287,7 @@ pub struct Bvh {
 
 impl Bvh {
     /// Builds the hierarchy over `primitives` (order is not kept).
-    pub fn build(mut primitives: Vec<Primitive>) -> Self {
+    pub fn build(primitives: Vec<Primitive>) -> Self {
         if primitives.is_empty() {
             return Bvh {
                 nodes: Vec::new(),
@@ -302,16 +302,22 @@ impl Bvh {
             };
         }
         let tree = build_binary(&primitives);
-        let reordered: Vec<Primitive> = (0..tree.len())
-            .into_par_iter()
-            .map(|k| primitives[tree.primitive_at(k) as usize])
+        Bvh::from_tree(primitives, tree)
+    }
+
+    /// The hierarchy of a binary tree over `primitives` (not empty): the primitives in the
+    /// tree's order, its 4-wide tree and exact boxes.
+    fn from_tree(primitives: Vec<Primitive>, tree: BinaryTree) -> Self {
+        let reordered: Vec<Primitive> = tree
+            .order
+            .par_iter()
+            .map(|&i| primitives[i as usize])
             .collect();
-        primitives.clear();
-        let mut by_object: Vec<u32> = (0..reordered.len() as u32).collect();
-        // Stable: within one object the indices stay ascending.
-        by_object.par_sort_by_key(|&i| reordered[i as usize].object);
-        let (mut wide, wide_depth) = collapse(&tree.nodes);
-        let exact_boxes = refit(&mut wide, &tree);
+        drop(primitives);
+        let by_object = grouped_by_object(&reordered);
+        let (mut wide, wide_depth) = collapse(&tree.nodes, reordered.len());
+        drop(tree.nodes);
+        let exact_boxes = refit(&mut wide, &reordered);
         let f32_boxes = exact_boxes.iter().flatten().all(|b| {
             b.min.cmpge(DVec3::splat(-F32_REACH_M)).all()
                 && b.max.cmple(DVec3::splat(F32_REACH_M)).all()
@@ -565,8 +571,10 @@ impl Bvh {
 /// children and replaces the one with the largest surface that is not a leaf by its two
 /// children until it has four. Returns the nodes (their boxes not yet set: [`refit`]) and the
 /// depth. A child's node always comes after its parent's.
-fn collapse(binary: &[BinaryNode]) -> (Vec<WideNode>, usize) {
-    let mut wide = vec![WideNode::EMPTY];
+fn collapse(binary: &[BinaryNode], num_primitives: usize) -> (Vec<WideNode>, usize) {
+    // At most one node per interior binary node: reserved once (pages only touched as used).
+    let mut wide = Vec::with_capacity(num_primitives.max(1));
+    wide.push(WideNode::EMPTY);
     let mut depth = 0;
     let mut stack = vec![(0usize, 0usize, 0usize)];
     while let Some((b, w, d)) = stack.pop() {
@@ -609,14 +617,41 @@ fn collapse(binary: &[BinaryNode]) -> (Vec<WideNode>, usize) {
             }
         }
     }
+    wide.shrink_to_fit();
     (wide, depth)
 }
 
-/// Sets every child's box of the 4-wide tree from its primitives' boxes in `tree`: the exact
-/// f64 boxes, returned, and the f32 planes rounded outward from them. Leaves first, in
+/// The positions of `primitives` grouped by object, ascending within each: a counting sort
+/// when the object indices are few (as a scene's are), else a stable sort.
+fn grouped_by_object(primitives: &[Primitive]) -> Vec<u32> {
+    let objects: Vec<u32> = primitives.par_iter().map(|p| p.object).collect();
+    let num_objects = objects.par_iter().max().map_or(0, |&o| o as usize + 1);
+    if num_objects > objects.len() {
+        let mut grouped: Vec<u32> = (0..objects.len() as u32).collect();
+        grouped.par_sort_by_key(|&i| objects[i as usize]);
+        return grouped;
+    }
+    let mut starts = vec![0u32; num_objects + 1];
+    for &o in &objects {
+        starts[o as usize + 1] += 1;
+    }
+    for k in 1..starts.len() {
+        starts[k] += starts[k - 1];
+    }
+    let mut grouped = vec![0u32; objects.len()];
+    for (i, &o) in objects.iter().enumerate() {
+        let at = &mut starts[o as usize];
+        grouped[*at as usize] = i as u32;
+        *at += 1;
+    }
+    grouped
+}
+
+/// Sets every child's box of the 4-wide tree from its `primitives` (in the tree's order): the
+/// exact f64 boxes, returned, and the f32 planes rounded outward from them. Leaves first, in
 /// parallel; then interior children from their nodes' boxes, last node first (a child's
 /// node comes after its parent's).
-fn refit(wide: &mut [WideNode], tree: &BinaryTree) -> Vec<[Aabb; 4]> {
+fn refit(wide: &mut [WideNode], primitives: &[Primitive]) -> Vec<[Aabb; 4]> {
     let mut exact = vec![[Aabb::EMPTY; 4]; wide.len()];
     exact
         .par_iter_mut()
@@ -626,7 +661,9 @@ fn refit(wide: &mut [WideNode], tree: &BinaryTree) -> Vec<[Aabb; 4]> {
             for lane in 0..4 {
                 let (first, count) = (node.first[lane] as usize, node.count[lane] as usize);
                 if count > 0 {
-                    boxes[lane] = tree.bounds_of(first..first + count);
+                    boxes[lane] = primitives[first..first + count]
+                        .iter()
+                        .fold(Aabb::EMPTY, |b, p| b.union(&p.bounds()));
                 }
             }
         });
@@ -652,4 +689,109 @@ fn refit(wide: &mut [WideNode], tree: &BinaryTree) -> Vec<[Aabb; 4]> {
             }
         });
     exact
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::PrimitiveKind;
+
+    /// The nearest hit of `ray` among `primitives`, by testing every one.
+    fn brute_force(primitives: &[Primitive], ray: &Ray) -> Option<(u32, f64)> {
+        primitives
+            .iter()
+            .filter_map(|p| p.intersect(ray, f64::INFINITY).map(|(t, _)| (p.object, t)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// Grouping by object, counted or sorted, is the stable sort by object index.
+    #[test]
+    fn grouped_by_object_is_the_stable_sort() {
+        for spread in [7u32, 1 << 30] {
+            let primitives: Vec<Primitive> = (0..500u32)
+                .map(|i| Primitive {
+                    kind: PrimitiveKind::Sphere {
+                        centre: DVec3::ZERO,
+                        radius_m: 1.0,
+                    },
+                    object: (i * 7919 % 13) * (spread / 7),
+                })
+                .collect();
+            let mut expected: Vec<u32> = (0..500).collect();
+            expected.sort_by_key(|&i| primitives[i as usize].object);
+            assert_eq!(grouped_by_object(&primitives), expected, "spread {spread}");
+        }
+    }
+
+    /// A binary tree made by hand: a chain one level per sphere (sphere k the leaf beside
+    /// the node of spheres k + 1..), as deep as any build may make (`MAX_DEPTH`), with spheres
+    /// centred at `scale`·(k + 1)^2 m on the x axis. The build's binning never makes chains
+    /// this long in f32, so the traversal's full stack is tested on this tree, with f32
+    /// boxes and (`scale` beyond their reach) with f64 ones: every query finds what brute
+    /// force finds.
+    #[test]
+    fn hand_made_chain_as_deep_as_allowed_matches_brute_force() {
+        for scale in [1.0, 1e33] {
+            let n = MAX_DEPTH + 1;
+            let centre = |k: usize| scale * ((k + 1) * (k + 1)) as f64;
+            let primitives: Vec<Primitive> = (0..n)
+                .map(|k| Primitive {
+                    kind: PrimitiveKind::Sphere {
+                        centre: DVec3::new(centre(k), 0.0, 0.0),
+                        radius_m: 0.25 * scale,
+                    },
+                    object: k as u32,
+                })
+                .collect();
+            // Interior node k at slot 2k (k < n − 1) has children at slots 2k + 1 (the leaf
+            // of sphere k) and 2k + 2 (interior node k + 1, or sphere n − 1's leaf).
+            let mut nodes = vec![BinaryNode::default(); 2 * n - 1];
+            for k in 0..n - 1 {
+                nodes[2 * k] = BinaryNode {
+                    area_m2: (n - k) as f64,
+                    first: (2 * k + 1) as u32,
+                    count: 0,
+                };
+                nodes[2 * k + 1] = BinaryNode {
+                    area_m2: 1.0,
+                    first: k as u32,
+                    count: 1,
+                };
+            }
+            nodes[2 * n - 2] = BinaryNode {
+                area_m2: 1.0,
+                first: (n - 1) as u32,
+                count: 1,
+            };
+            let tree = BinaryTree {
+                nodes,
+                order: (0..n as u32).collect(),
+                depth: n - 1,
+            };
+            let bvh = Bvh::from_tree(primitives.clone(), tree);
+            assert_eq!(
+                bvh.boxes_in_f32(),
+                scale < F32_REACH_M / 1e5,
+                "scale {scale}"
+            );
+            assert!(bvh.wide_depth() > SHALLOW_DEPTH, "{}", bvh.wide_depth());
+            for k in 0..n {
+                let origin = DVec3::new(centre(k) - 0.5 * scale, 0.01 * scale, 0.0);
+                for dir in [DVec3::X, -DVec3::X] {
+                    let ray = Ray::new(origin, dir);
+                    let hit = bvh.closest_hit(&ray, f64::INFINITY);
+                    let expected = brute_force(&primitives, &ray);
+                    assert_eq!(
+                        hit.map(|h| (h.object, h.t_m)),
+                        expected,
+                        "scale {scale}, {ray:?}"
+                    );
+                    if let Some((_, t)) = expected {
+                        assert!(bvh.any_hit(&ray, t * (1.0 + 1e-9)));
+                        assert!(!bvh.any_hit(&ray, t * (1.0 - 1e-9)));
+                    }
+                }
+            }
+        }
+    }
 }
