@@ -108,7 +108,7 @@ impl FractionalDelayKernel {
 }
 
 /// A group of contributions sharing object and azimuth cells, as one short impulse response.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EchoGroup {
     /// Object index.
     pub object: u32,
@@ -142,7 +142,7 @@ struct Member {
 }
 
 /// All groups of one scene state, impulse responses in units of the noise rms voltage.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct EchoGroups {
     /// Groups sorted by key.
     pub groups: Vec<EchoGroup>,
@@ -355,6 +355,25 @@ impl EchoGroups {
             start = end;
         }
         EchoGroups { groups, arena }
+    }
+
+    /// The groups of `parts` one after another: for parts built from the contributions of
+    /// distinct objects in ascending order, the groups one build of all those contributions
+    /// gives (a group never spans objects, and each is summed from its own members alone).
+    pub fn concat(parts: &[&EchoGroups]) -> EchoGroups {
+        let mut all = EchoGroups {
+            groups: Vec::with_capacity(parts.iter().map(|p| p.groups.len()).sum()),
+            arena: Vec::with_capacity(parts.iter().map(|p| p.arena.len()).sum()),
+        };
+        for part in parts {
+            let shift = all.arena.len();
+            all.groups.extend(part.groups.iter().map(|g| EchoGroup {
+                offset: g.offset + shift,
+                ..*g
+            }));
+            all.arena.extend_from_slice(&part.arena);
+        }
+        all
     }
 
     /// Adds every group, weighted by the azimuth pattern for a beam at `beam_az_rad`, into
@@ -732,6 +751,21 @@ mod tests {
             assert_eq!(g.az_tx_rad, tx_sum.arg().rem_euclid(std::f64::consts::TAU));
             assert_eq!(g.az_rx_rad, rx_sum.arg().rem_euclid(std::f64::consts::TAU));
         }
+        // Each object's contributions built alone, the parts joined: the same groups and
+        // arena, bit for bit.
+        let parts: Vec<EchoGroups> = (0..5u32)
+            .map(|object| {
+                let own: Vec<Contribution> = contributions
+                    .iter()
+                    .filter(|c| c.object == object)
+                    .copied()
+                    .collect();
+                EchoGroups::build_tilted(&own, &antenna, &tilts, fs, num_samples, noise, &kernel)
+            })
+            .collect();
+        let joined = EchoGroups::concat(&parts.iter().collect::<Vec<_>>());
+        assert!(parts.iter().all(|p| !p.groups.is_empty()));
+        assert_eq!(joined, built);
     }
 
     /// `surely_below` skips a group only where the weight test skips it too: at the offsets

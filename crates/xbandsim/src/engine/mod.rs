@@ -43,6 +43,7 @@ use crate::signal::clutter::{ClutterSpeckle, SeaAndRainClutter};
 use crate::signal::clutter_map::ClutterMap;
 use crate::signal::PulseAt;
 use num_complex::Complex32;
+use rayon::prelude::*;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -56,6 +57,8 @@ pub struct Simulation {
     world: Arc<World>,
     /// This receive chain's traced states: the world's traces and their echo groups.
     cache: Arc<TraceCache>,
+    /// This receive chain's echo groups of the still objects' kept traces, kept with them.
+    kept_groups: Arc<KeptGroups>,
     compressor: PulseCompressor,
     receiver: Receiver,
     kernel: FractionalDelayKernel,
@@ -73,6 +76,14 @@ pub struct Simulation {
     /// Other transmitters (interferers, racons, SARTs) are sources (off in
     /// [`Simulation::targets_only`]).
     artefact_sources: bool,
+}
+
+/// The echo groups made from each still object's kept trace (by object index), with the
+/// trace they were made from: reused while the world reuses that trace (the same `Arc`).
+#[derive(Default)]
+struct KeptGroups {
+    #[allow(clippy::type_complexity)]
+    groups: std::sync::Mutex<Vec<Option<(Arc<crate::scattering::po::KeptTrace>, Arc<EchoGroups>)>>>,
 }
 
 /// The short pulse's receive channel in combined pulse mode (docs/physics.md §11): its own
@@ -148,6 +159,7 @@ impl Simulation {
             receiver,
             kernel: FractionalDelayKernel::new(),
             cache: Arc::new(TraceCache::default()),
+            kept_groups: Arc::default(),
             doppler,
             short,
             gain_stc: GainStc {
@@ -311,6 +323,67 @@ impl Simulation {
             &self.kernel,
             self.fold_samples(),
         )
+    }
+
+    /// [`Simulation::echo_groups_of`] a traced set with no tilts, the groups of each kept
+    /// still trace made once and kept with it (`KeptGroups`): the groups are made per object
+    /// and joined ([`EchoGroups::concat`]), the same bytes as one build of the whole set.
+    fn echo_groups_keeping(&self, set: &ScatterSet) -> EchoGroups {
+        let radar = self.scene.radar();
+        let staggered =
+            self.scene.artefacts().second_trace && radar.scan().stagger().is_staggered();
+        if set.kept.is_empty() || staggered {
+            return self.echo_groups_of(&set.contributions, &[]);
+        }
+        // The set is one run of contributions per object, in object order: consecutive
+        // objects without a kept trace form one part, built now; each kept trace is a part
+        // of its own, its groups taken from `KeptGroups` when they were made from it.
+        enum Part<'a> {
+            Fresh(&'a [Contribution]),
+            Kept(usize, &'a Arc<crate::scattering::po::KeptTrace>),
+        }
+        let mut parts = Vec::new();
+        let (mut at, mut fresh_from) = (0, 0);
+        for (object, kept) in set.kept.iter().enumerate() {
+            let run = set.contributions[at..]
+                .iter()
+                .take_while(|c| c.object as usize == object)
+                .count();
+            if let Some(k) = kept {
+                debug_assert_eq!(run, k.contributions.len());
+                if fresh_from < at {
+                    parts.push(Part::Fresh(&set.contributions[fresh_from..at]));
+                }
+                parts.push(Part::Kept(object, k));
+                fresh_from = at + run;
+            }
+            at += run;
+        }
+        if fresh_from < set.contributions.len() {
+            parts.push(Part::Fresh(&set.contributions[fresh_from..]));
+        }
+        let known = self.kept_groups.groups.lock().expect("kept groups").clone();
+        let built: Vec<Arc<EchoGroups>> = parts
+            .par_iter()
+            .map(|part| match part {
+                Part::Fresh(run) => Arc::new(self.echo_groups_of(run, &[])),
+                Part::Kept(object, k) => match known.get(*object) {
+                    Some(Some((from, groups))) if Arc::ptr_eq(from, k) => Arc::clone(groups),
+                    _ => Arc::new(self.echo_groups_of(&k.contributions, &[])),
+                },
+            })
+            .collect();
+        {
+            let mut known = self.kept_groups.groups.lock().expect("kept groups");
+            let len = set.kept.len().max(known.len());
+            known.resize(len, None);
+            for (part, groups) in parts.iter().zip(&built) {
+                if let Part::Kept(object, k) = part {
+                    known[*object] = Some((Arc::clone(k), Arc::clone(groups)));
+                }
+            }
+        }
+        EchoGroups::concat(&built.iter().map(|g| &**g).collect::<Vec<_>>())
     }
 
     /// The same simulation with gain and STC `stage` on the compressed signal, before
@@ -605,6 +678,8 @@ impl Simulation {
                         .filter(|c| c.delay_s() < record_s),
                 );
                 self.echo_groups_of(&all, &tilts)
+            } else if tilts.is_empty() {
+                self.echo_groups_keeping(&world.set)
             } else {
                 self.echo_groups_of(&world.set.contributions, &tilts)
             };

@@ -73,6 +73,10 @@ pub struct ScatterSet {
     /// Per object (by index): how many of its contributions land took away ([`shade_by_land`]);
     /// empty without land.
     pub land_shadowed: Vec<u32>,
+    /// Per object (by index): the kept trace its contributions are, when they are one
+    /// ([`trace_scene_keeping`]); the same `Arc` in every revolution that reuses it, so what
+    /// is made from an object's contributions can be kept with it. Empty when none is.
+    pub kept: Vec<Option<Arc<po::KeptTrace>>>,
 }
 
 impl ScatterSet {
@@ -280,6 +284,7 @@ pub fn trace_scene_keeping(
         rays_cast: 0,
         tube_budgets: fresh.tube_budgets,
         land_shadowed: fresh.land_shadowed,
+        kept: Vec::new(),
     };
     let mut next = 0;
     for (i, kept) in kept.iter().enumerate() {
@@ -315,6 +320,9 @@ pub fn trace_scene_keeping(
                 );
             }
         }
+    }
+    if kept.iter().any(Option::is_some) {
+        set.kept = kept;
     }
     set
 }

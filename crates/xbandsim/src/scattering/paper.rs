@@ -103,5 +103,6 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         rays_cast: (columns.len() * n_el) as u64,
         tube_budgets: Vec::new(),
         land_shadowed: Vec::new(),
+        kept: Vec::new(),
     }
 }

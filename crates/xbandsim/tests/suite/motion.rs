@@ -682,5 +682,21 @@ fn kept_still_traces_match_a_fresh_trace_every_revolution() {
     // from 60 m west of it): fewer than all 14, and most.
     let reused = world.still_traces_reused();
     assert!((8..14).contains(&reused), "{reused} traces reused");
+    // A simulation run revolution after revolution (kept traces, their echo groups kept
+    // with them) renders what a fresh one renders for each revolution alone.
+    let running = Simulation::new((*scene).clone());
+    for frame in 0..5 {
+        let request = Request::new(3).frame(frame);
+        let kept = running.run(&request).unwrap();
+        let fresh = Simulation::new((*scene).clone()).run(&request).unwrap();
+        assert_eq!(
+            kept.stats.echo_groups, fresh.stats.echo_groups,
+            "frame {frame}"
+        );
+        assert!(
+            kept.polar_db == fresh.polar_db,
+            "frame {frame}: the records differ"
+        );
+    }
     std::fs::remove_dir_all(&dir).ok();
 }
