@@ -103,7 +103,7 @@ struct BuildRef(Box8);
 
 /// The build's coordinates are clamped to ±2^125 m: the sum of two stays finite in f32 (the
 /// tree only chooses the topology; scenes this large are beyond any radar's reach).
-const COORDINATE_LIMIT: f64 = 4.253_529_586_511_731e37;
+const COORDINATE_LIMIT_M: f64 = 4.253_529_586_511_731e37;
 
 /// The bits of the smallest normal f32.
 const INDEX_BITS_OFFSET: u32 = 0x0080_0000;
@@ -112,10 +112,10 @@ const MAX_PRIMITIVES: usize = (0x7f80_0000 - INDEX_BITS_OFFSET) as usize;
 
 impl BuildRef {
     /// The ref of primitive `index` with box `lo..hi`, each coordinate in f32 within
-    /// ±[`COORDINATE_LIMIT`].
+    /// ±[`COORDINATE_LIMIT_M`].
     fn new(index: usize, lo: glam::DVec3, hi: glam::DVec3) -> BuildRef {
         let index = f32::from_bits(index as u32 + INDEX_BITS_OFFSET);
-        let f = |x: f64| x.clamp(-COORDINATE_LIMIT, COORDINATE_LIMIT) as f32;
+        let f = |x: f64| x.clamp(-COORDINATE_LIMIT_M, COORDINATE_LIMIT_M) as f32;
         BuildRef(Box8([
             f(lo.x),
             f(lo.y),
