@@ -233,7 +233,7 @@ impl EchoGroups {
             .filter(|(_, c)| (0.0..num_samples as f64).contains(&delay_of(c)))
             .map(|(i, c)| (key(c), i as u32))
             .collect();
-        sort_by_key_stable(&mut order);
+        crate::special::sort_by_key_stable(&mut order);
         // Each kept contribution's place in group order.
         const DROPPED: u32 = u32::MAX;
         debug_assert!(contributions.len() < DROPPED as usize);
@@ -555,77 +555,9 @@ pub fn path_to_samples(path_m: f64, sample_rate_hz: f64) -> f64 {
     path_m / SPEED_OF_LIGHT_M_PER_S * sample_rate_hz
 }
 
-/// Sorts `(key, index)` pairs by key, keeping the order of equal keys: for pairs made in
-/// ascending index order, the order `sort_unstable` gives, without its comparisons. An LSD
-/// radix sort over the key's bytes that are not the same in every pair (a scene's keys share
-/// most of theirs: few objects, azimuth cells near each other).
-fn sort_by_key_stable(pairs: &mut Vec<(u64, u32)>) {
-    let (Some(&(first, _)), true) = (pairs.first(), pairs.len() > 1) else {
-        return;
-    };
-    let varying = pairs.iter().fold(0u64, |acc, &(k, _)| acc | (k ^ first));
-    let mut other = vec![(0u64, 0u32); pairs.len()];
-    for byte in 0..8 {
-        let shift = 8 * byte;
-        if (varying >> shift) & 0xff == 0 {
-            continue;
-        }
-        let mut start = [0usize; 256];
-        for &(k, _) in pairs.iter() {
-            start[((k >> shift) & 0xff) as usize] += 1;
-        }
-        let mut sum = 0;
-        for s in start.iter_mut() {
-            let count = *s;
-            *s = sum;
-            sum += count;
-        }
-        for &pair in pairs.iter() {
-            let digit = ((pair.0 >> shift) & 0xff) as usize;
-            other[start[digit]] = pair;
-            start[digit] += 1;
-        }
-        std::mem::swap(pairs, &mut other);
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The radix sort gives `sort_unstable`'s order for pairs made in index order: keys
-    /// that differ in a few bytes or in all, with many equal keys, and the trivial lengths.
-    #[test]
-    fn sort_by_key_stable_is_sort_unstable() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
-        for (len, mask) in [
-            (0usize, u64::MAX),
-            (1, u64::MAX),
-            (2, 1),
-            (1000, 0x0000_0300_000f_f00f),
-            (5000, u64::MAX),
-            (5000, 0xff00_0000_0000_00ff),
-            (20000, 0x0000_0700_3ff0_03ff),
-        ] {
-            let mut pairs: Vec<(u64, u32)> = (0..len as u32).map(|i| (next() & mask, i)).collect();
-            // Runs of equal keys, as a group's members have.
-            for i in 1..pairs.len() {
-                if next() % 3 == 0 {
-                    pairs[i].0 = pairs[i - 1].0;
-                }
-            }
-            let mut expected = pairs.clone();
-            expected.sort_unstable();
-            sort_by_key_stable(&mut pairs);
-            assert_eq!(pairs, expected, "{len} pairs, mask {mask:x}");
-        }
-    }
 
     /// `build_tilted` against the definition, group by group: each group's members taken one
     /// by one from the contributions (a map of keys in key order), their kernel taps summed in

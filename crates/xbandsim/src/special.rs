@@ -1,7 +1,8 @@
 //! Special functions used by several stages, each in one place: the modified Bessel function
 //! I0 (Kaiser kernel, wind-direction factor, Miller–Brown–Vegh roughness), the complementary
 //! error function, ln Γ and the regularised incomplete gamma function (clutter statistics),
-//! and, for the hot paths, sine, cosine and rounding without libm calls.
+//! and, for the hot paths, sine, cosine and rounding without libm calls, and a stable radix
+//! sort of keyed indices (echo groups, the BVH's Morton order).
 //! docs/physics.md lists where each is used; docs/architecture.md says why these are ours and
 //! not a crate's.
 
@@ -459,9 +460,77 @@ impl<K: PartialEq + Copy, V: Copy> Default for LastCall<K, V> {
     }
 }
 
+/// Sorts `(key, index)` pairs by key, keeping the order of equal keys: for pairs made in
+/// ascending index order, the order `sort_unstable` gives, without its comparisons. An LSD
+/// radix sort over the key's bytes that are not the same in every pair (echo-group keys share
+/// most of theirs: few objects, azimuth cells near each other; Morton codes fill four).
+pub fn sort_by_key_stable(pairs: &mut Vec<(u64, u32)>) {
+    let (Some(&(first, _)), true) = (pairs.first(), pairs.len() > 1) else {
+        return;
+    };
+    let varying = pairs.iter().fold(0u64, |acc, &(k, _)| acc | (k ^ first));
+    let mut other = vec![(0u64, 0u32); pairs.len()];
+    for byte in 0..8 {
+        let shift = 8 * byte;
+        if (varying >> shift) & 0xff == 0 {
+            continue;
+        }
+        let mut start = [0usize; 256];
+        for &(k, _) in pairs.iter() {
+            start[((k >> shift) & 0xff) as usize] += 1;
+        }
+        let mut sum = 0;
+        for s in start.iter_mut() {
+            let count = *s;
+            *s = sum;
+            sum += count;
+        }
+        for &pair in pairs.iter() {
+            let digit = ((pair.0 >> shift) & 0xff) as usize;
+            other[start[digit]] = pair;
+            start[digit] += 1;
+        }
+        std::mem::swap(pairs, &mut other);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The radix sort gives `sort_unstable`'s order for pairs made in index order: keys
+    /// that differ in a few bytes or in all, with many equal keys, and the trivial lengths.
+    #[test]
+    fn sort_by_key_stable_is_sort_unstable() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for (len, mask) in [
+            (0usize, u64::MAX),
+            (1, u64::MAX),
+            (2, 1),
+            (1000, 0x0000_0300_000f_f00f),
+            (5000, u64::MAX),
+            (5000, 0xff00_0000_0000_00ff),
+            (20000, 0x0000_0700_3ff0_03ff),
+        ] {
+            let mut pairs: Vec<(u64, u32)> = (0..len as u32).map(|i| (next() & mask, i)).collect();
+            // Runs of equal keys, as a group's members have.
+            for i in 1..pairs.len() {
+                if next() % 3 == 0 {
+                    pairs[i].0 = pairs[i - 1].0;
+                }
+            }
+            let mut expected = pairs.clone();
+            expected.sort_unstable();
+            sort_by_key_stable(&mut pairs);
+            assert_eq!(pairs, expected, "{len} pairs, mask {mask:x}");
+        }
+    }
 
     /// The libm-free dB conversion against f64's `10·log10` over powers from the smallest
     /// normal f32 to 10^30 (every exponent, 4000 mantissas each), the special values, and the

@@ -519,8 +519,7 @@ fn spread_bits(x: u32) -> u32 {
 
 /// Sorts `refs` by the Morton codes of their centres on a cubic grid over the centres' box
 /// `centres` (its side the largest extent, so a flat scene's cells stay cubes), equal codes in
-/// their input order; returns the codes in the new order. A stable radix sort, 10 bits a
-/// pass.
+/// their input order; returns the codes in the new order (a stable radix sort).
 fn morton_sort(refs: &mut Vec<BuildRef>, centres: &Box8) -> Vec<u32> {
     let lo: [f32; 3] = std::array::from_fn(|a| centres.range(a).0);
     let side = (0..3)
@@ -533,8 +532,7 @@ fn morton_sort(refs: &mut Vec<BuildRef>, centres: &Box8) -> Vec<u32> {
         0.0
     };
     let top = ((1u32 << MORTON_BITS) - 1) as f32;
-    // Each key: the code in the high half, the ref's position in the low one.
-    let mut keys: Vec<u64> = refs
+    let mut pairs: Vec<(u64, u32)> = refs
         .par_iter()
         .enumerate()
         .map(|(i, r)| {
@@ -542,38 +540,12 @@ fn morton_sort(refs: &mut Vec<BuildRef>, centres: &Box8) -> Vec<u32> {
             let cell = |a: usize| ((c.0[a] - lo[a]) * scale).clamp(0.0, top) as u32;
             let code =
                 spread_bits(cell(0)) | (spread_bits(cell(1)) << 1) | (spread_bits(cell(2)) << 2);
-            (u64::from(code) << 32) | i as u64
+            (u64::from(code), i as u32)
         })
         .collect();
-    const DIGITS: usize = 1 << MORTON_BITS;
-    let digit = |key: u64, pass: u32| ((key >> (32 + pass * MORTON_BITS)) as usize) & (DIGITS - 1);
-    let mut offsets = vec![[0usize; DIGITS]; 3];
-    for &key in &keys {
-        for pass in 0..3 {
-            offsets[pass as usize][digit(key, pass)] += 1;
-        }
-    }
-    for counts in offsets.iter_mut() {
-        let mut sum = 0;
-        for o in counts.iter_mut() {
-            let c = *o;
-            *o = sum;
-            sum += c;
-        }
-    }
-    let mut next = vec![0u64; keys.len()];
-    for pass in 0..3 {
-        let at = &mut offsets[pass as usize];
-        for &key in &keys {
-            let d = digit(key, pass);
-            next[at[d]] = key;
-            at[d] += 1;
-        }
-        std::mem::swap(&mut keys, &mut next);
-    }
-    drop(next);
-    *refs = keys.par_iter().map(|&k| refs[k as u32 as usize]).collect();
-    keys.par_iter().map(|&k| (k >> 32) as u32).collect()
+    crate::special::sort_by_key_stable(&mut pairs);
+    *refs = pairs.par_iter().map(|&(_, i)| refs[i as usize]).collect();
+    pairs.par_iter().map(|&(code, _)| code as u32).collect()
 }
 
 /// Cuts the sorted `codes[start..end]` into clusters `(start, len)`, in order: a range of
