@@ -17,7 +17,7 @@ pub fn as_f64(v: &toml::Value) -> Option<f64> {
 
 /// A draw uniform in [0, 1) from the top 53 bits of the generator's next word.
 pub fn unit_draw(rng: &mut Pcg64Mcg) -> f64 {
-    (rand::RngCore::next_u64(rng) >> 11) as f64 / (1u64 << 53) as f64
+    xbandsim::rng::unit_f64(rand::RngCore::next_u64(rng))
 }
 
 /// One randomised field.

@@ -171,7 +171,7 @@ mod tests {
             state = state
                 .wrapping_mul(6364136223846793005)
                 .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
+            xbandsim::rng::unit_f64(state)
         };
         for case in 0..200 {
             let (a, b) = (1.0 + 20.0 * next(), 0.5 + 6.0 * next());

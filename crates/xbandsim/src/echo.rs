@@ -584,7 +584,7 @@ mod tests {
             state ^= state << 13;
             state ^= state >> 7;
             state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
+            crate::rng::unit_f64(state)
         };
         let metres_per_sample = SPEED_OF_LIGHT_M_PER_S / fs;
         let mut contributions = Vec::new();

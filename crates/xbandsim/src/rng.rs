@@ -27,6 +27,13 @@ pub fn splitmix64(mut x: u64) -> u64 {
     x ^ (x >> 31)
 }
 
+/// The top 53 bits of `bits` as a uniform number in [0, 1) (every value a multiple of
+/// 2^-53).
+#[inline]
+pub fn unit_f64(bits: u64) -> f64 {
+    (bits >> 11) as f64 / (1u64 << 53) as f64
+}
+
 /// What a stream is drawn for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Stream {
@@ -278,6 +285,15 @@ pub fn normal_pair(rng: &mut Pcg64Mcg) -> (f32, f32) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The unit draw spans [0, 1) in steps of 2^-53, from the top bits only.
+    #[test]
+    fn unit_f64_spans_the_unit_interval() {
+        assert_eq!(unit_f64(0), 0.0);
+        assert_eq!(unit_f64(0x7ff), 0.0);
+        assert_eq!(unit_f64(1 << 11), 2f64.powi(-53));
+        assert_eq!(unit_f64(u64::MAX), 1.0 - 2f64.powi(-53));
+    }
 
     /// The ziggurat's normals against the closed form: the Kolmogorov–Smirnov distance of
     /// 2·10^6 draws from Φ below its 0.1 % critical value 1.95/√n, the first four moments

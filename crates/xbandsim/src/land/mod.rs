@@ -551,7 +551,7 @@ mod tests {
         let mut state = 7u64;
         let mut next = || {
             state = crate::rng::splitmix64(state);
-            (state >> 11) as f64 / (1u64 << 53) as f64
+            crate::rng::unit_f64(state)
         };
         for _ in 0..200 {
             let n = 4 + (next() * 8.0) as usize;

@@ -467,7 +467,7 @@ mod tests {
         let mut state = 12345u64;
         let mut next = || {
             state = crate::rng::splitmix64(state);
-            (state >> 11) as f64 / (1u64 << 53) as f64
+            crate::rng::unit_f64(state)
         };
         let mut ties = 0;
         for _ in 0..200_000 {

@@ -194,5 +194,5 @@ pub(crate) fn unrelated_phase_rad(seed: u64, salt: u64, source: usize, numbers: 
     for &n in numbers {
         h = crate::rng::splitmix64(h ^ n);
     }
-    std::f64::consts::TAU * ((h >> 11) as f64 / (1u64 << 53) as f64)
+    std::f64::consts::TAU * crate::rng::unit_f64(h)
 }

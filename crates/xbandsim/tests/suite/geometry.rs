@@ -9,7 +9,7 @@ struct Lcg(u64);
 impl Lcg {
     fn next(&mut self) -> f64 {
         self.0 = xbandsim::rng::splitmix64(self.0);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        xbandsim::rng::unit_f64(self.0)
     }
     fn vec(&mut self, scale: f64) -> DVec3 {
         DVec3::new(self.next() - 0.5, self.next() - 0.5, self.next() - 0.5) * 2.0 * scale

@@ -219,7 +219,7 @@ fn fft_matched_filter_equals_direct_correlation() {
         let mut rng_state = 12345u64;
         let mut next = || {
             rng_state = xbandsim::rng::splitmix64(rng_state);
-            (rng_state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+            xbandsim::rng::unit_f64(rng_state) - 0.5
         };
         let record: Vec<Complex64> = (0..pc.record_len())
             .map(|_| Complex64::new(next(), next()))

@@ -30,7 +30,7 @@ fn hashed_normal(seed: u64, ix: i64, iy: i64, salt: u64) -> f64 {
     let h = splitmix64(splitmix64(splitmix64(seed ^ salt) ^ ix as u64) ^ iy as u64);
     let u1 = ((h >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
     let h2 = splitmix64(h);
-    let u2 = (h2 >> 11) as f64 / (1u64 << 53) as f64;
+    let u2 = crate::rng::unit_f64(h2);
     (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
 }
 
@@ -163,7 +163,7 @@ pub(super) fn spoke_echo(
         let texture = weibull_texture_normed(field.at(cell), shape, gamma_2_over_c);
         let amplitude = (mean as f64 * texture).sqrt();
         let h = splitmix64(splitmix64(seed ^ 0x9a5e) ^ ((k as u64) << 32 | n as u64));
-        let phase = std::f64::consts::TAU * ((h >> 11) as f64 / (1u64 << 53) as f64);
+        let phase = std::f64::consts::TAU * crate::rng::unit_f64(h);
         *e = Complex32::new(
             (amplitude * phase.cos()) as f32,
             (amplitude * phase.sin()) as f32,
