@@ -561,6 +561,7 @@ fn dataset_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<
     // One core, stage by stage (a one-thread pool: the stages' own parallel loops too).
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
     let stages = one.install(|| dataset_stages(&spec, n))?;
+    let town_stages = one.install(|| dataset_stages(&with_town, n))?;
     let names = [
         "draw the sample, build the scene and its BVH",
         "PO trace of the targets, their echo groups",
@@ -572,6 +573,13 @@ fn dataset_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<
     for (name, ms) in names.iter().zip(stages) {
         put(
             &format!("dataset sample, {name} (one core, mean)"),
+            ms,
+            "ms",
+        );
+    }
+    for (name, ms) in names.iter().zip(town_stages) {
+        put(
+            &format!("  with coast, hills and town: {name} (one core, mean)"),
             ms,
             "ms",
         );
@@ -663,7 +671,8 @@ fn coastal_scene(mesh_file: &Path, moored: usize, under_way: bool) -> Result<Sce
     Ok(LoadedSpec::from_toml(&text, "coastal (built in)", Path::new("."))?.build()?)
 }
 
-/// Coastal rows: BVH build of 10^5 and 10^6 triangles (one level, all cores), a revolution
+/// Coastal rows: BVH build of 10^5 and 10^6 triangles (one level, all cores; the moored
+/// vessels share one mesh, built once, and the same without that sharing), a revolution
 /// of the still scene (trace cached) and of the scene with a ship under way (every object
 /// retraced, its BVH one moving level over the static one), and the peak memory.
 fn coastal_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<()> {
@@ -703,6 +712,18 @@ fn coastal_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<
         put(
             &format!("coastal: BVH build, {triangles} triangles (harbour + {moored} moored)"),
             t_build * 1e3,
+            "ms",
+        );
+        // The same triangles as if every vessel were a mesh of its own.
+        let t_unshared = median_s(repeats, || {
+            std::hint::black_box(Bvh::build(xbandsim::scattering::scene_primitives_of(
+                scene.objects(),
+                |_, _| true,
+            )));
+        });
+        put(
+            "  the same, every object's triangles built as its own (no shared mesh)",
+            t_unshared * 1e3,
             "ms",
         );
         let sim = Simulation::new(scene);

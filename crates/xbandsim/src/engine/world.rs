@@ -9,7 +9,7 @@ use super::trace_cache::{TraceCache, TracedWorld};
 use crate::geometry::Bvh;
 use crate::model::{Revolution, Scene, SceneObject};
 use crate::scattering::po::StillTraces;
-use crate::scattering::{build_scene_bvh, scene_primitives_of, trace_scene_keeping};
+use crate::scattering::{build_scene_bvh, scene_bvh_of, scene_primitives_of, trace_scene_keeping};
 use std::sync::{Arc, OnceLock};
 
 /// Fewest primitives of the still objects for a moving scene's BVH to take them as a static
@@ -95,13 +95,14 @@ impl World {
                 {
                     return None;
                 }
-                let primitives = scene_primitives_of(objects, fixed);
+                let bvh = scene_bvh_of(objects, fixed);
                 // A small static part is rebuilt with the moving objects in less time than a
-                // second traversal per ray costs (a dataset sample's buoys): one level then.
-                if primitives.len() < STATIC_LEVEL_MIN_PRIMITIVES {
+                // second traversal per ray costs (a dataset sample's buoys): one level then
+                // (its build here, as small, is cheap to throw away).
+                if bvh.primitives().len() < STATIC_LEVEL_MIN_PRIMITIVES {
                     return None;
                 }
-                Some(Arc::new(Bvh::build(primitives)))
+                Some(Arc::new(bvh))
             })
             .as_ref()
     }

@@ -261,6 +261,130 @@ macro_rules! traverse {
     }};
 }
 
+/// A hierarchy built once over a shared mesh's primitives in its own frame: the 4-wide tree's
+/// links (its boxes are set per copy) and the order of the primitives. Every object that
+/// carries the mesh places a copy of it ([`Bvh::build_with_copies`]).
+#[derive(Debug)]
+pub struct BvhTemplate {
+    nodes: Vec<WideNode>,
+    /// `order[k]`: the primitive, in the order they were given, at position k of the tree.
+    order: Vec<u32>,
+    binary_depth: usize,
+    wide_depth: usize,
+}
+
+impl BvhTemplate {
+    /// The template of `primitives` (none if there are none).
+    pub fn build(primitives: &[Primitive]) -> Option<BvhTemplate> {
+        if primitives.is_empty() {
+            return None;
+        }
+        let tree = build_binary(primitives);
+        let (nodes, wide_depth) = collapse(&tree.nodes, primitives.len());
+        Some(BvhTemplate {
+            nodes,
+            order: tree.order,
+            binary_depth: tree.depth,
+            wide_depth,
+        })
+    }
+
+    /// Number of primitives a copy must have.
+    pub fn len(&self) -> usize {
+        self.order.len()
+    }
+
+    /// Whether the template has no primitive (never: [`BvhTemplate::build`] makes none).
+    pub fn is_empty(&self) -> bool {
+        self.order.is_empty()
+    }
+}
+
+/// One copy of a template: which, and the box of the copy's primitives as placed (the top
+/// level is built over these boxes; the tree's own boxes come from the primitives).
+#[derive(Debug, Clone)]
+pub struct PlacedCopy {
+    /// The shared hierarchy.
+    pub template: Arc<BvhTemplate>,
+    /// Bounds of the copy's primitives.
+    pub bounds: Aabb,
+}
+
+/// Below this depth the top level over subtrees is split by the SAH; from it on, at the
+/// middle along the widest axis of the centres (a bound on the top's depth).
+const TOP_SAH_DEPTH: usize = 32;
+
+/// A binary tree with one leaf per box (leaf `first` = the box's index, `count` 1), split by
+/// the SAH over the boxes' centres (each axis sorted, every cut tried). Returns its nodes and
+/// each box's leaf depth. Meant for a scene's objects, not its primitives: a few thousand.
+fn build_over_boxes(boxes: &[Aabb]) -> (Vec<BinaryNode>, Vec<usize>) {
+    let m = boxes.len();
+    let mut nodes = vec![BinaryNode::default(); 2 * m - 1];
+    let mut depths = vec![0usize; m];
+    let mut items: Vec<u32> = (0..m as u32).collect();
+    let mut next = 1;
+    let mut stack = vec![(0usize, 0usize, m, 0usize)];
+    let mut right_area = vec![0.0f64; m];
+    while let Some((at, start, end, depth)) = stack.pop() {
+        let span = &mut items[start..end];
+        let bounds = span
+            .iter()
+            .fold(Aabb::EMPTY, |a, &i| a.union(&boxes[i as usize]));
+        nodes[at].area_m2 = bounds.surface_area();
+        if let [only] = span {
+            nodes[at].first = *only;
+            nodes[at].count = 1;
+            depths[*only as usize] = depth;
+            continue;
+        }
+        let n = span.len();
+        let centre = |i: u32, axis: usize| boxes[i as usize].centre()[axis];
+        let by_axis = |span: &mut [u32], axis: usize| {
+            span.sort_by(|&a, &b| centre(a, axis).total_cmp(&centre(b, axis)).then(a.cmp(&b)))
+        };
+        let (mut best_axis, mut best_cut) = (0usize, n / 2);
+        if depth < TOP_SAH_DEPTH {
+            let mut best_cost = f64::INFINITY;
+            for axis in 0..3 {
+                by_axis(span, axis);
+                let mut acc = Aabb::EMPTY;
+                for k in (1..n).rev() {
+                    acc = acc.union(&boxes[span[k] as usize]);
+                    right_area[k] = acc.surface_area() * (n - k) as f64;
+                }
+                let mut acc = Aabb::EMPTY;
+                for k in 1..n {
+                    acc = acc.union(&boxes[span[k - 1] as usize]);
+                    let cost = acc.surface_area() * k as f64 + right_area[k];
+                    if cost < best_cost {
+                        (best_cost, best_axis, best_cut) = (cost, axis, k);
+                    }
+                }
+            }
+        } else {
+            let c = span.iter().fold(Aabb::EMPTY, |a, &i| {
+                let p = boxes[i as usize].centre();
+                a.union(&Aabb { min: p, max: p })
+            });
+            let extent = c.max - c.min;
+            best_axis = if extent.x >= extent.y && extent.x >= extent.z {
+                0
+            } else if extent.y >= extent.z {
+                1
+            } else {
+                2
+            };
+        }
+        by_axis(span, best_axis);
+        nodes[at].first = next as u32;
+        nodes[at].count = 0;
+        stack.push((next, start, start + best_cut, depth + 1));
+        stack.push((next + 1, start + best_cut, end, depth + 1));
+        next += 2;
+    }
+    (nodes, depths)
+}
+
 /// A BVH owning its (reordered) primitives.
 #[derive(Debug, Clone)]
 pub struct Bvh {
@@ -318,23 +442,169 @@ impl Bvh {
         let (mut wide, wide_depth) = collapse(&tree.nodes, reordered.len());
         drop(tree.nodes);
         let exact_boxes = refit(&mut wide, &reordered);
-        let f32_boxes = exact_boxes.iter().flatten().all(|b| {
+        Bvh::assembled(
+            wide,
+            exact_boxes,
+            reordered,
+            by_object,
+            tree.depth,
+            wide_depth,
+        )
+    }
+
+    /// The hierarchy of a finished tree: its nodes with their planes set, their exact boxes
+    /// and the primitives in the tree's order.
+    fn assembled(
+        nodes: Vec<WideNode>,
+        exact_boxes: Vec<[Aabb; 4]>,
+        primitives: Vec<Primitive>,
+        by_object: Vec<u32>,
+        binary_depth: usize,
+        wide_depth: usize,
+    ) -> Bvh {
+        let f32_boxes = exact_boxes.par_iter().flatten().all(|b| {
             b.min.cmpge(DVec3::splat(-F32_REACH_M)).all()
                 && b.max.cmple(DVec3::splat(F32_REACH_M)).all()
                 || b == &Aabb::EMPTY
         });
         let bounds = exact_boxes[0].iter().fold(Aabb::EMPTY, |a, b| a.union(b));
         Bvh {
-            nodes: wide,
+            nodes,
             exact_boxes,
-            primitives: reordered,
+            primitives,
             by_object,
-            binary_depth: tree.depth,
+            binary_depth,
             wide_depth,
             bounds,
             f32_boxes,
             static_level: None,
         }
+    }
+
+    /// The hierarchy over `loose` primitives and `copies` of shared templates, with the same
+    /// hits as [`Bvh::build`] over all of their primitives; `placed(c, i)` is copy c's
+    /// primitive i, the template's primitive i placed. Each copy's subtree is its template's,
+    /// its primitives written once, in the tree's order, and its boxes refit (no build per
+    /// copy); the loose primitives get a subtree of their own; a top level, built by the SAH
+    /// over the subtrees' boxes, joins them (an instanced scene without the per-ray transform
+    /// of instancing: every primitive stays in the world's frame).
+    pub fn build_with_copies(
+        loose: Vec<Primitive>,
+        copies: &[PlacedCopy],
+        placed: impl Fn(usize, usize) -> Primitive + Sync,
+    ) -> Bvh {
+        if copies.is_empty() {
+            return Bvh::build(loose);
+        }
+        let loose = (!loose.is_empty()).then(|| Bvh::build(loose));
+        // One subtree per copy, then the loose primitives' (if any): their boxes, sizes and
+        // depths.
+        let mut boxes: Vec<Aabb> = copies.iter().map(|c| c.bounds).collect();
+        let mut sizes: Vec<(usize, usize, usize, usize)> = copies
+            .iter()
+            .map(|c| {
+                let t = &c.template;
+                (t.nodes.len(), t.order.len(), t.binary_depth, t.wide_depth)
+            })
+            .collect();
+        if let Some(b) = &loose {
+            boxes.push(b.bounds);
+            sizes.push((
+                b.nodes.len(),
+                b.primitives.len(),
+                b.binary_depth,
+                b.wide_depth,
+            ));
+        }
+        let (top_binary, leaf_depths) = build_over_boxes(&boxes);
+        let (mut top, _) = collapse(&top_binary, boxes.len());
+        // Where each subtree's nodes and primitives start in the joined arrays.
+        let (mut node_base, mut primitive_base) = (Vec::new(), Vec::new());
+        let (mut num_nodes, mut num_primitives) = (top.len(), 0);
+        for &(nodes, primitives, _, _) in &sizes {
+            node_base.push(num_nodes);
+            primitive_base.push(num_primitives);
+            num_nodes += nodes;
+            num_primitives += primitives;
+        }
+        // The top's leaf lanes (one subtree each) become links to the subtrees' roots.
+        let mut wide_depth = 0;
+        let mut node_depth = vec![0usize; top.len()];
+        for w in 0..top.len() {
+            for lane in 0..4 {
+                let (first, count) = (top[w].first[lane] as usize, top[w].count[lane]);
+                if count > 0 {
+                    top[w].first[lane] = node_base[first] as u32;
+                    top[w].count[lane] = 0;
+                    wide_depth = wide_depth.max(node_depth[w] + 1 + sizes[first].3);
+                } else if first != 0 {
+                    node_depth[first] = node_depth[w] + 1;
+                    wide_depth = wide_depth.max(node_depth[first]);
+                }
+            }
+        }
+        let binary_depth = sizes
+            .iter()
+            .zip(&leaf_depths)
+            .map(|(s, d)| s.2 + d)
+            .max()
+            .unwrap_or(0);
+        let subtree_of = |bases: &[usize], at: usize| bases.partition_point(|&b| b <= at) - 1;
+        let (loose_nodes, loose_primitives): (&[WideNode], &[Primitive]) = loose
+            .as_ref()
+            .map_or((&[], &[]), |b| (&b.nodes, &b.primitives));
+        // The joined primitives: each copy's in its template's order, then the loose ones.
+        let primitives: Vec<Primitive> = (0..num_primitives)
+            .into_par_iter()
+            .with_min_len(4096)
+            .map(|k| {
+                let s = subtree_of(&primitive_base, k);
+                let at = k - primitive_base[s];
+                match copies.get(s) {
+                    Some(c) => placed(s, c.template.order[at] as usize),
+                    None => loose_primitives[at],
+                }
+            })
+            .collect();
+        if wide_depth > MAX_DEPTH {
+            // A top level too deep for the traversal's stack: one build over everything.
+            return Bvh::build(primitives);
+        }
+        // The joined nodes: the top's, then each subtree's with its links shifted.
+        let top_len = top.len();
+        let mut nodes = top;
+        nodes.par_extend(
+            (top_len..num_nodes)
+                .into_par_iter()
+                .with_min_len(1024)
+                .map(|w| {
+                    let s = subtree_of(&node_base, w);
+                    let at = w - node_base[s];
+                    let mut n = match copies.get(s) {
+                        Some(c) => c.template.nodes[at],
+                        None => loose_nodes[at],
+                    };
+                    let (nb, pb) = (node_base[s] as u32, primitive_base[s] as u32);
+                    for lane in 0..4 {
+                        if n.count[lane] > 0 {
+                            n.first[lane] += pb;
+                        } else if n.first[lane] != 0 {
+                            n.first[lane] += nb;
+                        }
+                    }
+                    n
+                }),
+        );
+        let exact = refit(&mut nodes, &primitives);
+        let by_object = grouped_by_object(&primitives);
+        Bvh::assembled(
+            nodes,
+            exact,
+            primitives,
+            by_object,
+            binary_depth,
+            wide_depth,
+        )
     }
 
     /// A two-level hierarchy: `dynamic` built now over the shared `static_level`. Queries
@@ -677,6 +947,12 @@ fn refit(wide: &mut [WideNode], primitives: &[Primitive]) -> Vec<[Aabb; 4]> {
             }
         }
     }
+    set_planes(wide, &exact);
+    exact
+}
+
+/// Sets each node's f32 planes from its children's `exact` boxes, rounded outward.
+fn set_planes(wide: &mut [WideNode], exact: &[[Aabb; 4]]) {
     wide.par_iter_mut()
         .zip(exact.par_iter())
         .with_min_len(256)
@@ -688,7 +964,6 @@ fn refit(wide: &mut [WideNode], primitives: &[Primitive]) -> Vec<[Aabb; 4]> {
                 }
             }
         });
-    exact
 }
 
 #[cfg(test)]

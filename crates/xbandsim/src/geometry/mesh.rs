@@ -6,7 +6,7 @@
 //! specification, §3.4), so its points are mapped `(x, y, z) → (−x, z, y)`, a rotation that
 //! keeps handedness. glTF node transforms of the default scene are applied.
 
-use super::{PrimitiveKind, ShapeGeometry};
+use super::{Primitive, PrimitiveKind, ShapeGeometry};
 use crate::error::{Error, Result};
 use glam::{DMat3, DMat4, DVec3};
 use std::path::{Path, PathBuf};
@@ -75,6 +75,29 @@ fn mesh_err(path: &Path, message: impl Into<String>) -> Error {
 }
 
 impl TriangleMesh {
+    /// Triangle `t` placed at `position_m` with `rotation`, tagged `object`: its first vertex
+    /// and two edges in the world frame (the edges are differences of placed vertices).
+    #[inline]
+    pub fn placed_triangle(
+        &self,
+        t: usize,
+        position_m: DVec3,
+        rotation: glam::DMat3,
+        object: u32,
+    ) -> Primitive {
+        let [a, b, c] = self.triangles[t];
+        let to_world = |v: u32| position_m + rotation * self.vertices_m[v as usize];
+        let v0 = to_world(a);
+        Primitive {
+            kind: PrimitiveKind::Triangle {
+                v0,
+                e1: to_world(b) - v0,
+                e2: to_world(c) - v0,
+            },
+            object,
+        }
+    }
+
     /// Loads a mesh file by extension (`.obj`, `.stl`, `.gltf`, `.glb`), multiplying every
     /// coordinate by `scale_m` (metres per file unit).
     pub fn load(path: &Path, scale_m: f64) -> Result<TriangleMesh> {

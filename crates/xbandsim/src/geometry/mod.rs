@@ -14,7 +14,7 @@ mod primitives;
 pub mod procedural;
 mod shapes;
 
-pub use bvh::Bvh;
+pub use bvh::{Bvh, BvhTemplate, PlacedCopy};
 pub use mesh::{MeshUnit, TriangleMesh};
 pub use primitives::{Primitive, PrimitiveKind};
 pub use procedural::{BuoyParams, Superstructure, VesselParams};

@@ -44,6 +44,18 @@ pub struct Primitive {
 }
 
 impl Primitive {
+    /// Whether this is a triangle of no area (its edges' cross product is not above zero,
+    /// NaN included): a mesh's primitives leave these out.
+    #[inline]
+    pub fn is_degenerate_triangle(&self) -> bool {
+        match self.kind {
+            PrimitiveKind::Triangle { e1, e2, .. } => {
+                e1.cross(e2).length_squared().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+            }
+            _ => false,
+        }
+    }
+
     /// Bounding box.
     pub fn bounds(&self) -> Aabb {
         let mut b = Aabb::EMPTY;

@@ -255,12 +255,10 @@ impl ShapeGeometry {
                 }
             }
             ShapeGeometry::Mesh { mesh } => {
-                for t in &mesh.triangles {
-                    let v0 = to_world(mesh.vertices_m[t[0] as usize]);
-                    let e1 = to_world(mesh.vertices_m[t[1] as usize]) - v0;
-                    let e2 = to_world(mesh.vertices_m[t[2] as usize]) - v0;
-                    if e1.cross(e2).length_squared() > 0.0 {
-                        push(PrimitiveKind::Triangle { v0, e1, e2 });
+                for t in 0..mesh.triangles.len() {
+                    let p = mesh.placed_triangle(t, position_m, rotation, object);
+                    if !p.is_degenerate_triangle() {
+                        out.push(p);
                     }
                 }
             }

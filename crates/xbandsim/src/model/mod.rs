@@ -309,11 +309,12 @@ impl Scene {
         let structures =
             land::build_structures(&spec.structure, spec.geo.as_ref(), base_dir, &ground)?;
         let scattering = scattering::build_scattering(&spec.scattering)?;
+        let mut meshes = world::LoadedMeshes::new();
         let mut objects = spec
             .objects
             .iter()
             .enumerate()
-            .map(|(i, o)| world::build_object(i, o, base_dir))
+            .map(|(i, o)| world::build_object(i, o, base_dir, &mut meshes))
             .collect::<Result<Vec<_>>>()?;
         check_objects_on_water(&objects, &ground)?;
         check_antenna_above_ground(&radar, &ground)?;

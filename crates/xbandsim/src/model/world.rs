@@ -249,7 +249,18 @@ impl SceneObject {
     }
 }
 
-pub(super) fn build_object(i: usize, o: &ObjectSpec, base_dir: &Path) -> Result<SceneObject> {
+/// The meshes a scene's objects load, by file and metres per file unit: objects that name the
+/// same file at the same scale share one mesh (loaded once; the BVH builds its hierarchy
+/// once for all of them, `scattering::scene_bvh_of`).
+pub(super) type LoadedMeshes =
+    std::collections::HashMap<(std::path::PathBuf, u64), std::sync::Arc<TriangleMesh>>;
+
+pub(super) fn build_object(
+    i: usize,
+    o: &ObjectSpec,
+    base_dir: &Path,
+    meshes: &mut LoadedMeshes,
+) -> Result<SceneObject> {
     let name = o.name.clone().unwrap_or_else(|| format!("object-{i}"));
     if name.trim().is_empty() {
         return Err(Error::invalid(
@@ -327,12 +338,20 @@ pub(super) fn build_object(i: usize, o: &ObjectSpec, base_dir: &Path) -> Result<
             let unit = o.mesh_units.unwrap_or(MeshUnit::Metre);
             let scale = positive(&f("mesh_scale"), o.mesh_scale.unwrap_or(1.0))?;
             let path = base_dir.join(file);
-            let mesh = TriangleMesh::load(&path, unit.metres() * scale).map_err(|e| {
-                Error::unusable(f("mesh_file"), format!("\"{file}\""), "cannot be used", e)
-            })?;
-            ShapeGeometry::Mesh {
-                mesh: std::sync::Arc::new(mesh),
-            }
+            let scale_m = unit.metres() * scale;
+            let key = (path, scale_m.to_bits());
+            let mesh = match meshes.get(&key) {
+                Some(mesh) => std::sync::Arc::clone(mesh),
+                None => {
+                    let mesh = TriangleMesh::load(&key.0, scale_m).map_err(|e| {
+                        Error::unusable(f("mesh_file"), format!("\"{file}\""), "cannot be used", e)
+                    })?;
+                    let mesh = std::sync::Arc::new(mesh);
+                    meshes.insert(key, std::sync::Arc::clone(&mesh));
+                    mesh
+                }
+            };
+            ShapeGeometry::Mesh { mesh }
         }
         ShapeName::Vessel => {
             ShapeGeometry::vessel(vessel_params(o, &f, need("length_m", o.length_m)?)?)

@@ -18,7 +18,7 @@ pub mod via_own_ship;
 use crate::constants::SPEED_OF_LIGHT_M_PER_S;
 use crate::geometry::{Bvh, Primitive};
 use crate::model::{Environment, Radar, ScatteringModel, Scene, SceneObject};
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 use num_complex::Complex64;
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -197,7 +197,131 @@ pub fn carrier_phase(path_m: f64, wavelength_m: f64) -> Complex64 {
 
 /// Builds the ray-tracing acceleration structure of a scene (all objects' primitives).
 pub fn build_scene_bvh(objects: &[SceneObject]) -> Bvh {
-    Bvh::build(scene_primitives_of(objects, |_, _| true))
+    scene_bvh_of(objects, |_, _| true)
+}
+
+/// A mesh carried by at least this many objects...
+const SHARED_MESH_MIN_COPIES: usize = 2;
+/// ...of at least this many triangles has its hierarchy built once, in its own frame, and
+/// placed in each of them.
+const SHARED_MESH_MIN_TRIANGLES: usize = 256;
+
+/// The BVH over the objects `keep(index, object)` takes, each primitive tagged with its
+/// object's index: [`Bvh::build`] over [`scene_primitives_of`], except that a mesh shared by
+/// several objects (one file at one scale: `model` loads it once) is built once and its
+/// hierarchy placed in each copy ([`Bvh::build_with_copies`]; the same hits).
+pub fn scene_bvh_of(
+    objects: &[SceneObject],
+    keep: impl Fn(usize, &SceneObject) -> bool + Sync,
+) -> Bvh {
+    use crate::geometry::{Aabb, BvhTemplate, PlacedCopy, ShapeGeometry, TriangleMesh};
+    /// A shared mesh: its template and the triangle behind each of the template's primitives
+    /// (a triangle of no area has none).
+    struct Shared<'a> {
+        mesh: &'a TriangleMesh,
+        template: Arc<BvhTemplate>,
+        triangles: Vec<u32>,
+    }
+    // The kept objects of each mesh, meshes in order of first use.
+    let mut users: Vec<(&Arc<TriangleMesh>, Vec<usize>)> = Vec::new();
+    let mut slot_of = std::collections::HashMap::new();
+    for (i, o) in objects.iter().enumerate() {
+        if let ShapeGeometry::Mesh { mesh } = o.shape() {
+            if keep(i, o) && mesh.triangles.len() >= SHARED_MESH_MIN_TRIANGLES {
+                let slot = *slot_of.entry(Arc::as_ptr(mesh)).or_insert_with(|| {
+                    users.push((mesh, Vec::new()));
+                    users.len() - 1
+                });
+                users[slot].1.push(i);
+            }
+        }
+    }
+    users.retain(|(_, objects)| objects.len() >= SHARED_MESH_MIN_COPIES);
+    if users.is_empty() {
+        return Bvh::build(scene_primitives_of(objects, keep));
+    }
+    let shared: Vec<Option<Shared>> = users
+        .par_iter()
+        .map(|(mesh, _)| {
+            let (triangles, local): (Vec<u32>, Vec<Primitive>) = (0..mesh.triangles.len())
+                .map(|t| {
+                    (
+                        t as u32,
+                        mesh.placed_triangle(t, DVec3::ZERO, DMat3::IDENTITY, 0),
+                    )
+                })
+                .filter(|(_, p)| !p.is_degenerate_triangle())
+                .unzip();
+            Some(Shared {
+                mesh,
+                template: Arc::new(BvhTemplate::build(&local)?),
+                triangles,
+            })
+        })
+        .collect();
+    let mut shared_of = vec![None; objects.len()];
+    for ((_, objects), s) in users.iter().zip(&shared) {
+        for &i in objects {
+            shared_of[i] = s.as_ref();
+        }
+    }
+    // Each copy's box (its placed vertices'), where the triangles of no area the template
+    // left out have none as placed either (else its primitives join the loose ones).
+    let placements: Vec<Option<PlacedCopy>> = shared_of
+        .par_iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let (s, o) = ((*s)?, &objects[i]);
+            let (position_m, rotation) = (o.position_m(), o.rotation());
+            let mut kept = s.triangles.iter().peekable();
+            for t in 0..s.mesh.triangles.len() as u32 {
+                if kept.next_if_eq(&&t).is_none()
+                    && !s
+                        .mesh
+                        .placed_triangle(t as usize, position_m, rotation, 0)
+                        .is_degenerate_triangle()
+                {
+                    return None;
+                }
+            }
+            let bounds = s.mesh.vertices_m.iter().fold(Aabb::EMPTY, |b, &v| {
+                let p = position_m + rotation * v;
+                b.union(&Aabb { min: p, max: p })
+            });
+            let template = Arc::clone(&s.template);
+            Some(PlacedCopy { template, bounds })
+        })
+        .collect();
+    let copied: Vec<(usize, &Shared)> = placements
+        .iter()
+        .zip(&shared_of)
+        .enumerate()
+        .filter_map(|(i, (p, s))| p.as_ref().and(*s).map(|s| (i, s)))
+        .collect();
+    let copies: Vec<PlacedCopy> = placements.into_iter().flatten().collect();
+    let loose = scene_primitives_of(objects, |i, o| {
+        keep(i, o) && copied.binary_search_by_key(&i, |c| c.0).is_err()
+    });
+    // A template triangle that has no area where it is placed has no primitive in the
+    // objects' own primitives: then one build over those.
+    let lost_area = std::sync::atomic::AtomicBool::new(false);
+    let placed = |c: usize, k: usize| {
+        let (i, s) = copied[c];
+        let o = &objects[i];
+        let t = s.triangles[k] as usize;
+        let p = s
+            .mesh
+            .placed_triangle(t, o.position_m(), o.rotation(), i as u32);
+        if p.is_degenerate_triangle() {
+            lost_area.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+        p
+    };
+    let bvh = Bvh::build_with_copies(loose, &copies, placed);
+    if lost_area.into_inner() {
+        return Bvh::build(scene_primitives_of(objects, keep));
+    }
+    bvh
 }
 
 /// The world-frame primitives of the objects `keep(index, object)` takes, each tagged with

@@ -697,3 +697,86 @@ fn yaw_turns_clockwise() {
         .unwrap();
     assert!((n - DVec3::X).length() < 1e-12, "normal {n}");
 }
+
+/// A mesh shared by several objects is built once and placed in each
+/// (`scattering::scene_bvh_of`): the same primitives, hits and blocked rays as one build over
+/// every object's primitives, whatever each copy's yaw, with triangles of no area in the mesh
+/// (left out of the template as of the objects' primitives) and objects of other shapes.
+#[test]
+fn shared_mesh_copies_match_one_build_and_brute_force() {
+    use glam::DMat3;
+    use std::sync::Arc;
+    use xbandsim::model::SceneObject;
+    use xbandsim::scattering::{build_scene_bvh, scene_primitives_of};
+    let mut mesh = xbandsim::geometry::mesh::vessel(24.0, 24);
+    // Two triangles of no area: a repeated vertex, and three vertices on one line.
+    mesh.triangles.push([0, 0, 1]);
+    let n = mesh.vertices_m.len() as u32;
+    mesh.vertices_m.extend([
+        DVec3::new(0.0, 0.0, 1.0),
+        DVec3::new(0.0, 0.0, 2.0),
+        DVec3::new(0.0, 0.0, 3.0),
+    ]);
+    mesh.triangles.push([n, n + 1, n + 2]);
+    assert!(mesh.triangles.len() >= 256, "{}", mesh.triangles.len());
+    let mesh = Arc::new(mesh);
+    let mut rng = Lcg(17);
+    let mut objects = Vec::new();
+    for i in 0..9 {
+        let shape = if i % 4 == 3 {
+            ShapeGeometry::Sphere { radius_m: 3.0 }
+        } else {
+            ShapeGeometry::Mesh {
+                mesh: Arc::clone(&mesh),
+            }
+        };
+        let at = DVec3::new(rng.vec(60.0).x, rng.vec(60.0).y, 0.0);
+        let yaw = DMat3::from_rotation_z(rng.next() * std::f64::consts::TAU);
+        objects.push(SceneObject::new(format!("o{i}"), "ship", shape, at, yaw).unwrap());
+    }
+    let all = scene_primitives_of(&objects, |_, _| true);
+    let copied = build_scene_bvh(&objects);
+    let single = Bvh::build(all.clone());
+    assert_eq!(copied.primitives().len(), all.len());
+    for tag in 0..objects.len() as u32 {
+        let mut a: Vec<String> = copied
+            .object_primitives(tag)
+            .map(|p| format!("{p:?}"))
+            .collect();
+        let mut b: Vec<String> = single
+            .object_primitives(tag)
+            .map(|p| format!("{p:?}"))
+            .collect();
+        a.sort();
+        b.sort();
+        assert_eq!(a, b, "object {tag}");
+        assert_eq!(copied.object_bounds(tag), single.object_bounds(tag));
+    }
+    assert_eq!(copied.bounds(), single.bounds());
+    let mut hits = 0;
+    for _ in 0..20_000 {
+        let origin = rng.vec(90.0) + DVec3::new(0.0, 0.0, 40.0);
+        let aim =
+            objects[(rng.next() * objects.len() as f64) as usize % objects.len()].position_m();
+        let target = aim + rng.vec(12.0) * DVec3::new(1.0, 1.0, 0.3);
+        let ray = Ray::new(origin, target - origin);
+        let a = copied.closest_hit(&ray, f64::INFINITY);
+        let b = closest_hit_brute_force(&all, &ray, f64::INFINITY);
+        match (a, b) {
+            (Some(x), Some(y)) => {
+                hits += 1;
+                // Exactly: the same primitives, each intersected by the same code (where two
+                // meet the ray at one distance, either may be reported).
+                assert_eq!(x.t_m, y.t_m, "{x:?} vs {y:?}");
+            }
+            (None, None) => {}
+            (x, y) => panic!("shared-mesh BVH {x:?} vs brute force {y:?}"),
+        }
+        let t_max = rng.next() * 150.0;
+        assert_eq!(
+            copied.any_hit(&ray, t_max),
+            closest_hit_brute_force(&all, &ray, t_max).is_some()
+        );
+    }
+    assert!(hits > 5_000, "too few hits to mean anything: {hits}");
+}

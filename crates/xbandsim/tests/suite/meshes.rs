@@ -274,3 +274,30 @@ fn shipped_vessel_mesh_is_reproducible() {
     assert!(max_dev < 1e-5, "vertex deviation {max_dev}");
     Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/vessel.toml")).unwrap();
 }
+
+/// Objects that name one mesh file at one scale share one loaded mesh (which the BVH then
+/// builds once for all of them); another scale is another mesh.
+#[test]
+fn objects_of_one_mesh_file_share_it() {
+    use xbandsim::geometry::ShapeGeometry;
+    let dir = tempfile::tempdir().unwrap();
+    write_obj(&dir.path().join("t.obj"), &trihedral_triangles(0.5), 1.0);
+    let object = |name: &str, x: f64, extra: &str| {
+        format!("[[object]]\nname = \"{name}\"\nshape = \"mesh\"\nmesh_file = \"t.obj\"\n{extra}\nposition_m = [{x}, 100.0, 0.0]\n")
+    };
+    let text = [
+        object("a", 0.0, ""),
+        object("b", 20.0, ""),
+        object("c", 40.0, "mesh_scale = 2.0"),
+    ]
+    .concat();
+    let spec: xbandsim::scene::SceneSpec = toml::from_str(&text).unwrap();
+    let scene = Scene::from_spec_in(&spec, dir.path()).unwrap();
+    let mesh = |k: usize| match scene.objects()[k].shape() {
+        ShapeGeometry::Mesh { mesh } => std::sync::Arc::clone(mesh),
+        other => panic!("object {k} is {other:?}"),
+    };
+    assert!(std::sync::Arc::ptr_eq(&mesh(0), &mesh(1)));
+    assert!(!std::sync::Arc::ptr_eq(&mesh(0), &mesh(2)));
+    assert_eq!(mesh(2).area_m2(), 4.0 * mesh(0).area_m2());
+}
