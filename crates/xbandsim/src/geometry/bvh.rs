@@ -288,16 +288,6 @@ impl BvhTemplate {
             wide_depth,
         })
     }
-
-    /// Number of primitives a copy must have.
-    pub fn len(&self) -> usize {
-        self.order.len()
-    }
-
-    /// Whether the template has no primitive (never: [`BvhTemplate::build`] makes none).
-    pub fn is_empty(&self) -> bool {
-        self.order.is_empty()
-    }
 }
 
 /// One copy of a template: which, and the box of the copy's primitives as placed (the top
@@ -308,6 +298,14 @@ pub struct PlacedCopy {
     pub template: Arc<BvhTemplate>,
     /// Bounds of the copy's primitives.
     pub bounds: Aabb,
+}
+
+/// The size and depths of one subtree that [`Bvh::build_with_copies`] joins under its top.
+struct SubtreeSize {
+    nodes: usize,
+    primitives: usize,
+    binary_depth: usize,
+    wide_depth: usize,
 }
 
 /// Below this depth the top level over subtrees is split by the SAH; from it on, at the
@@ -500,32 +498,37 @@ impl Bvh {
         // One subtree per copy, then the loose primitives' (if any): their boxes, sizes and
         // depths.
         let mut boxes: Vec<Aabb> = copies.iter().map(|c| c.bounds).collect();
-        let mut sizes: Vec<(usize, usize, usize, usize)> = copies
+        let mut sizes: Vec<SubtreeSize> = copies
             .iter()
             .map(|c| {
                 let t = &c.template;
-                (t.nodes.len(), t.order.len(), t.binary_depth, t.wide_depth)
+                SubtreeSize {
+                    nodes: t.nodes.len(),
+                    primitives: t.order.len(),
+                    binary_depth: t.binary_depth,
+                    wide_depth: t.wide_depth,
+                }
             })
             .collect();
         if let Some(b) = &loose {
             boxes.push(b.bounds);
-            sizes.push((
-                b.nodes.len(),
-                b.primitives.len(),
-                b.binary_depth,
-                b.wide_depth,
-            ));
+            sizes.push(SubtreeSize {
+                nodes: b.nodes.len(),
+                primitives: b.primitives.len(),
+                binary_depth: b.binary_depth,
+                wide_depth: b.wide_depth,
+            });
         }
         let (top_binary, leaf_depths) = build_over_boxes(&boxes);
         let (mut top, _) = collapse(&top_binary, boxes.len());
         // Where each subtree's nodes and primitives start in the joined arrays.
         let (mut node_base, mut primitive_base) = (Vec::new(), Vec::new());
         let (mut num_nodes, mut num_primitives) = (top.len(), 0);
-        for &(nodes, primitives, _, _) in &sizes {
+        for size in &sizes {
             node_base.push(num_nodes);
             primitive_base.push(num_primitives);
-            num_nodes += nodes;
-            num_primitives += primitives;
+            num_nodes += size.nodes;
+            num_primitives += size.primitives;
         }
         // The top's leaf lanes (one subtree each) become links to the subtrees' roots.
         let mut wide_depth = 0;
@@ -536,7 +539,7 @@ impl Bvh {
                 if count > 0 {
                     top[w].first[lane] = node_base[first] as u32;
                     top[w].count[lane] = 0;
-                    wide_depth = wide_depth.max(node_depth[w] + 1 + sizes[first].3);
+                    wide_depth = wide_depth.max(node_depth[w] + 1 + sizes[first].wide_depth);
                 } else if first != 0 {
                     node_depth[first] = node_depth[w] + 1;
                     wide_depth = wide_depth.max(node_depth[first]);
@@ -546,7 +549,7 @@ impl Bvh {
         let binary_depth = sizes
             .iter()
             .zip(&leaf_depths)
-            .map(|(s, d)| s.2 + d)
+            .map(|(s, d)| s.binary_depth + d)
             .max()
             .unwrap_or(0);
         let subtree_of = |bases: &[usize], at: usize| bases.partition_point(|&b| b <= at) - 1;
