@@ -47,6 +47,7 @@ install_optional() {
     export "XBANDSIM_${upper}_UNAVAILABLE=PyPI has no wheel of $requirements for this platform"
   else
     cat "$log" >&2
+    echo "xbandsim: installing $requirements failed (pip's output above; free disk: $(df -h . | awk 'NR==2 {print $4}'))" >&2
     exit 1
   fi
 }

@@ -25,6 +25,13 @@ import xbandsim  # noqa: E402,F401  (registers the environments)
 SIZE = 64
 
 
+@pytest.fixture(autouse=True)
+def sb3_logs_in_the_tests_own_folder(tmp_path, monkeypatch):
+    """PPO's logger makes a folder even when it writes nothing: the system's temporary
+    folder (an SB3-<date> folder per model) unless SB3_LOGDIR names another."""
+    monkeypatch.setenv("SB3_LOGDIR", str(tmp_path))
+
+
 @pytest.mark.parametrize("own_ship_state", [False, True], ids=["Box", "Dict"])
 def test_sb3_check_env_has_no_warnings(own_ship_state):
     env = gym.make(
