@@ -40,7 +40,7 @@ use crate::receiver::Receiver;
 use crate::rng::{FrameKey, Stream};
 use crate::scattering::{trace_scene, via_own_ship, Contribution, ScatterSet};
 use crate::signal::clutter::{ClutterSpeckle, SeaAndRainClutter};
-use crate::signal::clutter_map::ClutterMap;
+use crate::signal::clutter_map::{ClutterMap, ClutterSurface};
 use crate::signal::PulseAt;
 use num_complex::Complex32;
 use rayon::prelude::*;
@@ -59,6 +59,9 @@ pub struct Simulation {
     cache: Arc<TraceCache>,
     /// This receive chain's echo groups of the still objects' kept traces, kept with them.
     kept_groups: Arc<KeptGroups>,
+    /// The clutter surface made last for a level beam: the next revolution with the same
+    /// radar and seed draws its texture on it (a radar that stands still).
+    clutter_surface: Arc<std::sync::Mutex<Option<Arc<ClutterSurface>>>>,
     compressor: PulseCompressor,
     receiver: Receiver,
     kernel: FractionalDelayKernel,
@@ -160,6 +163,7 @@ impl Simulation {
             kernel: FractionalDelayKernel::new(),
             cache: Arc::new(TraceCache::default()),
             kept_groups: Arc::default(),
+            clutter_surface: Arc::default(),
             doppler,
             short,
             gain_stc: GainStc {

@@ -16,10 +16,11 @@ use crate::rng::FrameKey;
 use crate::schedule::Schedule;
 use crate::signal::beacons::Beacons;
 use crate::signal::clutter::{ClutterSpeckle, SeaAndRainClutter};
-use crate::signal::clutter_map::ClutterMap;
+use crate::signal::clutter_map::{ClutterMap, ClutterSurface};
 use crate::signal::interference::Interference;
 use crate::signal::targets::{FilterReach, FixedEchoes, Mover, MovingEchoes, OwnShipPaths};
 use crate::signal::ThisRadar;
+use std::sync::Arc;
 
 impl Simulation {
     /// The sources of the spoke-mode chain: every echo group fixed, fresh speckle.
@@ -183,7 +184,9 @@ impl Simulation {
     }
 
     /// Sea and rain clutter of revolution `key` seen by `radar` (this scene's radar, carried
-    /// to where the own ship has taken it), spoke k's beam raised by `beam_tilt_rad[k]`.
+    /// to where the own ship has taken it), spoke k's beam raised by `beam_tilt_rad[k]`. With
+    /// a level beam the surface made last ([`ClutterSurface`]) is reused when it serves the
+    /// same radar, seed and record: the same map, its texture alone drawn for `key.frame`.
     pub(super) fn clutter_map_from(
         &self,
         radar: &Radar,
@@ -193,13 +196,30 @@ impl Simulation {
         if !self.clutter {
             return None;
         }
-        ClutterMap::with_beam_tilts(
-            radar,
-            self.scene.environment(),
-            key,
-            self.compressor.record_len(),
-            beam_tilt_rad,
-        )
+        let env = self.scene.environment();
+        let samples = self.compressor.record_len();
+        if !beam_tilt_rad.is_empty() {
+            return ClutterMap::with_beam_tilts(radar, env, key, samples, beam_tilt_rad);
+        }
+        // A level beam: the surface made last serves while the radar stands still.
+        let kept = self
+            .clutter_surface
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
+            .clone()
+            .filter(|s| s.serves(radar, env, key.seed, samples));
+        let surface = match kept {
+            Some(surface) => surface,
+            None => {
+                let surface = Arc::new(ClutterSurface::new(radar, env, key.seed, samples, &[])?);
+                *self
+                    .clutter_surface
+                    .lock()
+                    .unwrap_or_else(|poisoned| poisoned.into_inner()) = Some(Arc::clone(&surface));
+                surface
+            }
+        };
+        Some(ClutterMap::on_surface(surface, key.frame))
     }
 
     /// The clutter map of a revolution: each spoke's beam tilted by the deck's roll and pitch

@@ -318,3 +318,80 @@ fn a_low_mole_near_the_reflection_point_takes_the_sea_paths_only() {
     );
     assert_eq!(open_sea.truth[0].rcs_m2, behind.truth[0].rcs_m2);
 }
+
+/// A radar that stands still keeps its clutter surface (sea and rain powers, the land's rows
+/// and frozen echo) between revolutions and draws only the texture anew: every revolution,
+/// in any order and with another seed between, is byte for byte the one a fresh simulation
+/// renders; a radar on a ship under way makes a surface per revolution. The map on a kept
+/// surface is the fresh map in every cell.
+#[test]
+fn a_still_radar_reuses_its_clutter_surface_and_renders_the_same_bytes() {
+    use xbandsim::engine::{Request, Simulation};
+    use xbandsim::model::Scene;
+    use xbandsim::rng::FrameKey;
+    use xbandsim::signal::clutter_map::{ClutterMap, ClutterSurface};
+    let rain = "\n[[environment.rain_cell]]\ncentre_m = [800.0, 600.0]\nradius_m = 500.0\nrate_mm_per_h = 8.0\n";
+    let moving_boat = "\n[[object]]\nname = \"under way\"\nclass = \"boat\"\nshape = \"sphere\"\nradius_m = 2.0\nposition_m = [700.0, -900.0, 2.0]\nspeed_kn = 12.0\ncourse_deg = 80.0\n";
+    let text = HIDING_ISLAND.replace("multipath = true\n", &format!("multipath = true\n{rain}"))
+        + moving_boat;
+    let own_ship = format!("{text}\n[own_ship]\nspeed_kn = 10.0\ncourse_deg = 45.0\n");
+    for text in [text.as_str(), own_ship.as_str()] {
+        let fresh = |seed: u64, frame: u64| {
+            Simulation::new(Scene::from_toml_str(text, "t").unwrap())
+                .run(&Request::new(seed).frame(frame))
+                .unwrap()
+                .polar_db
+        };
+        let sim = Simulation::new(Scene::from_toml_str(text, "t").unwrap());
+        for (seed, frame) in [(9, 0), (9, 1), (9, 3), (10, 3), (9, 1)] {
+            let kept = sim.run(&Request::new(seed).frame(frame)).unwrap().polar_db;
+            assert!(
+                kept == fresh(seed, frame),
+                "seed {seed} frame {frame} differs from a fresh simulation's"
+            );
+        }
+    }
+
+    let scene = Scene::from_toml_str(&text, "t").unwrap();
+    let (radar, env) = (scene.radar(), scene.environment());
+    let samples = 1700;
+    let kept = ClutterMap::new(radar, env, FrameKey::new(4, 0), samples).unwrap();
+    let surface = kept.surface();
+    assert!(surface.serves(radar, env, 4, samples));
+    assert!(!surface.serves(radar, env, 5, samples), "another seed");
+    assert!(
+        !surface.serves(radar, env, 4, samples - 1),
+        "another record"
+    );
+    let moved = Scene::from_toml_str(
+        &text.replace(
+            "position_m = [0.0, 0.0, 15.0]",
+            "position_m = [0.0, 1.0, 15.0]",
+        ),
+        "t",
+    )
+    .unwrap();
+    assert!(
+        !surface.serves(moved.radar(), env, 4, samples),
+        "another place"
+    );
+    let tilted = ClutterSurface::new(radar, env, 4, samples, &vec![0.01; radar.spokes()]).unwrap();
+    assert!(!tilted.serves(radar, env, 4, samples), "a tilted beam");
+    let drawn = ClutterMap::on_surface(std::sync::Arc::clone(surface), 3);
+    let made = ClutterMap::new(radar, env, FrameKey::new(4, 3), samples).unwrap();
+    let (spokes, n) = made.shape();
+    assert_eq!(drawn.shape(), (spokes, n));
+    let mut textured = 0;
+    for k in 0..spokes {
+        for j in 0..n {
+            assert_eq!(drawn.power(k, j).to_bits(), made.power(k, j).to_bits());
+            assert_eq!(drawn.texture(k, j).to_bits(), made.texture(k, j).to_bits());
+            assert_eq!(drawn.land_echo(k, j), made.land_echo(k, j));
+            textured += usize::from(drawn.texture(k, j) != kept.texture(k, j));
+        }
+    }
+    assert!(
+        textured > spokes * n / 4,
+        "the texture did not drift: {textured} cells"
+    );
+}

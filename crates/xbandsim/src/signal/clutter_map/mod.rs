@@ -44,22 +44,43 @@ pub(crate) use texture::{texture_field, TEXTURE_FIELDS};
 use crate::environment::clutter::ClutterDistribution;
 use crate::model::{Environment, Radar};
 use crate::rng::FrameKey;
-use geometry::MapGeometry;
+use geometry::{CellGeometry, MapGeometry};
 use rayon::prelude::*;
 use spoke::SpokeStage;
+use std::sync::Arc;
 use texture::{TextureScratch, TextureStage};
 
-/// The clutter of one revolution: mean powers of every (spoke, sample) patch before azimuth
-/// weighting, and the texture of every output cell.
+/// The clutter of one revolution: the surface's mean powers of every (spoke, sample) patch
+/// before azimuth weighting with the land's echo ([`ClutterSurface`]), and the texture of
+/// every output cell.
 pub struct ClutterMap {
+    surface: Arc<ClutterSurface>,
+    /// Texture of each output cell (rows empty for Rayleigh clutter).
+    texture: Vec<Vec<f32>>,
+}
+
+/// What a clutter map keeps while the radar stands still: every patch's texture-free sea and
+/// rain power and the land's rows and frozen echo. They depend on the radar (its pose, its
+/// beam), the environment, the render's seed and the record's length, not on the revolution:
+/// only the sea's texture drifts with time. A radar ashore or on a moored ship makes them
+/// once and draws each revolution's texture on them ([`ClutterMap::on_surface`]).
+pub struct ClutterSurface {
+    /// The radar it was made for.
+    radar: Radar,
+    /// The environment it was made in.
+    env: Environment,
+    /// The render's seed (the land's frozen echo and the texture field are drawn from it).
+    seed: u64,
+    /// Whether every spoke's beam is level (no beam tilts): only such a surface is reused.
+    level: bool,
+    /// Each range sample's cell geometry.
+    cells: Vec<Option<CellGeometry>>,
     spokes: usize,
     samples: usize,
     /// Texture-free mean sea power per patch, noise units, one row of samples per spoke.
     sea: Vec<Vec<f32>>,
     /// Rain power per patch (rows empty without rain).
     rain: Vec<Vec<f32>>,
-    /// Texture of each output cell (rows empty for Rayleigh clutter).
-    texture: Vec<Vec<f32>>,
     /// Azimuth weights Gn²(jδ) for j = −J..=J, scaled to sum to the beam integral / δ.
     weights: Vec<f32>,
     distribution: ClutterDistribution,
@@ -79,32 +100,19 @@ pub struct ClutterMap {
     sea_seen: Vec<Vec<bool>>,
 }
 
-impl ClutterMap {
-    /// The clutter of revolution `key` (the texture drifts with time `frame × rotation
-    /// period`) for records of `samples` samples; None when there is neither sea clutter
-    /// nor rain.
+impl ClutterSurface {
+    /// The surface of `radar` in `env` for the render seeded `seed`, records of `samples`
+    /// samples, spoke k's beam axis raised by `beam_tilt_rad[k]` (empty for a level deck;
+    /// [`ClutterMap::with_beam_tilts`]); None when there is neither sea clutter, rain nor
+    /// land. The stages: cell geometry, then per spoke (in parallel) σ0, rain and land, then
+    /// the land's frozen echo.
     pub fn new(
         radar: &Radar,
         env: &Environment,
-        key: FrameKey,
-        samples: usize,
-    ) -> Option<ClutterMap> {
-        ClutterMap::with_beam_tilts(radar, env, key, samples, &[])
-    }
-
-    /// As [`ClutterMap::new`], with spoke k's beam axis raised by `beam_tilt_rad[k]` (the own
-    /// ship's roll and pitch when the beam passes it; an empty slice for a level deck): the
-    /// sea's elevation gain `Gn²(ψ_d − tilt − δ)` and the rain's elevation integral
-    /// `∫_{lo−δ}^{hi−δ} Gn²` = the level integral `+ ∫_{lo−δ}^{lo} − ∫_{hi−δ}^{hi}` (each edge
-    /// by an 8-point midpoint rule). The stages: cell geometry, then per spoke (in parallel)
-    /// σ0 and rain, then texture.
-    pub fn with_beam_tilts(
-        radar: &Radar,
-        env: &Environment,
-        key: FrameKey,
+        seed: u64,
         samples: usize,
         beam_tilt_rad: &[f64],
-    ) -> Option<ClutterMap> {
+    ) -> Option<ClutterSurface> {
         if env.clutter().is_none() && env.rain().is_none() && env.land().has_no_surface() {
             return None;
         }
@@ -114,66 +122,49 @@ impl ClutterMap {
         let distribution = env
             .clutter()
             .map_or(ClutterDistribution::Rayleigh, |c| c.distribution());
-        let textures = TextureStage::new(radar, env, &cells, key);
-        let spoke_stage = SpokeStage::new(radar, env, &geometry, &cells, key.frame, beam_tilt_rad);
+        let spoke_stage = SpokeStage::new(radar, env, &geometry, &cells, beam_tilt_rad);
         let has_rain = env.rain().is_some();
         let radar_xy = radar.position_m().truncate();
         let view = (!env.land().has_no_surface())
             .then(|| crate::land::profile::LandView::surface(env.land(), radar_xy));
-        type Rows = (Vec<f32>, Vec<f32>, Vec<f32>, Vec<f32>, Vec<u32>, Vec<bool>);
+        type Rows = (Vec<f32>, Vec<f32>, Vec<f32>, Vec<u32>, Vec<bool>);
         let per_spoke: Vec<Rows> = (0..geometry.spokes)
             .into_par_iter()
-            .map_init(
-                || (TextureScratch::default(), Vec::new()),
-                |(scratch, crossings), k| {
-                    scratch.cells.clear();
-                    let mut sea_row = vec![0f32; samples];
-                    let mut rain_row = vec![0f32; if has_rain { samples } else { 0 }];
-                    let mut texture_row = vec![0f32; if textures.is_some() { samples } else { 0 }];
-                    if env.clutter().is_some() || has_rain {
-                        spoke_stage.fill_rows(
-                            k,
-                            textures.is_some(),
-                            &mut scratch.cells,
-                            &mut sea_row,
-                            &mut rain_row,
-                        );
-                        if let Some(t) = &textures {
-                            t.fill_row(k, &cells, scratch, &mut texture_row);
-                        }
+            .map_init(Vec::new, |crossings, k| {
+                let mut sea_row = vec![0f32; samples];
+                let mut rain_row = vec![0f32; if has_rain { samples } else { 0 }];
+                if env.clutter().is_some() || has_rain {
+                    spoke_stage.fill_rows(k, &mut sea_row, &mut rain_row);
+                }
+                let (mut land_row, mut polygon_row, mut seen) =
+                    (Vec::new(), Vec::new(), Vec::new());
+                if let Some(view) = &view {
+                    land_row = vec![0f32; samples];
+                    polygon_row = vec![spoke::NO_POLYGON; samples];
+                    seen = vec![true; samples];
+                    if !spoke_stage.fill_land_row(
+                        k,
+                        view,
+                        crossings,
+                        &mut land_row,
+                        &mut polygon_row,
+                        &mut seen,
+                        &mut sea_row,
+                    ) {
+                        (land_row, polygon_row, seen) = (Vec::new(), Vec::new(), Vec::new());
                     }
-                    let (mut land_row, mut polygon_row, mut seen) =
-                        (Vec::new(), Vec::new(), Vec::new());
-                    if let Some(view) = &view {
-                        land_row = vec![0f32; samples];
-                        polygon_row = vec![spoke::NO_POLYGON; samples];
-                        seen = vec![true; samples];
-                        if !spoke_stage.fill_land_row(
-                            k,
-                            view,
-                            crossings,
-                            &mut land_row,
-                            &mut polygon_row,
-                            &mut seen,
-                            &mut sea_row,
-                        ) {
-                            (land_row, polygon_row, seen) = (Vec::new(), Vec::new(), Vec::new());
-                        }
-                    }
-                    (sea_row, rain_row, texture_row, land_row, polygon_row, seen)
-                },
-            )
+                }
+                (sea_row, rain_row, land_row, polygon_row, seen)
+            })
             .collect();
         let mut sea = Vec::with_capacity(geometry.spokes);
         let mut rain = Vec::with_capacity(geometry.spokes);
-        let mut texture = Vec::with_capacity(geometry.spokes);
         let mut land_power = Vec::with_capacity(geometry.spokes);
         let mut land_polygon = Vec::with_capacity(geometry.spokes);
         let mut sea_seen = Vec::with_capacity(geometry.spokes);
-        for (s_row, r_row, t_row, l_row, p_row, seen) in per_spoke {
+        for (s_row, r_row, l_row, p_row, seen) in per_spoke {
             sea.push(s_row);
             rain.push(r_row);
-            texture.push(t_row);
             land_power.push(l_row);
             land_polygon.push(p_row);
             sea_seen.push(seen);
@@ -198,7 +189,7 @@ impl ClutterMap {
                             &land_polygon,
                             &weights,
                             view.land(),
-                            key.seed,
+                            seed,
                             radar_xy,
                             glam::DVec2::new(az.sin(), az.cos()),
                             &ground_m,
@@ -209,27 +200,100 @@ impl ClutterMap {
                     .collect()
             }
         };
-        Some(ClutterMap {
-            land_power,
-            land_echo,
-            land_polygon,
-            land_count: env.land().polygons().len(),
-            sea_seen,
+        Some(ClutterSurface {
+            radar: radar.clone(),
+            env: env.clone(),
+            seed,
+            level: beam_tilt_rad.is_empty(),
+            cells,
             spokes: geometry.spokes,
             samples,
             sea,
             rain,
-            texture,
             weights,
             distribution,
+            land_echo,
+            land_power,
+            land_polygon,
+            land_count: env.land().polygons().len(),
+            sea_seen,
         })
+    }
+
+    /// Whether this surface is the one [`ClutterSurface::new`] would make for a level beam
+    /// with these inputs, so that a revolution may draw its texture on it.
+    pub fn serves(&self, radar: &Radar, env: &Environment, seed: u64, samples: usize) -> bool {
+        self.level
+            && self.seed == seed
+            && self.samples == samples
+            && self.radar == *radar
+            && self.env == *env
+    }
+}
+
+impl ClutterMap {
+    /// The clutter of revolution `key` (the texture drifts with time `frame × rotation
+    /// period`) for records of `samples` samples; None when there is neither sea clutter,
+    /// rain nor land.
+    pub fn new(
+        radar: &Radar,
+        env: &Environment,
+        key: FrameKey,
+        samples: usize,
+    ) -> Option<ClutterMap> {
+        ClutterMap::with_beam_tilts(radar, env, key, samples, &[])
+    }
+
+    /// As [`ClutterMap::new`], with spoke k's beam axis raised by `beam_tilt_rad[k]` (the own
+    /// ship's roll and pitch when the beam passes it; an empty slice for a level deck): the
+    /// sea's elevation gain `Gn²(ψ_d − tilt − δ)` and the rain's elevation integral
+    /// `∫_{lo−δ}^{hi−δ} Gn²` = the level integral `+ ∫_{lo−δ}^{lo} − ∫_{hi−δ}^{hi}` (each edge
+    /// by an 8-point midpoint rule). The surface ([`ClutterSurface::new`]), then the texture
+    /// ([`ClutterMap::on_surface`]).
+    pub fn with_beam_tilts(
+        radar: &Radar,
+        env: &Environment,
+        key: FrameKey,
+        samples: usize,
+        beam_tilt_rad: &[f64],
+    ) -> Option<ClutterMap> {
+        let surface = ClutterSurface::new(radar, env, key.seed, samples, beam_tilt_rad)?;
+        Some(ClutterMap::on_surface(Arc::new(surface), key.frame))
+    }
+
+    /// The clutter of revolution `frame` on `surface`: the sea's texture drifted to that
+    /// revolution, per spoke in parallel. The same map as [`ClutterMap::with_beam_tilts`]
+    /// with the surface's inputs.
+    pub fn on_surface(surface: Arc<ClutterSurface>, frame: u64) -> ClutterMap {
+        let s = &*surface;
+        let key = FrameKey::new(s.seed, frame);
+        let texture = match TextureStage::new(&s.radar, &s.env, &s.cells, key) {
+            None => vec![Vec::new(); s.spokes],
+            Some(stage) => {
+                let drift = texture::drift_m(&s.radar, &s.env, frame);
+                (0..s.spokes)
+                    .into_par_iter()
+                    .map_init(TextureScratch::default, |scratch, k| {
+                        let mut row = vec![0f32; s.samples];
+                        stage.fill_row(k, &s.cells, drift, scratch, &mut row);
+                        row
+                    })
+                    .collect()
+            }
+        };
+        ClutterMap { surface, texture }
+    }
+
+    /// The surface the map's texture is drawn on.
+    pub fn surface(&self) -> &Arc<ClutterSurface> {
+        &self.surface
     }
 
     /// Spoke index `k + t − J` wrapped around the revolution.
     #[inline]
     fn neighbour(&self, k: usize, t: usize) -> usize {
-        let half = (self.weights.len() / 2) as isize;
-        (k as isize + t as isize - half).rem_euclid(self.spokes as isize) as usize
+        let half = (self.surface.weights.len() / 2) as isize;
+        (k as isize + t as isize - half).rem_euclid(self.surface.spokes as isize) as usize
     }
 
     /// Texture-free mean clutter power (sea and rain) of spoke `k`, sample `n`, after
@@ -242,7 +306,7 @@ impl ClutterMap {
     /// The frozen land echo of output cell (spoke `k`, sample `n`), noise-rms units (zero
     /// away from land).
     pub fn land_echo(&self, k: usize, n: usize) -> num_complex::Complex32 {
-        self.land_echo[k]
+        self.surface.land_echo[k]
             .get(n)
             .copied()
             .unwrap_or(num_complex::Complex32::new(0.0, 0.0))
@@ -252,8 +316,8 @@ impl ClutterMap {
     /// texture (noise units): what `|land_echo|²` averages to.
     pub fn land_mean_power(&self, k: usize, n: usize) -> f32 {
         let mut sum = 0f32;
-        for (t, w) in self.weights.iter().enumerate() {
-            if let Some(p) = self.land_power[self.neighbour(k, t)].get(n) {
+        for (t, w) in self.surface.weights.iter().enumerate() {
+            if let Some(p) = self.surface.land_power[self.neighbour(k, t)].get(n) {
                 sum += w * p;
             }
         }
@@ -263,40 +327,40 @@ impl ClutterMap {
     /// The land polygon whose visible surface patch (spoke `k`, sample `n`) is, if any: the
     /// cell's echo is that land's.
     pub fn land_polygon(&self, k: usize, n: usize) -> Option<usize> {
-        self.land_polygon[k]
+        self.surface.land_polygon[k]
             .get(n)
-            .filter(|&&p| (p as usize) < self.land_count)
+            .filter(|&&p| (p as usize) < self.surface.land_count)
             .map(|&p| p as usize)
     }
 
     /// The structure whose footprint patch (spoke `k`, sample `n`) is and is seen, if any: its
     /// index among the structures ([`crate::land::Land::surface`] less the land).
     pub fn structure_at(&self, k: usize, n: usize) -> Option<usize> {
-        self.land_polygon[k]
+        self.surface.land_polygon[k]
             .get(n)
-            .filter(|&&p| p != spoke::NO_POLYGON && (p as usize) >= self.land_count)
-            .map(|&p| p as usize - self.land_count)
+            .filter(|&&p| p != spoke::NO_POLYGON && (p as usize) >= self.surface.land_count)
+            .map(|&p| p as usize - self.surface.land_count)
     }
 
     /// Whether the surface at patch (spoke `k`, sample `n`) is in view: false where land or
     /// its shadow hides it (always true without land near).
     pub fn surface_seen(&self, k: usize, n: usize) -> bool {
-        self.sea_seen[k].get(n).copied().unwrap_or(true)
+        self.surface.sea_seen[k].get(n).copied().unwrap_or(true)
     }
 
     /// Whether any spoke meets land.
     pub fn has_land(&self) -> bool {
-        self.land_polygon.iter().any(|r| !r.is_empty())
+        self.surface.land_polygon.iter().any(|r| !r.is_empty())
     }
 
     /// Beam-weighted sea and rain power of spoke `k`, sample `n`.
     #[inline]
     fn weighted(&self, k: usize, n: usize) -> (f32, f32) {
         let (mut sea, mut rain) = (0f32, 0f32);
-        for (t, w) in self.weights.iter().enumerate() {
+        for (t, w) in self.surface.weights.iter().enumerate() {
             let j = self.neighbour(k, t);
-            sea += w * self.sea[j][n];
-            if let Some(r) = self.rain[j].get(n) {
+            sea += w * self.surface.sea[j][n];
+            if let Some(r) = self.surface.rain[j].get(n) {
                 rain += w * r;
             }
         }
@@ -318,11 +382,11 @@ impl ClutterMap {
 
     /// The amplitude statistics.
     pub fn distribution(&self) -> ClutterDistribution {
-        self.distribution
+        self.surface.distribution
     }
 
     /// Spokes × samples of the map.
     pub fn shape(&self) -> (usize, usize) {
-        (self.spokes, self.samples)
+        (self.surface.spokes, self.surface.samples)
     }
 }

@@ -66,18 +66,18 @@ impl ClutterMap {
     /// samples into `sea` and `rain` (rain left empty without rain), row by row (contiguous,
     /// vectorisable); what the buffers held before does not matter.
     fn beam_weighted(&self, k: usize, n_max: usize, sea: &mut Vec<f32>, rain: &mut Vec<f32>) {
-        let has_rain = !self.rain[k].is_empty();
+        let has_rain = !self.surface.rain[k].is_empty();
         sea.clear();
         sea.resize(n_max, 0.0);
         rain.clear();
         rain.resize(if has_rain { n_max } else { 0 }, 0.0);
-        for (t, &w) in self.weights.iter().enumerate() {
+        for (t, &w) in self.surface.weights.iter().enumerate() {
             let j = self.neighbour(k, t);
-            for (acc, &v) in sea.iter_mut().zip(&self.sea[j][..n_max]) {
+            for (acc, &v) in sea.iter_mut().zip(&self.surface.sea[j][..n_max]) {
                 *acc += w * v;
             }
             if has_rain {
-                for (acc, &v) in rain.iter_mut().zip(&self.rain[j][..n_max]) {
+                for (acc, &v) in rain.iter_mut().zip(&self.surface.rain[j][..n_max]) {
                     *acc += w * v;
                 }
             }
@@ -98,10 +98,10 @@ impl ClutterMap {
     ) {
         debug_assert_eq!(speckle.stream, Stream::ClutterSpeckle);
         let mut rng: Pcg64Mcg = speckle.rng();
-        let n_max = self.samples.min(impulse_response.len());
+        let n_max = self.surface.samples.min(impulse_response.len());
         // Beam-weighted sea and rain power of this spoke, accumulated row by row (contiguous,
         // vectorisable) into the caller's two buffers.
-        let has_rain = !self.rain[k].is_empty();
+        let has_rain = !self.surface.rain[k].is_empty();
         self.beam_weighted(k, n_max, sea, rain);
         let texture = (!self.texture[k].is_empty()).then(|| &self.texture[k][..n_max]);
         for n in 0..n_max {
@@ -117,7 +117,10 @@ impl ClutterMap {
             impulse_response[n] += Complex32::new(re * s, im * s);
         }
         // Land: its frozen echo, the same every pulse.
-        for (x, e) in impulse_response[..n_max].iter_mut().zip(&self.land_echo[k]) {
+        for (x, e) in impulse_response[..n_max]
+            .iter_mut()
+            .zip(&self.surface.land_echo[k])
+        {
             *x += e;
         }
     }
@@ -146,9 +149,9 @@ impl ClutterMap {
     ) {
         debug_assert_eq!(key.stream, Stream::ClutterDwell);
         let mut rng: Pcg64Mcg = key.rng();
-        let n_max = self.samples.min(stride);
+        let n_max = self.surface.samples.min(stride);
         let pulses = times_s.len();
-        let has_rain = !self.rain[k].is_empty();
+        let has_rain = !self.surface.rain[k].is_empty();
         let s = scratch;
         self.beam_weighted(k, n_max, &mut s.sea, &mut s.rain);
         let duration =
@@ -197,13 +200,13 @@ impl ClutterMap {
                 out[m * stride + n] += acc;
             }
         }
-        if !self.land_echo[k].is_empty() {
+        if !self.surface.land_echo[k].is_empty() {
             for (m, &t) in times_s.iter().enumerate() {
                 let ph = std::f64::consts::TAU * land_doppler_hz * (t - t0);
                 let turn = Complex32::new(ph.cos() as f32, ph.sin() as f32);
                 for (x, e) in out[m * stride..m * stride + n_max]
                     .iter_mut()
-                    .zip(&self.land_echo[k])
+                    .zip(&self.surface.land_echo[k])
                 {
                     *x += e * turn;
                 }

@@ -30,28 +30,18 @@ pub(super) struct SpokeStage<'a> {
     /// Two-way rain loss of each row along a spoke that crosses no rain cell (the uniform
     /// rain alone: the same for every such spoke), so once per map, not once per spoke.
     uniform_rain_loss: Vec<f64>,
-    /// How far the texture field has drifted downwind, m.
-    drift: DVec2,
     beam_tilt_rad: &'a [f64],
 }
 
 impl<'a> SpokeStage<'a> {
-    /// The stage of a map of revolution `frame` (the texture drifts for `frame` rotation
-    /// periods), spoke k's beam raised by `beam_tilt_rad[k]`.
+    /// The stage of a map with spoke k's beam raised by `beam_tilt_rad[k]`.
     pub(super) fn new(
         radar: &'a Radar,
         env: &'a Environment,
         geometry: &'a MapGeometry,
         cells: &'a [Option<CellGeometry>],
-        frame: u64,
         beam_tilt_rad: &'a [f64],
     ) -> SpokeStage<'a> {
-        let t_s = frame as f64 * 60.0 / radar.rotation_rpm();
-        let drift = env.clutter().map_or(DVec2::ZERO, |c| {
-            // Downwind is opposite to where the wind comes from.
-            let to = c.wind_from_rad() + std::f64::consts::PI;
-            DVec2::new(to.sin(), to.cos()) * c.drift_m_per_s() * t_s
-        });
         let attenuator = env
             .rain()
             .as_ref()
@@ -79,7 +69,6 @@ impl<'a> SpokeStage<'a> {
             radar,
             attenuator,
             uniform_rain_loss,
-            drift,
             beam_tilt_rad,
         }
     }
@@ -94,16 +83,8 @@ impl<'a> SpokeStage<'a> {
     }
 
     /// Spoke k's texture-free sea and rain power per patch (noise units, the rain row empty
-    /// without rain) into `sea_row` and `rain_row`; when `textured`, the sea cells' sample
-    /// index and drifted field coordinates into `textured_cells`.
-    pub(super) fn fill_rows(
-        &self,
-        k: usize,
-        textured: bool,
-        textured_cells: &mut Vec<(usize, f64, f64)>,
-        sea_row: &mut [f32],
-        rain_row: &mut [f32],
-    ) {
+    /// without rain) into `sea_row` and `rain_row`.
+    pub(super) fn fill_rows(&self, k: usize, sea_row: &mut [f32], rain_row: &mut [f32]) {
         let g = self.geometry;
         let (h, lambda, delta, ant) = (g.h, g.lambda, g.delta, &g.ant);
         let clutter = self.env.clutter();
@@ -172,10 +153,6 @@ impl<'a> SpokeStage<'a> {
                 };
                 let mean = sigma0 * sea_factor;
                 sea_row[n] = (mean * rain_loss * delta) as f32;
-                if textured {
-                    let x = p - self.drift;
-                    textured_cells.push((n, x.x, x.y));
-                }
             }
             if let Some(rain) = &self.env.rain() {
                 // η changes only at cell edges along a spoke: recomputed when the rate does.

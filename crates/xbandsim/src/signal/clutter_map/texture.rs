@@ -11,7 +11,19 @@ use crate::environment::clutter::{
 };
 use crate::model::{Environment, Radar, SeaClutter};
 use crate::rng::FrameKey;
+use glam::DVec2;
 use std::sync::{Arc, OnceLock};
+
+/// How far the texture field has drifted downwind by revolution `frame` (`frame` rotation
+/// periods at the sea's drift speed), m; zero without sea clutter.
+pub(super) fn drift_m(radar: &Radar, env: &Environment, frame: u64) -> DVec2 {
+    let t_s = frame as f64 * 60.0 / radar.rotation_rpm();
+    env.clutter().map_or(DVec2::ZERO, |c| {
+        // Downwind is opposite to where the wind comes from.
+        let to = c.wind_from_rad() + std::f64::consts::PI;
+        DVec2::new(to.sin(), to.cos()) * c.drift_m_per_s() * t_s
+    })
+}
 
 /// The texture field of scene seed `seed` over `extent_m` with correlation length
 /// `correlation_m`: a pure function of the three (its own random stream), so the few made
@@ -114,16 +126,28 @@ impl<'a> TextureStage<'a> {
         })
     }
 
-    /// The texture of spoke `k`'s sea cells `scratch.cells` (sample index, field
-    /// coordinates) into `texture_row` (zero elsewhere), the field's values read in one pass
-    /// of their own (whose iterations overlap), then mapped to the marginal.
+    /// The texture of spoke `k`'s sea cells into `texture_row` (zero elsewhere): each cell
+    /// `n` of `cells` reads the field at its point on the spoke less the `drift`. The
+    /// field's values are read in one pass of their own (whose iterations overlap), then
+    /// mapped to the marginal.
     pub(super) fn fill_row(
         &self,
         k: usize,
         cells: &[Option<CellGeometry>],
+        drift: DVec2,
         scratch: &mut TextureScratch,
         texture_row: &mut [f32],
     ) {
+        let radar_xy = self.radar.position_m().truncate();
+        let az = self.radar.spoke_azimuth_rad(k);
+        let dir = DVec2::new(az.sin(), az.cos());
+        scratch.cells.clear();
+        for (n, row) in cells.iter().enumerate() {
+            if let Some(row) = row {
+                let x = radar_xy + dir * row.ground_m - drift;
+                scratch.cells.push((n, x.x, x.y));
+            }
+        }
         let textured_cells = &scratch.cells;
         let values = &mut scratch.values;
         self.field.at_each(textured_cells, values);
