@@ -82,6 +82,29 @@ impl Environment {
         &self.land
     }
 
+    /// Whether `other` is this environment (`==`), the land taken as equal without comparing
+    /// its polygons and height maps when both share it (clones of one environment do).
+    pub fn is_same(&self, other: &Environment) -> bool {
+        let Environment {
+            noise,
+            sea,
+            two_way_attenuation_db_per_km,
+            clutter,
+            rain,
+            earth_curvature,
+            clutter_doppler,
+            land,
+        } = self;
+        *noise == other.noise
+            && *sea == other.sea
+            && *two_way_attenuation_db_per_km == other.two_way_attenuation_db_per_km
+            && *clutter == other.clutter
+            && *rain == other.rain
+            && *earth_curvature == other.earth_curvature
+            && *clutter_doppler == other.clutter_doppler
+            && (std::sync::Arc::ptr_eq(land, &other.land) || **land == *other.land)
+    }
+
     /// This environment with `land`.
     pub fn with_land(mut self, land: crate::land::Land) -> Environment {
         self.land = std::sync::Arc::new(land);

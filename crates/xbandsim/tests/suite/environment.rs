@@ -218,3 +218,28 @@ fn sea_roughness_defaults_follow_the_docs() {
     assert_eq!(s.rms_height_m, 0.2);
     assert_eq!(s.roughness, SeaRoughness::Ament);
 }
+
+/// `Environment::is_same` is `==`: a clone, or the same scene parsed twice (its land in
+/// another allocation), is the same; another land, sea state or rain is not.
+#[test]
+fn is_same_environment_is_equality() {
+    let island = "[[land]]\npolygon_m = [[-50.0, 500.0], [50.0, 500.0], [50.0, 600.0], [-50.0, 600.0]]\nheight_m = 10.0\n";
+    let env_of = |text: &str| {
+        xbandsim::Scene::from_toml_str(text, "t")
+            .unwrap()
+            .environment()
+            .clone()
+    };
+    let base = format!("[environment]\nsea_state = 3\n{island}");
+    let env = env_of(&base);
+    assert!(env.is_same(&env.clone()));
+    assert!(env.is_same(&env_of(&base)) && env == env_of(&base));
+    for other in [
+        base.replace("height_m = 10.0", "height_m = 11.0"),
+        base.replace("sea_state = 3", "sea_state = 4"),
+        format!("{base}[[environment.rain_cell]]\ncentre_m = [0.0, 300.0]\nradius_m = 100.0\nrate_mm_per_h = 4.0\n"),
+    ] {
+        let other = env_of(&other);
+        assert!(!env.is_same(&other) && env != other);
+    }
+}

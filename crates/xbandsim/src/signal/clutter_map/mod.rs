@@ -227,7 +227,7 @@ impl ClutterSurface {
             && self.seed == seed
             && self.samples == samples
             && self.radar == *radar
-            && self.env == *env
+            && self.env.is_same(env)
     }
 }
 
