@@ -44,6 +44,57 @@ pub struct Assembled {
     /// Labelled objects by range scale (the display range, m, as its bits: exact) and class:
     /// how their hulls and echoes compare with the radar's resolution cell.
     pub resolution: BTreeMap<(u64, String), Resolution>,
+    /// Free-space RCS by class over every row that has one.
+    pub rcs: BTreeMap<String, RcsDistribution>,
+}
+
+/// Bins of an RCS histogram: 0.1 dB wide from [`RCS_LOWEST_DBSM`] (values beyond either end
+/// count in the end bins).
+const RCS_BINS: usize = 2000;
+
+/// The lower edge of the RCS histogram, dBsm.
+const RCS_LOWEST_DBSM: f64 = -100.0;
+
+/// How one class's free-space RCS (`rcs_dbsm`, at the aspects its targets were seen at) is
+/// spread: a histogram in 0.1 dB bins, so that its percentiles are read to 0.1 dB whatever
+/// the number of rows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RcsDistribution {
+    /// Rows counted.
+    pub rows: u64,
+    bins: Vec<u64>,
+}
+
+impl Default for RcsDistribution {
+    fn default() -> RcsDistribution {
+        RcsDistribution {
+            rows: 0,
+            bins: vec![0; RCS_BINS],
+        }
+    }
+}
+
+impl RcsDistribution {
+    /// Counts one RCS, dBsm.
+    pub fn add(&mut self, rcs_dbsm: f64) {
+        let bin = ((rcs_dbsm - RCS_LOWEST_DBSM) * 10.0).floor().max(0.0) as usize;
+        self.bins[bin.min(RCS_BINS - 1)] += 1;
+        self.rows += 1;
+    }
+
+    /// The `fraction` quantile (0–1), dBsm: the centre of the first bin at which the count
+    /// so far reaches that fraction of the rows; None with no rows.
+    pub fn quantile_dbsm(&self, fraction: f64) -> Option<f64> {
+        let wanted = (fraction * self.rows as f64).max(1.0);
+        let mut seen = 0;
+        for (bin, n) in self.bins.iter().enumerate() {
+            seen += n;
+            if seen as f64 >= wanted {
+                return Some(RCS_LOWEST_DBSM + (bin as f64 + 0.5) / 10.0);
+            }
+        }
+        None
+    }
 }
 
 /// Half-pixel bins of a length histogram, up to 1024 px (longer ones count in the last).
@@ -258,6 +309,14 @@ impl Writer {
         for line in rows.split(|&b| b == b'\n').filter(|l| !l.is_empty()) {
             self.summary.targets += 1;
             if let Ok(v) = serde_json::from_slice::<serde_json::Value>(line) {
+                if let (Some(class), Some(rcs_dbsm)) = (v["class"].as_str(), v["rcs_dbsm"].as_f64())
+                {
+                    self.summary
+                        .rcs
+                        .entry(class.to_string())
+                        .or_default()
+                        .add(rcs_dbsm);
+                }
                 if let Some(reason) = v["visibility"].as_str() {
                     *self
                         .summary
@@ -607,6 +666,7 @@ fn dataset_card(
          (see xbandsim's docs/formats.md, \"Dataset labels\").\n",
     );
     c.push_str(&resolution_section(s));
+    c.push_str(&rcs_section(s));
     c.push_str("\n## Spec\n\n```toml\n");
     c.push_str(spec.text.trim_end());
     c.push_str("\n```\n");
@@ -645,9 +705,73 @@ fn resolution_section(s: &Assembled) -> String {
     c
 }
 
+/// The card's section on how bright each class is: its free-space RCS over the aspects its
+/// targets were seen at.
+fn rcs_section(s: &Assembled) -> String {
+    let mut c = String::from(
+        "\n## RCS by class\n\n\
+         Each class's free-space RCS at the aspects its targets were seen at (`rcs_dbsm` and \
+         `aspect_deg` in `targets.jsonl`, every row that has one: a target with no free-space \
+         return, shadowed or beyond the horizon, has none), read to 0.1 dB. The echo over the \
+         sea adds `multipath_gain_db` (in `truth.json`).\n\n\
+         | class | rows | 10th percentile (dBsm) | median (dBsm) | 90th percentile (dBsm) |\n\
+         |---|---|---|---|---|\n",
+    );
+    let dbsm = |d: &RcsDistribution, q: f64| {
+        d.quantile_dbsm(q)
+            .map_or_else(|| "-".to_string(), |v| format!("{v:.1}"))
+    };
+    for (class, d) in &s.rcs {
+        let _ = writeln!(
+            c,
+            "| {class} | {} | {} | {} | {} |",
+            d.rows,
+            dbsm(d, 0.1),
+            dbsm(d, 0.5),
+            dbsm(d, 0.9)
+        );
+    }
+    c
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The RCS histogram's quantiles against the sorted values they come from (0.1 dB bins:
+    /// each quantile is the centre of the bin holding the value at that rank), ends included.
+    #[test]
+    fn rcs_quantiles_match_the_sorted_values() {
+        let values: Vec<f64> = (0..997)
+            .map(|i| -40.0 + 90.0 * ((i as f64 * 0.618_034).fract()))
+            .chain([-250.0, 300.0])
+            .collect();
+        let mut d = RcsDistribution::default();
+        for &v in &values {
+            d.add(v);
+        }
+        let mut sorted = values.clone();
+        sorted.sort_by(f64::total_cmp);
+        for q in [0.1, 0.5, 0.9, 1.0] {
+            let rank = ((q * sorted.len() as f64).ceil() as usize).max(1) - 1;
+            let v = sorted[rank].clamp(
+                RCS_LOWEST_DBSM,
+                RCS_LOWEST_DBSM + RCS_BINS as f64 / 10.0 - 0.05,
+            );
+            let centre = RCS_LOWEST_DBSM + (((v - RCS_LOWEST_DBSM) * 10.0).floor() + 0.5) / 10.0;
+            assert!(
+                (d.quantile_dbsm(q).unwrap() - centre).abs() < 1e-9,
+                "q {q}: {:?} against {centre}",
+                d.quantile_dbsm(q)
+            );
+        }
+        assert_eq!(
+            d.quantile_dbsm(0.0),
+            Some(RCS_LOWEST_DBSM + 0.05),
+            "the lowest, clamped"
+        );
+        assert_eq!(RcsDistribution::default().quantile_dbsm(0.5), None);
+    }
 
     /// On Linux the one-step swap exchanges two folders' contents (or says the file system
     /// cannot, and the caller moves the old tree aside instead).

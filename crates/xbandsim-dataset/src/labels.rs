@@ -512,6 +512,7 @@ pub fn frame_labels(
             "course_deg": o.course_deg,
             "speed_kn": o.speed_kn,
             "radial_velocity_mps": o.radial_velocity_mps,
+            "aspect_deg": [o.aspect_azimuth_deg, o.aspect_elevation_deg],
             "rcs_dbsm": o.rcs_dbsm,
             "expected_snr_db": o.expected_snr_db,
             "visibility": o.visibility,

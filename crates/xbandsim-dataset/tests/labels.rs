@@ -828,3 +828,53 @@ fn coast_samples_label_their_land_as_a_region() {
         .collect();
     assert_eq!(names.last(), Some(&"land"));
 }
+
+/// The card's "RCS by class" rows are the targets table's: per class, the rows with an
+/// `rcs_dbsm` and their 10th percentile, median and 90th percentile, each the centre of the
+/// 0.1 dB bin that holds the value of that rank; every row carries its aspect.
+#[test]
+fn the_card_reports_each_class_rcs_from_the_targets_table() {
+    let tmp = tempfile::tempdir().unwrap();
+    make(tmp.path(), 6);
+    let text = std::fs::read_to_string(tmp.path().join("targets.jsonl")).unwrap();
+    let mut per_class: std::collections::BTreeMap<String, Vec<f64>> = Default::default();
+    for line in text.lines() {
+        let row: serde_json::Value = serde_json::from_str(line).unwrap();
+        let aspect = row["aspect_deg"].as_array().expect("aspect_deg");
+        let (az, el) = (aspect[0].as_f64().unwrap(), aspect[1].as_f64().unwrap());
+        assert!(
+            (0.0..360.0).contains(&az) && (-90.0..=90.0).contains(&el),
+            "{line}"
+        );
+        if let Some(rcs) = row["rcs_dbsm"].as_f64() {
+            per_class
+                .entry(row["class"].as_str().unwrap().to_string())
+                .or_default()
+                .push(rcs);
+        }
+    }
+    assert!(!per_class.is_empty());
+    let card = std::fs::read_to_string(tmp.path().join("README.md")).unwrap();
+    let section = card
+        .split("## RCS by class")
+        .nth(1)
+        .expect("an RCS section");
+    for (class, mut values) in per_class {
+        values.sort_by(f64::total_cmp);
+        let at = |q: f64| {
+            let v = values[((q * values.len() as f64).ceil() as usize).max(1) - 1];
+            format!(
+                "{:.1}",
+                -100.0 + (((v + 100.0) * 10.0).floor() + 0.5) / 10.0
+            )
+        };
+        let row = format!(
+            "| {class} | {} | {} | {} | {} |",
+            values.len(),
+            at(0.1),
+            at(0.5),
+            at(0.9)
+        );
+        assert!(section.contains(&row), "{row} not in {section}");
+    }
+}

@@ -199,6 +199,13 @@ pub struct ObjectTruth {
     pub azimuth_deg: f64,
     /// Elevation from the radar, degrees.
     pub elevation_deg: f64,
+    /// Where the radar lies seen from the object, in the object's own frame, degrees: the
+    /// azimuth from its bow (+y) toward its starboard side (+x), 0–360 (0 bow-on, 90 the
+    /// starboard beam, 180 stern-on), turning with its heading, roll and pitch. The aspect of
+    /// `rcs_m2`.
+    pub aspect_azimuth_deg: f64,
+    /// The radar's elevation above the object's deck plane (its x–y plane), degrees.
+    pub aspect_elevation_deg: f64,
     /// Monostatic free-space RCS at this aspect from the scattering model, m²; null for the
     /// `paper` model and for objects with no free-space return.
     pub rcs_m2: Option<f64>,
@@ -490,6 +497,14 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
             };
             let ground_range_m = rel.x.hypot(rel.y);
             let (az, el) = azimuth_elevation_rad(rel);
+            // The radar in the object's frame (the rotation's transpose is its inverse).
+            let to_radar = k.rotation.transpose() * -rel;
+            let aspect_azimuth_deg = to_radar
+                .x
+                .atan2(to_radar.y)
+                .rem_euclid(std::f64::consts::TAU)
+                .to_degrees();
+            let aspect_elevation_deg = to_radar.z.atan2(to_radar.x.hypot(to_radar.y)).to_degrees();
             // RCS and gain exist only where the model is calibrated and a free-space path
             // returned something.
             let rcs_m2 = sums[i].rcs_m2();
@@ -628,6 +643,8 @@ pub fn object_truth(revolution: &Revolution, set: &ScatterSet, bvh: &Bvh) -> Vec
                 ground_range_m,
                 azimuth_deg: az.to_degrees(),
                 elevation_deg: el.to_degrees(),
+                aspect_azimuth_deg,
+                aspect_elevation_deg,
                 rcs_m2: rcs,
                 rcs_dbsm: rcs.map(linear_to_db),
                 multipath_gain_db: gain.filter(|g| *g > 0.0).map(linear_to_db),

@@ -219,3 +219,45 @@ position_m = [900.0, 0.0, 4.0]
     );
     assert!(frame.truth[0].polar_box.is_none());
 }
+
+/// Each label's aspect is where the radar lies in the object's own frame: bow-on, on either
+/// beam, and with the deck pitched or rolled the elevation above the deck plane, against the
+/// geometry worked by hand (the radar 15 m up, the objects 1000 m off at sea level: the
+/// radar at atan(15/1000) = 0.859° above the horizontal from them).
+#[test]
+fn the_aspect_is_the_radars_direction_in_the_objects_frame() {
+    let up_deg = 15f64.atan2(1000.0).to_degrees();
+    // (position, yaw, pitch, roll) → (aspect azimuth, aspect elevation), degrees.
+    let cases = [
+        ([0.0, 1000.0], 180.0, 0.0, 0.0, 0.0, up_deg),
+        ([0.0, 1000.0], 90.0, 0.0, 0.0, 90.0, up_deg),
+        ([0.0, 1000.0], 270.0, 0.0, 0.0, 270.0, up_deg),
+        ([1000.0, 0.0], 0.0, 0.0, 0.0, 270.0, up_deg),
+        ([0.0, 1000.0], 0.0, 0.0, 0.0, 180.0, up_deg),
+        ([0.0, -1000.0], 0.0, 0.0, 0.0, 0.0, up_deg),
+        // Bow toward the radar and raised 10°: the radar is 10° lower over the deck.
+        ([0.0, 1000.0], 180.0, 10.0, 0.0, 0.0, up_deg - 10.0),
+        // The radar on the starboard beam, starboard rolled 10° down: 10° higher.
+        ([0.0, 1000.0], 90.0, 0.0, 10.0, 90.0, up_deg + 10.0),
+    ];
+    let mut text = String::from(
+        "[environment]\nnoise = false\nclutter = false\nmultipath = false\n\
+         [radar]\nposition_m = [0.0, 0.0, 15.0]\nmax_range_m = 1500.0\n",
+    );
+    for (i, ([x, y], yaw, pitch, roll, _, _)) in cases.iter().enumerate() {
+        text.push_str(&format!(
+            "[[object]]\nname = \"b{i}\"\nshape = \"box\"\nsize_m = [4.0, 12.0, 3.0]\n\
+             position_m = [{x}, {y}, 0.0]\nyaw_deg = {yaw}\npitch_deg = {pitch}\nroll_deg = {roll}\n"
+        ));
+    }
+    let (_, frame) = render(&text, 1);
+    for (t, (_, _, _, _, az, el)) in frame.truth.iter().zip(cases) {
+        assert!(
+            (t.aspect_azimuth_deg - az).abs() < 1e-6 && (t.aspect_elevation_deg - el).abs() < 1e-6,
+            "{}: aspect ({}, {}), expected ({az}, {el})",
+            t.name,
+            t.aspect_azimuth_deg,
+            t.aspect_elevation_deg
+        );
+    }
+}
