@@ -493,7 +493,10 @@ def main(argv=None):
         if args.beach_width_m is not None:
             table += ['edge = "beach"', f"beach_width_m = {args.beach_width_m}"]
         if args.source == "gshhg":
-            dump = Path(args.dump).read_text() if args.dump else run_gmt(box, args.resolution)
+            try:
+                dump = Path(args.dump).read_text() if args.dump else run_gmt(box, args.resolution)
+            except OSError as e:
+                raise CoastError(f"{args.dump or 'gmt'}: {e.strerror or e}")
             coast = gshhg_polygons(dump, box)
             check_origin_on_water(origin, coast)
             note = "GSHHG shorelines (Wessel & Smith), LGPL-3.0; via GMT `gmt coast -M -W`"

@@ -60,6 +60,9 @@ def test_an_origin_on_land_and_bad_regions_are_refused(tmp_path):
     assert r.returncode == 2 and "is on land" in r.stderr and "--origin" in r.stderr
     r = run(["gshhg", "--region=-4.04/-4.26/50.27/50.39", "--dump", str(DUMP), "--out", str(tmp_path / "o")], tmp_path)
     assert r.returncode == 2 and "west < east" in r.stderr
+    missing = tmp_path / "no-such-dump.txt"
+    r = run(["gshhg", "--region=-4.26/-4.04/50.27/50.39", "--dump", str(missing), "--out", str(tmp_path / "o")], tmp_path)
+    assert r.returncode == 2 and f"{missing}: No such file" in r.stderr and "Traceback" not in r.stderr
 
 
 OSM = {

@@ -337,6 +337,15 @@ pub fn check_rings(field: &str, what: &str, rings: &[Vec<DVec2>]) -> Result<()> 
                 ring[i]
             )));
         }
+    }
+    // Crossing edges first: a bow tie can enclose no net area, and its crossing says why.
+    if let Some((a, b)) = first_crossing(rings) {
+        return Err(bad(format!(
+            "edges cross: ring {} edge {} and ring {} edge {} (a polygon must not intersect itself)",
+            a.0, a.1, b.0, b.1
+        )));
+    }
+    for (r, ring) in rings.iter().enumerate() {
         if signed_area_m2(ring).abs() <= 0.0 {
             return Err(bad(format!("ring {r} encloses no area")));
         }
@@ -349,12 +358,6 @@ pub fn check_rings(field: &str, what: &str, rings: &[Vec<DVec2>]) -> Result<()> 
                 "ring {r} is a hole outside the outer ring (ring 0): a hole must lie inside its polygon"
             )));
         }
-    }
-    if let Some((a, b)) = first_crossing(rings) {
-        return Err(bad(format!(
-            "edges cross: ring {} edge {} and ring {} edge {} (a polygon must not intersect itself)",
-            a.0, a.1, b.0, b.1
-        )));
     }
     Ok(())
 }
@@ -526,6 +529,18 @@ mod tests {
         assert!(text.contains("land[2].geojson"), "{text}");
         assert!(text.contains("feature 1"), "{text}");
         assert!(text.contains("ring 0 edge 0 and ring 0 edge 2"), "{text}");
+        // A symmetric bow tie encloses no net area: its crossing is named all the same.
+        let even = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(10.0, 10.0),
+            DVec2::new(10.0, 0.0),
+            DVec2::new(0.0, 10.0),
+        ];
+        let text = check_rings("f", "w", &[even]).unwrap_err().to_string();
+        assert!(
+            text.contains("edges cross: ring 0 edge 0 and ring 0 edge 2"),
+            "{text}"
+        );
         // A hole poking out of its outer ring, and one wholly outside it.
         let rings = vec![square(0.0, 0.0, 10.0), square(8.0, 4.0, 4.0)];
         assert!(check_rings("f", "w", &rings).is_err());

@@ -188,7 +188,7 @@ fn build_table(
     for (j, r) in raw.iter().enumerate() {
         let what = match &file {
             Some(f) => format!("{f:?}: {}", r.describe()),
-            None => format!("land[{i}].polygon_m"),
+            None => corners_text(r.rings[0].iter().map(|&[x, y]| (x, y))),
         };
         let rings = local_rings(&what_field, &what, &r.rings, crs, origin)?;
         check_rings(&what_field, &what, &rings)?;
@@ -502,7 +502,14 @@ fn build_structure_table(
             rings,
             height_m: file_height,
         } = f;
-        check_rings(&what_field, &what, &rings)?;
+        // A footprint written in the scene is shown by its corners (one from a file, by its
+        // file and feature).
+        let shown = if what == what_field {
+            corners_text(rings[0].iter().map(|p| (p.x, p.y)))
+        } else {
+            what.clone()
+        };
+        check_rings(&what_field, &shown, &rings)?;
         let height = match (file_height, t.height_m) {
             (Some(h), _) => h,
             (None, Some(h)) => h,
@@ -582,4 +589,20 @@ impl Footprint {
             height_m: None,
         }
     }
+}
+
+/// Corners written in a scene, as an error shows them: `[[x, y], …]` (m), the first six and
+/// the count of the rest.
+fn corners_text(corners: impl ExactSizeIterator<Item = (f64, f64)>) -> String {
+    let n = corners.len();
+    let shown: Vec<String> = corners
+        .take(6)
+        .map(|(x, y)| format!("[{x}, {y}]"))
+        .collect();
+    let more = if n > 6 {
+        format!(", … ({} more)", n - 6)
+    } else {
+        String::new()
+    };
+    format!("[{}{more}]", shown.join(", "))
 }

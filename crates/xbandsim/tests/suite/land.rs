@@ -253,7 +253,7 @@ fn bad_land_is_refused_naming_the_file_and_the_feature() {
         ("[[land]]\ngeojson = \"open.geojson\"", vec!["land[0].geojson", "open.geojson", "feature 0", "is open"]),
         ("[[land]]\ngeojson = \"missing.geojson\"", vec!["land[0].geojson", "missing.geojson"]),
         ("[[land]]\ngeojson = \"ll.geojson\"\ncrs = \"wgs84\"", vec!["geo.origin_lon_deg", "land[0]"]),
-        ("[[land]]\npolygon_m = [[0.0, 0.0], [10.0, 0.0]]", vec!["land[0].polygon_m", "at least 3"]),
+        ("[[land]]\npolygon_m = [[0.0, 0.0], [10.0, 0.0]]", vec!["land[0].polygon_m` = [[0, 0], [10, 0]]", "at least 3"]),
         ("[[land]]\npolygon_m = [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0]]\nheight_m = -1.0", vec!["land[0].height_m"]),
         ("[[land]]\npolygon_m = [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0]]\nbeach_width_m = 5.0", vec!["land[0].beach_width_m", "beach"]),
         ("[[land]]\npolygon_m = [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0]]\nterrain = \"lava\"", vec!["lava"]),

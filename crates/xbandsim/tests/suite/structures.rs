@@ -260,6 +260,10 @@ fn bad_structures_and_height_maps_are_refused_by_name() {
     let cases = [
         ("[[structure]]\nheight_m = 5.0\n", "structure[0].polygon_m"),
         (
+            "[[structure]]\npolygon_m = [[0.0, 300.0], [10.0, 310.0], [10.0, 300.0], [0.0, 310.0]]\nheight_m = 5.0\n",
+            "`structure[0].polygon_m` = [[0, 300], [10, 310], [10, 300], [0, 310]]: edges cross",
+        ),
+        (
             "[[structure]]\nposition_m = [0.0, 300.0]\nsize_m = [10.0, 10.0]\n",
             "structure[0].height_m",
         ),
