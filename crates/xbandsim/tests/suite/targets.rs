@@ -8,7 +8,7 @@ use xbandsim::constants::{linear_to_db, wavelength_m};
 use xbandsim::geometry::ShapeGeometry;
 use xbandsim::model::{Polarisation, Scene};
 use xbandsim::scattering::rcs::{RcsSettings, RcsTarget};
-use xbandsim::targets::TargetClass;
+use xbandsim::targets::{ReferenceRcs, TargetClass};
 use xbandsim::SceneSpec;
 
 fn spec_of(class: TargetClass, size_m: f64, draws: &[f64; 3]) -> SceneSpec {
@@ -229,14 +229,6 @@ fn aspect_rcs(class: TargetClass) -> (f64, f64, f64) {
     (v[v.len() / 2], mean, v[v.len() - 1].max(broadside))
 }
 
-/// Skolnik's empirical median RCS of a ship, `σ = 52·√f_MHz·D_kt^{3/2}` m² (Skolnik,
-/// *Introduction to Radar Systems*, 3rd ed., 2001, §2.7), with the displacement of a hull of
-/// draught 0.06·L and block coefficient `cb` in sea water (1.025 t/m³).
-fn skolnik_ship_m2(length_m: f64, beam_m: f64, cb: f64) -> f64 {
-    let displacement_kt = 1.025 * cb * length_m * beam_m * 0.06 * length_m / 1000.0;
-    52.0 * 9410f64.sqrt() * displacement_kt.powf(1.5)
-}
-
 /// Each class's RCS is plausible at X band. The buoys, float and marker (analytic
 /// cylinders, spheres and plates) have their median within the band of the literature:
 /// IMO MSC.192(79) Table 2 rates a navigation buoy with a corner reflector at 10 m² and a
@@ -271,37 +263,26 @@ fn class_rcs_is_plausible_at_x_band() {
             linear_to_db(peak)
         ));
         let (lo, hi) = c.size_range_m();
-        let s = 0.5 * (lo + hi);
-        // Beam at the middle draw, as `object_spec` sets it.
-        let beam = |f: f64| f * s;
-        let literature = match c {
-            TargetClass::NavigationBuoy => {
+        let spec = spec_of(*c, 0.5 * (lo + hi), &[0.5; 3]);
+        let literature = match c
+            .reference_rcs(&spec.objects[0])
+            .expect("every class but the reflector")
+        {
+            ReferenceRcs::Band {
+                low_m2, high_m2, ..
+            } => {
                 check(
-                    (10.0..=100.0).contains(&median),
+                    (low_m2..=high_m2).contains(&median),
                     format!("{c}: median {median} m²"),
                 );
                 continue;
             }
-            TargetClass::ChannelMarker => {
-                check(
-                    (1.0..=30.0).contains(&median),
-                    format!("{c}: median {median} m²"),
-                );
-                continue;
-            }
-            TargetClass::LobsterPot => {
-                let r = 0.5 * s;
-                let e = linear_to_db(median) - linear_to_db(PI * r * r);
+            ReferenceRcs::Median { m2, .. } if *c == TargetClass::LobsterPot => {
+                let e = linear_to_db(median) - linear_to_db(m2);
                 check(e.abs() < 0.3, format!("{c}: {e:.2} dB from πr²"));
                 continue;
             }
-            TargetClass::Kayak => 0.5,
-            TargetClass::Rib | TargetClass::SailingYacht => 2.5,
-            TargetClass::FishingVessel | TargetClass::PilotBoat => 10.0,
-            TargetClass::Ferry => skolnik_ship_m2(s, beam(0.205), 0.6),
-            TargetClass::CargoShip => skolnik_ship_m2(s, beam(0.15), 0.7),
-            TargetClass::Tanker => skolnik_ship_m2(s, beam(0.175), 0.8),
-            TargetClass::CornerReflector => unreachable!(),
+            ReferenceRcs::Median { m2, .. } => m2,
         };
         check(
             median < literature && literature < peak,
