@@ -188,10 +188,16 @@ fn build_table(
     for (j, r) in raw.iter().enumerate() {
         let what = match &file {
             Some(f) => format!("{f:?}: {}", r.describe()),
+            None => format!("land[{i}].polygon_m"),
+        };
+        // Errors show a polygon written in the scene by its corners (one from a file, by its
+        // file and feature).
+        let shown = match &file {
+            Some(_) => what.clone(),
             None => corners_text(r.rings[0].iter().map(|&[x, y]| (x, y))),
         };
-        let rings = local_rings(&what_field, &what, &r.rings, crs, origin)?;
-        check_rings(&what_field, &what, &rings)?;
+        let rings = local_rings(&what_field, &shown, &r.rings, crs, origin)?;
+        check_rings(&what_field, &shown, &rings)?;
         if let Some(h) = r.height_m.filter(|h| *h > 9000.0) {
             return Err(Error::invalid(
                 Problem::OutOfRange,
