@@ -447,6 +447,7 @@ fn figures_are_drawn() {
         "fig3_signal_chain.png",
         "fig4_ppi_pulse_widths.png",
         "fig6_receiver_video.png",
+        "target_rcs_by_class.png",
     ] {
         let bytes = std::fs::read(dir.path().join(f)).unwrap();
         assert!(bytes.starts_with(b"\x89PNG") && bytes.len() > 10_000, "{f}");

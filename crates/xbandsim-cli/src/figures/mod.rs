@@ -50,6 +50,8 @@ pub fn run(out: &Path, scene_path: &Path, seed: u64) -> Result<()> {
         seed,
     )?;
     crate::say!("wrote {}", out.join("fig6_receiver_video.png").display());
+    target_rcs(out)?;
+    crate::say!("wrote {}", out.join("target_rcs_by_class.png").display());
     crate::say!("figures done in {:.1} s", t0.elapsed().as_secs_f64());
     Ok(())
 }
@@ -740,5 +742,163 @@ fn fig6(out: &Path, harbour_scene: &Path, sea_scene: &Path, seed: u64) -> Result
         &images,
         panel,
         4,
+    )
+}
+
+/// The target library's RCS against its references: each class at its middle size and
+/// draws, free space, HH, 9.41 GHz, λ/2 ray tubes up to 8192 per aspect (as
+/// `targets::class_rcs_is_plausible_at_x_band`): the RCS over the azimuth of the radar from
+/// the bow at 1° elevation, the median over 0.5°, 1° and 2° (every 2° of azimuth), and the
+/// class's published reference ([`TargetClass::reference_rcs`]) with ±6 dB about it; the
+/// corner reflector's line is its closed form on its axis. docs/targets.md gives the sources.
+fn target_rcs(out: &Path) -> Result<()> {
+    use xbandsim::scattering::rcs::{RcsSettings, RcsTarget};
+    use xbandsim::targets::{ReferenceRcs, TargetClass};
+    let settings = RcsSettings {
+        freq_hz: 9.41e9,
+        polarisation: xbandsim::model::Polarisation::Hh,
+        ray_spacing_wavelengths: 0.5,
+        max_rays: 8192,
+        max_bounces: 3,
+    };
+    let azimuths_deg: Vec<f64> = (0..180).map(|i| 2.0 * i as f64 + 1.0).collect();
+    struct Panel {
+        title: String,
+        curve_dbsm: Vec<(f64, f64)>,
+        median_dbsm: f64,
+        reference_dbsm: Option<f64>,
+        /// The shaded band, dBsm: ±6 dB about a median, or a band reference's own ends.
+        band_dbsm: Option<(f64, f64)>,
+    }
+    let mut panels = Vec::new();
+    for class in TargetClass::all() {
+        let (lo, hi) = class.size_range_m();
+        let size = 0.5 * (lo + hi);
+        let mut spec = class.object_spec(size, &[0.5; 3])?;
+        spec.name = Some(class.name().to_string());
+        // Away from the radar (the sweep is a plane wave: where does not matter).
+        let z = spec.position_m.map_or(0.0, |p| p[2]);
+        spec.position_m = Some([0.0, 500.0, z]);
+        let scene = Scene::from_spec(&SceneSpec {
+            objects: vec![spec.clone()],
+            ..SceneSpec::default()
+        })?;
+        let target = RcsTarget::new(&scene.objects()[0]);
+        let aspects: Vec<(f64, f64)> = [0.5f64, 1.0, 2.0]
+            .iter()
+            .flat_map(|el| {
+                azimuths_deg
+                    .iter()
+                    .map(move |az| (az.to_radians(), el.to_radians()))
+            })
+            .collect();
+        let rcs = target.sweep_m2(&aspects, &settings);
+        let dbsm: Vec<f64> = rcs.iter().map(|&s| linear_to_db(s.max(1e-6))).collect();
+        let mut sorted = dbsm.clone();
+        sorted.sort_by(f64::total_cmp);
+        let median_dbsm = sorted[sorted.len() / 2];
+        let at_one = &dbsm[azimuths_deg.len()..2 * azimuths_deg.len()];
+        let reference = class.reference_rcs(&spec);
+        let reference_dbsm = match (&reference, *class) {
+            (Some(r), _) => Some(linear_to_db(r.central_m2())),
+            (None, TargetClass::CornerReflector) => {
+                let lambda = xbandsim::constants::wavelength_m(settings.freq_hz);
+                Some(linear_to_db(
+                    4.0 * std::f64::consts::PI * size.powi(4) / (3.0 * lambda * lambda),
+                ))
+            }
+            (None, _) => None,
+        };
+        panels.push(Panel {
+            title: format!("{} ({} {size:.1} m)", class.name(), class.size_meaning()),
+            curve_dbsm: azimuths_deg
+                .iter()
+                .copied()
+                .zip(at_one.iter().copied())
+                .collect(),
+            median_dbsm,
+            reference_dbsm,
+            band_dbsm: reference.map(|r| match r {
+                ReferenceRcs::Band {
+                    low_m2, high_m2, ..
+                } => (linear_to_db(low_m2), linear_to_db(high_m2)),
+                ReferenceRcs::Median { m2, .. } => (linear_to_db(m2) - 6.0, linear_to_db(m2) + 6.0),
+            }),
+        });
+    }
+    let (cols, pw, ph) = (4u32, 420u32, 320u32);
+    let rows = (panels.len() as u32).div_ceil(cols);
+    save_rgb(
+        &out.join("target_rcs_by_class.png"),
+        cols * pw,
+        rows * ph + 40,
+        |root| {
+            root.fill(&WHITE).map_err(plot_err)?;
+            root.draw(&Text::new(
+                "Free-space RCS (dBsm) at 1 deg elevation (blue); red: median over 0.5-2 deg; green: the published reference, shaded +-6 dB or its band (the corner reflector's: its on-axis closed form)",
+                (10, 10),
+                (FONT, 14),
+            ))
+            .map_err(plot_err)?;
+            let body = root.margin(40, 0, 0, 0);
+            let areas = body.split_evenly((rows as usize, cols as usize));
+            for (area, p) in areas.iter().zip(&panels) {
+                let values = p.curve_dbsm.iter().map(|q| q.1).chain([p.median_dbsm]);
+                let (mut y_lo, mut y_hi) = values
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                        (a.min(v), b.max(v))
+                    });
+                if let Some(r) = p.reference_dbsm {
+                    y_lo = y_lo.min(r - 8.0);
+                    y_hi = y_hi.max(r + 8.0);
+                }
+                if let Some((lo, hi)) = p.band_dbsm {
+                    y_lo = y_lo.min(lo - 2.0);
+                    y_hi = y_hi.max(hi + 2.0);
+                }
+                let (y_lo, y_hi) = ((y_lo / 10.0).floor() * 10.0, (y_hi / 10.0).ceil() * 10.0);
+                let mut chart = ChartBuilder::on(area)
+                    .caption(&p.title, (FONT, 14))
+                    .margin(8)
+                    .x_label_area_size(40)
+                    .y_label_area_size(40)
+                    .build_cartesian_2d(0f64..360f64, y_lo..y_hi)
+                    .map_err(plot_err)?;
+                chart
+                    .configure_mesh()
+                    .x_labels(7)
+                    .y_labels(6)
+                    .x_desc("azimuth of the radar from the bow (deg)")
+                    .label_style((FONT, 11))
+                    .draw()
+                    .map_err(plot_err)?;
+                if let Some((lo, hi)) = p.band_dbsm {
+                    chart
+                        .draw_series(std::iter::once(Rectangle::new(
+                            [(0.0, lo), (360.0, hi)],
+                            GREEN.mix(0.15).filled(),
+                        )))
+                        .map_err(plot_err)?;
+                }
+                if let Some(r) = p.reference_dbsm {
+                    chart
+                        .draw_series(LineSeries::new(
+                            vec![(0.0, r), (360.0, r)],
+                            GREEN.stroke_width(2),
+                        ))
+                        .map_err(plot_err)?;
+                }
+                chart
+                    .draw_series(LineSeries::new(p.curve_dbsm.iter().copied(), BLUE))
+                    .map_err(plot_err)?;
+                chart
+                    .draw_series(LineSeries::new(
+                        vec![(0.0, p.median_dbsm), (360.0, p.median_dbsm)],
+                        RED.stroke_width(2),
+                    ))
+                    .map_err(plot_err)?;
+            }
+            Ok(())
+        },
     )
 }
