@@ -206,11 +206,18 @@ fn build_table(
                 format!("property height_m = {h} must be within 0..9000 m"),
             ));
         }
+        // A feature's name names its polygons: a MultiPolygon's parts get `-<k>`.
+        let parts = raw.iter().filter(|q| q.feature == r.feature).count();
+        let part = raw[..j].iter().filter(|q| q.feature == r.feature).count();
         let name = t
             .name
             .clone()
             .map(|n| if raw.len() > 1 { format!("{n}-{j}") } else { n })
-            .or_else(|| r.name.clone())
+            .or_else(|| {
+                r.name
+                    .clone()
+                    .map(|n| if parts > 1 { format!("{n}-{part}") } else { n })
+            })
             .unwrap_or_else(|| format!("land-{i}-{j}"));
         if let Some(map) = &height_map {
             if r.height_m.is_some() {

@@ -395,3 +395,31 @@ fn a_still_radar_reuses_its_clutter_surface_and_renders_the_same_bytes() {
         "the texture did not drift: {textured} cells"
     );
 }
+
+/// Polygons take their feature's `name`; the parts of a MultiPolygon feature (the docs'
+/// example coast's two skerries) get `-<k>`, so that every polygon truth names is one.
+#[test]
+fn a_multipolygons_parts_get_names_of_their_own() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let text = "[[land]]\ngeojson = \"scenes/land/example-coast.geojson\"\ncrs = \"wgs84\"\n\
+                [geo]\norigin_lon_deg = 10.70\norigin_lat_deg = 59.90\n";
+    let scene = xbandsim::scene::LoadedSpec::from_toml(text, "t", &root)
+        .unwrap()
+        .build()
+        .unwrap();
+    let names: Vec<&str> = scene
+        .environment()
+        .land()
+        .polygons()
+        .iter()
+        .map(|p| p.name.as_str())
+        .collect();
+    assert!(
+        names.contains(&"skerries-0") && names.contains(&"skerries-1"),
+        "{names:?}"
+    );
+    let mut unique = names.clone();
+    unique.sort_unstable();
+    unique.dedup();
+    assert_eq!(unique.len(), names.len(), "{names:?}");
+}
