@@ -46,6 +46,9 @@ pub struct Assembled {
     pub resolution: BTreeMap<(u64, String), Resolution>,
     /// Free-space RCS by class over every row that has one.
     pub rcs: BTreeMap<String, RcsDistribution>,
+    /// The RCS over the sea (the free-space RCS times the multipath gain) by class over
+    /// every row that has one.
+    pub rcs_over_sea: BTreeMap<String, RcsDistribution>,
 }
 
 /// Bins of an RCS histogram: 0.1 dB wide from [`RCS_LOWEST_DBSM`] (values beyond either end
@@ -309,13 +312,15 @@ impl Writer {
         for line in rows.split(|&b| b == b'\n').filter(|l| !l.is_empty()) {
             self.summary.targets += 1;
             if let Ok(v) = serde_json::from_slice::<serde_json::Value>(line) {
-                if let (Some(class), Some(rcs_dbsm)) = (v["class"].as_str(), v["rcs_dbsm"].as_f64())
-                {
-                    self.summary
-                        .rcs
-                        .entry(class.to_string())
-                        .or_default()
-                        .add(rcs_dbsm);
+                if let Some(class) = v["class"].as_str() {
+                    for (key, table) in [
+                        ("rcs_dbsm", &mut self.summary.rcs),
+                        ("rcs_over_sea_dbsm", &mut self.summary.rcs_over_sea),
+                    ] {
+                        if let Some(dbsm) = v[key].as_f64() {
+                            table.entry(class.to_string()).or_default().add(dbsm);
+                        }
+                    }
                 }
                 if let Some(reason) = v["visibility"].as_str() {
                     *self
@@ -712,19 +717,24 @@ fn rcs_section(s: &Assembled) -> String {
         "\n## RCS by class\n\n\
          Each class's free-space RCS at the aspects its targets were seen at (`rcs_dbsm` and \
          `aspect_deg` in `targets.jsonl`, every row that has one: a target with no free-space \
-         return, shadowed or beyond the horizon, has none), read to 0.1 dB. The echo over the \
-         sea adds `multipath_gain_db` (in `truth.json`).\n\n\
-         | class | rows | 10th percentile (dBsm) | median (dBsm) | 90th percentile (dBsm) |\n\
-         |---|---|---|---|---|\n",
+         return, shadowed or beyond the horizon, has none), read to 0.1 dB; and the median of \
+         its RCS over the sea, the free-space RCS times the sea's multipath gain \
+         (`rcs_over_sea_dbsm`), which is what the echo's power follows.\n\n\
+         | class | rows | 10th percentile (dBsm) | median (dBsm) | 90th percentile (dBsm) | median over the sea (dBsm) |\n\
+         |---|---|---|---|---|---|\n",
     );
     let dbsm = |d: &RcsDistribution, q: f64| {
         d.quantile_dbsm(q)
             .map_or_else(|| "-".to_string(), |v| format!("{v:.1}"))
     };
     for (class, d) in &s.rcs {
+        let over_sea = s
+            .rcs_over_sea
+            .get(class)
+            .map_or_else(|| "-".to_string(), |o| dbsm(o, 0.5));
         let _ = writeln!(
             c,
-            "| {class} | {} | {} | {} | {} |",
+            "| {class} | {} | {} | {} | {} | {over_sea} |",
             d.rows,
             dbsm(d, 0.1),
             dbsm(d, 0.5),

@@ -514,6 +514,7 @@ pub fn frame_labels(
             "radial_velocity_mps": o.radial_velocity_mps,
             "aspect_deg": [o.aspect_azimuth_deg, o.aspect_elevation_deg],
             "rcs_dbsm": o.rcs_dbsm,
+            "rcs_over_sea_dbsm": o.rcs_dbsm.zip(o.multipath_gain_db).map(|(r, g)| r + g),
             "expected_snr_db": o.expected_snr_db,
             "visibility": o.visibility,
             "flags": VisibilityFlags::of(o.visibility),

@@ -838,6 +838,7 @@ fn the_card_reports_each_class_rcs_from_the_targets_table() {
     make(tmp.path(), 6);
     let text = std::fs::read_to_string(tmp.path().join("targets.jsonl")).unwrap();
     let mut per_class: std::collections::BTreeMap<String, Vec<f64>> = Default::default();
+    let mut over_sea: std::collections::BTreeMap<String, Vec<f64>> = Default::default();
     for line in text.lines() {
         let row: serde_json::Value = serde_json::from_str(line).unwrap();
         let aspect = row["aspect_deg"].as_array().expect("aspect_deg");
@@ -846,11 +847,12 @@ fn the_card_reports_each_class_rcs_from_the_targets_table() {
             (0.0..360.0).contains(&az) && (-90.0..=90.0).contains(&el),
             "{line}"
         );
+        let class = row["class"].as_str().unwrap().to_string();
         if let Some(rcs) = row["rcs_dbsm"].as_f64() {
-            per_class
-                .entry(row["class"].as_str().unwrap().to_string())
-                .or_default()
-                .push(rcs);
+            per_class.entry(class.clone()).or_default().push(rcs);
+        }
+        if let Some(rcs) = row["rcs_over_sea_dbsm"].as_f64() {
+            over_sea.entry(class).or_default().push(rcs);
         }
     }
     assert!(!per_class.is_empty());
@@ -859,17 +861,22 @@ fn the_card_reports_each_class_rcs_from_the_targets_table() {
         .split("## RCS by class")
         .nth(1)
         .expect("an RCS section");
+    let quantile = |values: &[f64], q: f64| {
+        let v = values[((q * values.len() as f64).ceil() as usize).max(1) - 1];
+        format!(
+            "{:.1}",
+            -100.0 + (((v + 100.0) * 10.0).floor() + 0.5) / 10.0
+        )
+    };
     for (class, mut values) in per_class {
         values.sort_by(f64::total_cmp);
-        let at = |q: f64| {
-            let v = values[((q * values.len() as f64).ceil() as usize).max(1) - 1];
-            format!(
-                "{:.1}",
-                -100.0 + (((v + 100.0) * 10.0).floor() + 0.5) / 10.0
-            )
-        };
+        let at = |q: f64| quantile(&values, q);
+        let sea = over_sea.get_mut(&class).map_or("-".to_string(), |v| {
+            v.sort_by(f64::total_cmp);
+            quantile(v, 0.5)
+        });
         let row = format!(
-            "| {class} | {} | {} | {} | {} |",
+            "| {class} | {} | {} | {} | {} | {sea} |\n",
             values.len(),
             at(0.1),
             at(0.5),
