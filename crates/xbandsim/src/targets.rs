@@ -326,17 +326,17 @@ impl TargetClass {
         Ok(o)
     }
 
-    /// The published RCS at X band a target of this class is checked against, for the object
-    /// `object_spec` made (its sizes: a ship's displacement comes from its length and beam);
-    /// None for the corner reflector (its closed form holds on its axis, not as a median) and
-    /// for an object without the sizes its class's reference needs. docs/targets.md gives the
-    /// values and sources.
+    /// The published RCS at X band ([`REFERENCE_FREQ_HZ`]) a target of this class is checked
+    /// against, for the object `object_spec` made (its sizes: a ship's displacement comes from
+    /// its length and beam); None for the corner reflector (its closed form holds on its axis,
+    /// not as a median) and for an object without the sizes its class's reference needs.
+    /// docs/targets.md gives the values and sources.
     pub fn reference_rcs(self, object: &ObjectSpec) -> Option<ReferenceRcs> {
         const IMO: &str = "IMO MSC.192(79) Table 2";
         let ship = |cb: f64| -> Option<ReferenceRcs> {
             let (l, b) = (object.length_m?, object.beam_m?);
             Some(ReferenceRcs::Median {
-                m2: skolnik_ship_median_m2(l, b, cb),
+                m2: skolnik_ship_median_m2(l, b, cb, REFERENCE_FREQ_HZ),
                 source: "Skolnik, Introduction to Radar Systems, 3rd ed., 2.7",
             })
         };
@@ -412,13 +412,22 @@ impl ReferenceRcs {
     }
 }
 
-/// Skolnik's empirical median RCS of a ship, `σ = 52·√f_MHz·D_kt^{3/2}` m² at 9410 MHz
-/// (Skolnik, *Introduction to Radar Systems*, 3rd ed., 2001, §2.7), with the displacement of
-/// a hull of length `length_m`, beam `beam_m`, draught 0.06·L and block coefficient
+/// The carrier frequency the classes' references are for ([`TargetClass::reference_rcs`]):
+/// X band, Hz.
+pub const REFERENCE_FREQ_HZ: f64 = 9.41e9;
+
+/// Skolnik's empirical median RCS of a ship, `σ = 52·√f_MHz·D_kt^{3/2}` m² (Skolnik,
+/// *Introduction to Radar Systems*, 3rd ed., 2001, §2.7), at `freq_hz`, with the displacement
+/// of a hull of length `length_m`, beam `beam_m`, draught 0.06·L and block coefficient
 /// `block_coefficient` in sea water (1.025 t/m³).
-pub fn skolnik_ship_median_m2(length_m: f64, beam_m: f64, block_coefficient: f64) -> f64 {
+pub fn skolnik_ship_median_m2(
+    length_m: f64,
+    beam_m: f64,
+    block_coefficient: f64,
+    freq_hz: f64,
+) -> f64 {
     let displacement_kt = 1.025 * block_coefficient * length_m * beam_m * 0.06 * length_m / 1000.0;
-    52.0 * 9410f64.sqrt() * displacement_kt.powf(1.5)
+    52.0 * (freq_hz / 1e6).sqrt() * displacement_kt.powf(1.5)
 }
 
 impl std::fmt::Display for TargetClass {

@@ -755,7 +755,7 @@ fn target_rcs(out: &Path) -> Result<()> {
     use xbandsim::scattering::rcs::{RcsSettings, RcsTarget};
     use xbandsim::targets::{ReferenceRcs, TargetClass};
     let settings = RcsSettings {
-        freq_hz: 9.41e9,
+        freq_hz: xbandsim::targets::REFERENCE_FREQ_HZ,
         polarisation: xbandsim::model::Polarisation::Hh,
         ray_spacing_wavelengths: 0.5,
         max_rays: 8192,
