@@ -470,6 +470,9 @@ pub fn run(a: &BenchArgs) -> Result<()> {
 /// The detection spec the dataset rows measure.
 const DETECTION_SPEC: &str = include_str!("../../../datasets/detection.toml");
 
+/// The ship-heavy spec: ten detailed vessels in every sample.
+const SHIPS_SPEC: &str = include_str!("../../../datasets/ships.toml");
+
 /// Samples per dataset measurement.
 const DATASET_BENCH_SAMPLES: u64 = 24;
 
@@ -506,6 +509,7 @@ fn dataset_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<
         ),
         Path::new("."),
     )?;
+    let ships_spec = DatasetSpec::parse(SHIPS_SPEC, Path::new("."))?;
     let n = DATASET_BENCH_SAMPLES;
     // Each run writes a fresh folder, and all are removed at the end: on ext4, files made
     // just after many were deleted cost the inode allocator a search past them
@@ -530,6 +534,7 @@ fn dataset_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<
     let (all, at_least_one, video) = (rate(&spec), rate(&one_to_ten), rate(&with_video));
     let coast = rate(&with_coast);
     let town = rate(&with_town);
+    let ships = rate(&ships_spec);
     for dir in dirs {
         let _ = std::fs::remove_dir_all(&dir);
     }
@@ -549,6 +554,18 @@ fn dataset_rows(repeats: usize, put: &mut dyn FnMut(&str, f64, &str)) -> Result<
         &format!("labelled 512^2 frames/s, detection.toml with [scene.receiver] ({n} samples)"),
         video,
         "frames/s",
+    );
+    put(
+        &format!(
+            "labelled 512^2 frames/s, datasets/ships.toml (10 detailed vessels each, {n} samples)"
+        ),
+        ships,
+        "frames/s",
+    );
+    put(
+        "  that rate / detection.toml's (same run)",
+        ships / all,
+        "x",
     );
     put(
         "receiver video's cost over the dataset rate (same run)",

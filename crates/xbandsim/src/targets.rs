@@ -16,7 +16,7 @@
 //! ```
 
 use crate::error::{Error, Problem, Result};
-use crate::geometry::Superstructure;
+use crate::geometry::Outfit;
 use crate::scene::{ObjectSpec, ShapeName};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -211,11 +211,17 @@ impl TargetClass {
             ..ObjectSpec::default()
         };
         let mut z = 0.0;
-        // A vessel: beam and freeboard as fractions of the length, the structures' height
-        // as a fraction of the beam, the mast's top `mast_above` over the structures.
+        // The detailed vessel's own variation (stack heights, holds, booms) follows from
+        // the draws, so the same arguments give the same vessel.
+        // (53 bits: a TOML integer, and exact as a JSON number.)
+        let seed = draws.iter().fold(0x243F_6A88_85A3_08D3u64, |h, d| {
+            (h ^ d.to_bits()).wrapping_mul(0x100_0000_01B3)
+        }) >> 11;
+        // A vessel: beam and freeboard as fractions of the length, the deck house's height
+        // as a fraction of the beam, the mast's top `mast_above` over the house.
         let mut vessel = |beam: f64,
                           freeboard: f64,
-                          sup: Superstructure,
+                          outfit: Outfit,
                           height_per_beam: f64,
                           mast_above: Option<f64>| {
             let b = beam * s;
@@ -224,13 +230,12 @@ impl TargetClass {
             o.length_m = Some(s);
             o.beam_m = Some(b);
             o.freeboard_m = Some(f);
-            let h = if sup == Superstructure::None {
-                0.0
-            } else {
-                o.superstructure = Some(sup);
-                o.superstructure_height_m = Some(height_per_beam * b);
-                height_per_beam * b
-            };
+            o.outfit = Some(outfit);
+            o.outfit_seed = Some(seed);
+            let h = height_per_beam * b;
+            if h > 0.0 {
+                o.superstructure_height_m = Some(h);
+            }
             o.mast_height_m = mast_above.map(|m| f + 1.2 * h + m);
         };
         match self {
@@ -252,7 +257,7 @@ impl TargetClass {
                 vessel(
                     lerp(0.55, 0.75, d0) / s,
                     lerp(0.25, 0.35, d1) / s,
-                    Superstructure::None,
+                    Outfit::Kayak,
                     0.0,
                     None,
                 );
@@ -262,7 +267,7 @@ impl TargetClass {
                 vessel(
                     beam,
                     lerp(0.10, 0.13, d1),
-                    Superstructure::Cabin,
+                    Outfit::Rib,
                     lerp(1.0, 1.5, d2) / (beam * s),
                     None,
                 );
@@ -270,42 +275,42 @@ impl TargetClass {
             TargetClass::SailingYacht => vessel(
                 lerp(0.28, 0.34, d0),
                 lerp(0.08, 0.10, d1),
-                Superstructure::Cabin,
+                Outfit::Yacht,
                 lerp(0.18, 0.25, d2),
                 Some(s * lerp(1.1, 1.35, d1)),
             ),
             TargetClass::FishingVessel => vessel(
                 lerp(0.27, 0.33, d0),
                 lerp(0.07, 0.10, d1),
-                Superstructure::Wheelhouse,
+                Outfit::Trawler,
                 lerp(0.45, 0.6, d2),
                 Some(s * lerp(0.12, 0.25, d0)),
             ),
             TargetClass::PilotBoat => vessel(
                 lerp(0.30, 0.35, d0),
                 lerp(0.09, 0.11, d1),
-                Superstructure::Wheelhouse,
+                Outfit::Workboat,
                 lerp(0.4, 0.5, d2),
                 Some(s * lerp(0.10, 0.18, d0)),
             ),
             TargetClass::Ferry => vessel(
                 lerp(0.16, 0.25, d0),
                 lerp(0.04, 0.06, d1),
-                Superstructure::Decks,
+                Outfit::Ferry,
                 lerp(0.45, 0.7, d2),
                 Some(s * lerp(0.04, 0.08, d0)),
             ),
             TargetClass::CargoShip => vessel(
                 lerp(0.13, 0.17, d0),
                 lerp(0.035, 0.06, d1),
-                Superstructure::BridgeAft,
+                TargetClass::cargo_outfit(seed),
                 lerp(0.45, 0.6, d2),
                 Some(s * lerp(0.02, 0.05, d0)),
             ),
             TargetClass::Tanker => vessel(
                 lerp(0.16, 0.19, d0),
                 lerp(0.03, 0.06, d1),
-                Superstructure::BridgeAft,
+                Outfit::Tanker,
                 lerp(0.4, 0.5, d2),
                 Some(s * lerp(0.02, 0.04, d0)),
             ),
@@ -326,6 +331,16 @@ impl TargetClass {
         Ok(o)
     }
 
+    /// Which cargo ship a `cargo_ship` with outfit seed `seed` is: a container ship seven
+    /// times in ten, else a bulk carrier.
+    pub fn cargo_outfit(seed: u64) -> Outfit {
+        if (seed >> 17) % 10 < 7 {
+            Outfit::ContainerShip
+        } else {
+            Outfit::BulkCarrier
+        }
+    }
+
     /// The published RCS at X band ([`REFERENCE_FREQ_HZ`]) a target of this class is checked
     /// against, for the object `object_spec` made (its sizes: a ship's displacement comes from
     /// its length and beam); None for the corner reflector (its closed form holds on its axis,
@@ -333,10 +348,13 @@ impl TargetClass {
     /// docs/targets.md gives the values and sources.
     pub fn reference_rcs(self, object: &ObjectSpec) -> Option<ReferenceRcs> {
         const IMO: &str = "IMO MSC.192(79) Table 2";
-        let ship = |cb: f64| -> Option<ReferenceRcs> {
+        let ship = |draught_per_length: f64, cb: f64| -> Option<ReferenceRcs> {
             let (l, b) = (object.length_m?, object.beam_m?);
             Some(ReferenceRcs::Median {
-                m2: skolnik_ship_median_m2(l, b, cb, REFERENCE_FREQ_HZ),
+                m2: skolnik_ship_median_m2(
+                    displacement_kt(l, b, draught_per_length * l, cb),
+                    REFERENCE_FREQ_HZ,
+                ),
                 source: "Skolnik, Introduction to Radar Systems, 3rd ed., 2.7",
             })
         };
@@ -361,14 +379,29 @@ impl TargetClass {
             }
             TargetClass::Kayak => median(0.5, "kayaks 0.1-1 m^2"),
             TargetClass::Rib | TargetClass::SailingYacht => median(2.5, IMO),
-            TargetClass::FishingVessel | TargetClass::PilotBoat => {
-                median(10.0, "small boats 1-10 m^2, cabin craft about 10 m^2")
-            }
-            TargetClass::Ferry => ship(0.6),
-            TargetClass::CargoShip => ship(0.7),
-            TargetClass::Tanker => ship(0.8),
+            TargetClass::FishingVessel => ship(0.11, 0.55),
+            TargetClass::PilotBoat => ship(0.08, 0.45),
+            TargetClass::Ferry => ship(0.045, 0.6),
+            TargetClass::CargoShip => ship(0.06, 0.7),
+            TargetClass::Tanker => ship(0.06, 0.8),
             TargetClass::CornerReflector => None,
         }
+    }
+
+    /// Whether the class's reference was measured over the sea, so that the RCS to compare
+    /// with it is the effective one with the sea's multipath (Skolnik's ship medians come
+    /// from ships measured at sea at grazing incidence); otherwise the reference is a
+    /// free-space value (IMO's figures are given with a height above the sea for the
+    /// multipath to be applied to them, and the closed forms are free-space).
+    pub fn reference_is_over_sea(self) -> bool {
+        matches!(
+            self,
+            TargetClass::FishingVessel
+                | TargetClass::PilotBoat
+                | TargetClass::Ferry
+                | TargetClass::CargoShip
+                | TargetClass::Tanker
+        )
     }
 }
 
@@ -416,17 +449,16 @@ impl ReferenceRcs {
 /// X band, Hz.
 pub const REFERENCE_FREQ_HZ: f64 = 9.41e9;
 
-/// Skolnik's empirical median RCS of a ship, `σ = 52·√f_MHz·D_kt^{3/2}` m² (Skolnik,
-/// *Introduction to Radar Systems*, 3rd ed., 2001, §2.7), at `freq_hz`, with the displacement
-/// of a hull of length `length_m`, beam `beam_m`, draught 0.06·L and block coefficient
-/// `block_coefficient` in sea water (1.025 t/m³).
-pub fn skolnik_ship_median_m2(
-    length_m: f64,
-    beam_m: f64,
-    block_coefficient: f64,
-    freq_hz: f64,
-) -> f64 {
-    let displacement_kt = 1.025 * block_coefficient * length_m * beam_m * 0.06 * length_m / 1000.0;
+/// Displacement of a hull of length `length_m`, beam `beam_m`, draught `draught_m` and block
+/// coefficient `block_coefficient` in sea water (1.025 t/m³), kilotons.
+pub fn displacement_kt(length_m: f64, beam_m: f64, draught_m: f64, block_coefficient: f64) -> f64 {
+    1.025 * block_coefficient * length_m * beam_m * draught_m / 1000.0
+}
+
+/// Skolnik's empirical median RCS of a ship of displacement `displacement_kt` at
+/// `freq_hz`, `σ = 52·√f_MHz·D_kt^{3/2}` m² (Skolnik, *Introduction to Radar Systems*,
+/// 3rd ed., 2001, §2.7: ships measured at sea at grazing incidence).
+pub fn skolnik_ship_median_m2(displacement_kt: f64, freq_hz: f64) -> f64 {
     52.0 * (freq_hz / 1e6).sqrt() * displacement_kt.powf(1.5)
 }
 

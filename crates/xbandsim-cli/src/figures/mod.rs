@@ -746,11 +746,13 @@ fn fig6(out: &Path, harbour_scene: &Path, sea_scene: &Path, seed: u64) -> Result
 }
 
 /// The target library's RCS against its references: each class at its middle size and
-/// draws, free space, HH, 9.41 GHz, λ/2 ray tubes up to 8192 per aspect (as
-/// `targets::class_rcs_is_plausible_at_x_band`): the RCS over the azimuth of the radar from
-/// the bow at 1° elevation, the median over 0.5°, 1° and 2° (every 2° of azimuth), and the
-/// class's published reference ([`TargetClass::reference_rcs`]) with ±6 dB about it; the
-/// corner reflector's line is its closed form on its axis. docs/targets.md gives the sources.
+/// draws, HH, 9.41 GHz, λ/2 ray tubes up to 32 768 per aspect (as
+/// `targets::class_rcs_matches_published_references`): the RCS over the azimuth of the
+/// radar from the bow at 1° elevation in free space and over the sea (radar 15 m up, the
+/// default sea), the median over 0.5°–3° of the kind the reference is compared with
+/// ([`TargetClass::reference_is_over_sea`]), and the class's published reference
+/// ([`TargetClass::reference_rcs`]) with ±6 dB about it; the corner reflector's line is its
+/// closed form on its axis. docs/targets.md gives the sources.
 fn target_rcs(out: &Path) -> Result<()> {
     use xbandsim::scattering::rcs::{RcsSettings, RcsTarget};
     use xbandsim::targets::{ReferenceRcs, TargetClass};
@@ -758,14 +760,22 @@ fn target_rcs(out: &Path) -> Result<()> {
         freq_hz: xbandsim::targets::REFERENCE_FREQ_HZ,
         polarisation: xbandsim::model::Polarisation::Hh,
         ray_spacing_wavelengths: 0.5,
-        max_rays: 8192,
+        max_rays: 32_768,
         max_bounces: 3,
     };
-    let azimuths_deg: Vec<f64> = (0..180).map(|i| 2.0 * i as f64 + 1.0).collect();
+    const RADAR_HEIGHT_M: f64 = 15.0;
+    let sea = *Scene::from_spec(&SceneSpec::default())?
+        .environment()
+        .sea()
+        .expect("the default environment has its sea");
+    let azimuths_deg: Vec<f64> = (0..90).map(|i| 4.0 * i as f64 + 2.0).collect();
+    let elevations_deg = [1.0f64, 0.5, 2.0, 3.0];
     struct Panel {
         title: String,
-        curve_dbsm: Vec<(f64, f64)>,
+        free_dbsm: Vec<(f64, f64)>,
+        sea_dbsm: Vec<(f64, f64)>,
         median_dbsm: f64,
+        over_sea: bool,
         reference_dbsm: Option<f64>,
         /// The shaded band, dBsm: ±6 dB about a median, or a band reference's own ends.
         band_dbsm: Option<(f64, f64)>,
@@ -776,7 +786,7 @@ fn target_rcs(out: &Path) -> Result<()> {
         let size = 0.5 * (lo + hi);
         let mut spec = class.object_spec(size, &[0.5; 3])?;
         spec.name = Some(class.name().to_string());
-        // Away from the radar (the sweep is a plane wave: where does not matter).
+        // Away from the scene's radar (the sweeps place their own).
         let z = spec.position_m.map_or(0.0, |p| p[2]);
         spec.position_m = Some([0.0, 500.0, z]);
         let scene = Scene::from_spec(&SceneSpec {
@@ -784,7 +794,7 @@ fn target_rcs(out: &Path) -> Result<()> {
             ..SceneSpec::default()
         })?;
         let target = RcsTarget::new(&scene.objects()[0]);
-        let aspects: Vec<(f64, f64)> = [0.5f64, 1.0, 2.0]
+        let aspects: Vec<(f64, f64)> = elevations_deg
             .iter()
             .flat_map(|el| {
                 azimuths_deg
@@ -792,12 +802,26 @@ fn target_rcs(out: &Path) -> Result<()> {
                     .map(move |az| (az.to_radians(), el.to_radians()))
             })
             .collect();
-        let rcs = target.sweep_m2(&aspects, &settings);
-        let dbsm: Vec<f64> = rcs.iter().map(|&s| linear_to_db(s.max(1e-6))).collect();
-        let mut sorted = dbsm.clone();
+        let to_db = |v: Vec<f64>| -> Vec<f64> {
+            v.into_iter().map(|s| linear_to_db(s.max(1e-6))).collect()
+        };
+        let free = to_db(target.sweep_m2(&aspects, &settings));
+        let on_sea = to_db(target.over_sea_sweep_m2(&aspects, RADAR_HEIGHT_M, &sea, &settings));
+        let over_sea = class.reference_is_over_sea();
+        let mut sorted = if over_sea {
+            on_sea.clone()
+        } else {
+            free.clone()
+        };
         sorted.sort_by(f64::total_cmp);
         let median_dbsm = sorted[sorted.len() / 2];
-        let at_one = &dbsm[azimuths_deg.len()..2 * azimuths_deg.len()];
+        let at_one = |v: &[f64]| -> Vec<(f64, f64)> {
+            azimuths_deg
+                .iter()
+                .copied()
+                .zip(v[..azimuths_deg.len()].iter().copied())
+                .collect()
+        };
         let reference = class.reference_rcs(&spec);
         let reference_dbsm = match (&reference, *class) {
             (Some(r), _) => Some(linear_to_db(r.central_m2())),
@@ -810,13 +834,16 @@ fn target_rcs(out: &Path) -> Result<()> {
             (None, _) => None,
         };
         panels.push(Panel {
-            title: format!("{} ({} {size:.1} m)", class.name(), class.size_meaning()),
-            curve_dbsm: azimuths_deg
-                .iter()
-                .copied()
-                .zip(at_one.iter().copied())
-                .collect(),
+            title: format!(
+                "{} ({} {size:.1} m){}",
+                class.name(),
+                class.size_meaning(),
+                if over_sea { ", over the sea" } else { "" }
+            ),
+            free_dbsm: at_one(&free),
+            sea_dbsm: at_one(&on_sea),
             median_dbsm,
+            over_sea,
             reference_dbsm,
             band_dbsm: reference.map(|r| match r {
                 ReferenceRcs::Band {
@@ -835,7 +862,7 @@ fn target_rcs(out: &Path) -> Result<()> {
         |root| {
             root.fill(&WHITE).map_err(plot_err)?;
             root.draw(&Text::new(
-                "Free-space RCS (dBsm) at 1 deg elevation (blue); red: median over 0.5-2 deg; green: the published reference, shaded +-6 dB or its band (the corner reflector's: its on-axis closed form)",
+                "RCS (dBsm) at 1 deg elevation, free space (blue) and over the sea, radar 15 m up (orange); red: median over 0.5-3 deg of the kind the reference was measured as; green: the reference, shaded +-6 dB or its band",
                 (10, 10),
                 (FONT, 14),
             ))
@@ -843,7 +870,12 @@ fn target_rcs(out: &Path) -> Result<()> {
             let body = root.margin(40, 0, 0, 0);
             let areas = body.split_evenly((rows as usize, cols as usize));
             for (area, p) in areas.iter().zip(&panels) {
-                let values = p.curve_dbsm.iter().map(|q| q.1).chain([p.median_dbsm]);
+                let values = p
+                    .free_dbsm
+                    .iter()
+                    .chain(&p.sea_dbsm)
+                    .map(|q| q.1)
+                    .chain([p.median_dbsm]);
                 let (mut y_lo, mut y_hi) = values
                     .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
                         (a.min(v), b.max(v))
@@ -888,8 +920,18 @@ fn target_rcs(out: &Path) -> Result<()> {
                         ))
                         .map_err(plot_err)?;
                 }
+                let orange = RGBColor(230, 120, 0);
                 chart
-                    .draw_series(LineSeries::new(p.curve_dbsm.iter().copied(), BLUE))
+                    .draw_series(LineSeries::new(
+                        p.sea_dbsm.iter().copied(),
+                        orange.stroke_width(if p.over_sea { 2 } else { 1 }),
+                    ))
+                    .map_err(plot_err)?;
+                chart
+                    .draw_series(LineSeries::new(
+                        p.free_dbsm.iter().copied(),
+                        BLUE.stroke_width(if p.over_sea { 1 } else { 2 }),
+                    ))
                     .map_err(plot_err)?;
                 chart
                     .draw_series(LineSeries::new(

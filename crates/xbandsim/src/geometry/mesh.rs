@@ -12,7 +12,7 @@ use glam::{DMat3, DMat4, DVec3};
 use std::path::{Path, PathBuf};
 
 /// An indexed triangle mesh in metres, in the object's own frame.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct TriangleMesh {
     /// Vertex positions, m.
     pub vertices_m: Vec<DVec3>,

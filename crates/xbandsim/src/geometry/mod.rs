@@ -10,14 +10,18 @@
 mod bvh;
 mod bvh_build;
 pub mod mesh;
+pub mod outfit;
 mod primitives;
 pub mod procedural;
+mod rod;
 mod shapes;
 
 pub use bvh::{Bvh, BvhTemplate, PlacedCopy};
 pub use mesh::{MeshUnit, TriangleMesh};
+pub use outfit::{Outfit, OutfitParts};
 pub use primitives::{Primitive, PrimitiveKind};
 pub use procedural::{BuoyParams, Superstructure, VesselParams};
+pub use rod::Rod;
 pub use shapes::{object_frame, ShapeGeometry};
 
 use glam::DVec3;

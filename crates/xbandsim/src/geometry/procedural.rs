@@ -7,6 +7,7 @@
 //! `√(λR_c/2)` (a few cm at X band) flashes like a plate (docs/physics.md §2.2).
 
 use super::mesh::{hull_mesh, TriangleMesh};
+use super::outfit::{build_outfit, Outfit, OutfitParts, OutfitSizes};
 use super::{Primitive, PrimitiveKind};
 use glam::{DMat3, DQuat, DVec3};
 use schemars::JsonSchema;
@@ -100,8 +101,14 @@ pub struct VesselParams {
     pub superstructure: Superstructure,
     /// Height of the structures above the deck, m (0 with none).
     pub superstructure_height_m: f64,
-    /// Height of the mast's top above the waterline, m (None: no mast).
+    /// Height of the mast's top above the waterline, m (None: no mast; with an outfit,
+    /// the outfit's own).
     pub mast_height_m: Option<f64>,
+    /// A detailed vessel of this type (then `superstructure` is unused and
+    /// `superstructure_height_m` is its deck house's height).
+    pub outfit: Option<Outfit>,
+    /// The draw that varies a detailed vessel's structures.
+    pub outfit_seed: u64,
 }
 
 impl VesselParams {
@@ -120,6 +127,31 @@ impl VesselParams {
             superstructure: Superstructure::None,
             superstructure_height_m: 0.0,
             mast_height_m: None,
+            outfit: None,
+            outfit_seed: 0,
+        }
+    }
+
+    /// Every part of the vessel in its own frame: the hull and structures as triangles, the
+    /// traced cylinders (the mast of a plain vessel), and a detailed vessel's rods.
+    pub fn parts(&self) -> OutfitParts {
+        match self.outfit {
+            Some(outfit) => build_outfit(
+                outfit,
+                &OutfitSizes {
+                    length_m: self.length_m,
+                    beam_m: self.beam_m,
+                    freeboard_m: self.freeboard_m,
+                    house_height_m: self.superstructure_height_m,
+                    mast_height_m: self.mast_height_m,
+                },
+                self.outfit_seed,
+            ),
+            None => OutfitParts {
+                mesh: self.hull(),
+                cylinders: self.mast().into_iter().collect(),
+                rods: Vec::new(),
+            },
         }
     }
 
@@ -272,16 +304,17 @@ fn cylinder(
     });
 }
 
-/// Primitives of a vessel: its hull mesh's triangles and the mast.
+/// Primitives of a vessel: its triangles and traced cylinders (its rods are not
+/// primitives, see [`super::Rod`]).
 pub(super) fn vessel_primitives(
-    params: &VesselParams,
-    hull: &TriangleMesh,
+    parts: &OutfitParts,
     position_m: DVec3,
     rotation: DMat3,
     object: u32,
 ) -> Vec<Primitive> {
     let to_world = |p: DVec3| position_m + rotation * p;
-    let mut kinds = Vec::with_capacity(hull.triangles.len() + 3);
+    let hull = &parts.mesh;
+    let mut kinds = Vec::with_capacity(hull.triangles.len() + 3 * parts.cylinders.len());
     for t in &hull.triangles {
         let v0 = to_world(hull.vertices_m[t[0] as usize]);
         let e1 = to_world(hull.vertices_m[t[1] as usize]) - v0;
@@ -290,7 +323,7 @@ pub(super) fn vessel_primitives(
             kinds.push(PrimitiveKind::Triangle { v0, e1, e2 });
         }
     }
-    if let Some((base, r, h)) = params.mast() {
+    for &(base, r, h) in &parts.cylinders {
         cylinder(base, r, h, &to_world, rotation, &mut kinds);
     }
     kinds

@@ -14,8 +14,9 @@
 //! `R = Rz(−yaw)·Rx(pitch)·Ry(roll)` applied to object coordinates.
 
 use super::mesh::TriangleMesh;
+use super::outfit::OutfitParts;
 use super::procedural::{buoy_primitives, vessel_primitives, BuoyParams, VesselParams};
-use super::{Aabb, Primitive, PrimitiveKind};
+use super::{Aabb, Primitive, PrimitiveKind, Rod};
 use crate::choice::ShapeName;
 use glam::{DMat3, DVec3};
 use std::sync::Arc;
@@ -39,10 +40,10 @@ pub enum ShapeGeometry {
     Box { size_m: DVec3 },
     /// Triangle mesh in the object frame, m.
     Mesh { mesh: Arc<TriangleMesh> },
-    /// Procedural vessel: `hull` is `params.hull()` (built once), the mast a cylinder.
+    /// Procedural vessel: `parts` is `params.parts()` (built once).
     Vessel {
         params: VesselParams,
-        hull: Arc<TriangleMesh>,
+        parts: Arc<OutfitParts>,
     },
     /// Procedural buoy: float, pillar and reflector.
     Buoy { params: BuoyParams },
@@ -120,8 +121,37 @@ impl ShapeGeometry {
     /// A procedural vessel, its hull built from `params`.
     pub fn vessel(params: VesselParams) -> ShapeGeometry {
         ShapeGeometry::Vessel {
-            hull: Arc::new(params.hull()),
+            parts: Arc::new(params.parts()),
             params,
+        }
+    }
+
+    /// Amplitude reflectivity of the shape's traced surfaces (1, a conductor, but for the
+    /// plastic hulls of detailed small craft).
+    pub fn surface_reflectivity(&self) -> f64 {
+        match self {
+            ShapeGeometry::Vessel { params, .. } => {
+                params.outfit.map_or(1.0, |o| o.hull_reflectivity())
+            }
+            _ => 1.0,
+        }
+    }
+
+    /// The widest ray tube the shape's detail allows, m: 1 m for a detailed vessel, whose
+    /// median RCS over aspect has converged to 0.5 dB at that side (docs/targets.md); None
+    /// for every other shape (the scene's budget as set).
+    pub fn max_tube_side_m(&self) -> Option<f64> {
+        match self {
+            ShapeGeometry::Vessel { params, .. } if params.outfit.is_some() => Some(1.0),
+            _ => None,
+        }
+    }
+
+    /// The shape's rods in its own frame (only a detailed vessel has any).
+    pub fn rods(&self) -> &[Rod] {
+        match self {
+            ShapeGeometry::Vessel { parts, .. } => &parts.rods,
+            _ => &[],
         }
     }
 
@@ -133,6 +163,11 @@ impl ShapeGeometry {
             b.grow(pb.min);
             b.grow(pb.max);
         }
+        for rod in self.rods() {
+            let rb = rod.bounds();
+            b.grow(rb.min);
+            b.grow(rb.max);
+        }
         b
     }
 
@@ -141,8 +176,8 @@ impl ShapeGeometry {
         let to_world = |p: DVec3| position_m + rotation * p;
         let dir = |v: DVec3| rotation * v;
         match self {
-            ShapeGeometry::Vessel { params, hull } => {
-                return vessel_primitives(params, hull, position_m, rotation, object)
+            ShapeGeometry::Vessel { parts, .. } => {
+                return vessel_primitives(parts, position_m, rotation, object)
             }
             ShapeGeometry::Buoy { params } => {
                 return buoy_primitives(params, position_m, rotation, object)

@@ -102,11 +102,11 @@ impl SceneObject {
             ShapeGeometry::Cylinder { radius_m, height_m } => vec![*radius_m, *height_m],
             ShapeGeometry::Box { size_m } => size_m.to_array().to_vec(),
             ShapeGeometry::Mesh { mesh } => vec![mesh.triangles.len() as f64],
-            ShapeGeometry::Vessel { params, hull } => vec![
+            ShapeGeometry::Vessel { params, parts } => vec![
                 params.length_m,
                 params.beam_m,
                 params.freeboard_m,
-                hull.triangles.len() as f64,
+                parts.mesh.triangles.len() as f64,
             ],
             ShapeGeometry::Buoy { params } => vec![params.radius_m, params.height_m],
         };
@@ -227,6 +227,15 @@ impl SceneObject {
     /// Object-to-world rotation.
     pub fn rotation(&self) -> DMat3 {
         self.rotation
+    }
+
+    /// The shape's rods placed in the world, ENU m (only a detailed vessel has any).
+    pub fn rods_m(&self) -> Vec<crate::geometry::Rod> {
+        self.shape
+            .rods()
+            .iter()
+            .map(|r| r.placed(self.position_m, self.rotation))
+            .collect()
     }
 }
 
@@ -381,6 +390,8 @@ pub(super) fn build_object(
             "superstructure",
             "superstructure_height_m",
             "mast_height_m",
+            "outfit",
+            "outfit_seed",
         ],
         ShapeGeometry::Buoy { .. } => {
             &["radius_m", "height_m", "mast_height_m", "reflector_edge_m"]
@@ -406,6 +417,8 @@ pub(super) fn build_object(
         ),
         ("mast_height_m", o.mast_height_m.is_some()),
         ("reflector_edge_m", o.reflector_edge_m.is_some()),
+        ("outfit", o.outfit.is_some()),
+        ("outfit_seed", o.outfit_seed.is_some()),
     ];
     for (field, is_set) in present {
         if is_set && !used.contains(&field) {
@@ -520,17 +533,48 @@ fn vessel_params(
             "0.01 to 0.25 times length_m",
         )?;
     }
+    p.outfit = o.outfit;
+    p.outfit_seed = o.outfit_seed.unwrap_or(0);
+    if let Some(outfit) = o.outfit {
+        let (lo, hi) = outfit.length_range_m();
+        within(
+            f("length_m"),
+            l,
+            lo,
+            hi,
+            &format!("the lengths an outfit \"{}\" is built for", outfit.as_str()),
+        )?;
+    }
+    if let (Some(outfit), Some(s)) = (o.outfit, o.superstructure) {
+        return Err(Error::invalid(
+            Problem::Conflict,
+            f("superstructure"),
+            format!("\"{}\"", s.as_str()),
+            format!(
+                "a detailed vessel (outfit \"{}\") builds its own deck structures; leave superstructure out",
+                outfit.as_str()
+            ),
+        ));
+    }
+    if o.outfit.is_none() && o.outfit_seed.is_some() {
+        return Err(Error::invalid(
+            Problem::Conflict,
+            f("outfit_seed"),
+            "(set)",
+            "varies a detailed vessel; it needs an outfit",
+        ));
+    }
     p.superstructure = o.superstructure.unwrap_or_default();
-    match (p.superstructure, o.superstructure_height_m) {
-        (Superstructure::None, Some(_)) => {
+    match (p.outfit, p.superstructure, o.superstructure_height_m) {
+        (None, Superstructure::None, Some(_)) => {
             return Err(Error::invalid(
                 Problem::Conflict,
                 f("superstructure_height_m"),
                 "(set)",
-                "needs a superstructure (\"cabin\", \"wheelhouse\", \"bridge-aft\", \"bridge-fore\" or \"decks\")",
+                "needs a superstructure (\"cabin\", \"wheelhouse\", \"bridge-aft\", \"bridge-fore\" or \"decks\") or an outfit",
             ))
         }
-        (_, Some(h)) => {
+        (_, _, Some(h)) => {
             let h = positive(&f("superstructure_height_m"), h)?;
             p.superstructure_height_m = within(
                 f("superstructure_height_m"),
@@ -540,7 +584,10 @@ fn vessel_params(
                 "at most half of length_m",
             )?;
         }
-        (s, None) => {
+        (Some(outfit), _, None) => {
+            p.superstructure_height_m = outfit.default_house_height_m(p.beam_m)
+        }
+        (None, s, None) => {
             p.superstructure_height_m = VesselParams::default_superstructure_height_m(s, p.beam_m)
         }
     }

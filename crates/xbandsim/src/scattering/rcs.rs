@@ -6,12 +6,14 @@
 //! rotation every shape's main return is at aspect (0°, 0°).
 
 use super::direction_from_az_el;
-use super::po::{plane_wave_rcs_m2, SbrSettings};
+use super::po::{plane_wave_rcs_m2, trace_object, Illumination, ObjectOptics, SbrSettings};
 use crate::constants::wavelength_m;
 use crate::geometry::{Bvh, ShapeGeometry};
 use crate::model::{Polarisation, SceneObject};
+use crate::propagation::SeaSurface;
 use glam::DMat3;
 use rayon::prelude::*;
+use std::sync::OnceLock;
 
 /// How an RCS is computed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -34,6 +36,11 @@ pub struct RcsTarget {
     shape: ShapeGeometry,
     centre_local_m: glam::DVec3,
     radius_m: f64,
+    optics: ObjectOptics,
+    /// Height of the object's reference point above the sea, m.
+    height_m: f64,
+    /// The object standing at its height on the sea, for [`RcsTarget::over_sea_m2`].
+    on_the_sea: OnceLock<(Bvh, ObjectOptics)>,
 }
 
 impl RcsTarget {
@@ -49,7 +56,92 @@ impl RcsTarget {
             shape: object.shape().clone(),
             centre_local_m,
             radius_m: object.shape().bounding_radius_m(),
+            optics: ObjectOptics {
+                rods: object.shape().rods().to_vec(),
+                reflectivity: object.shape().surface_reflectivity(),
+                max_tube_side_m: object.shape().max_tube_side_m(),
+            },
+            height_m: object.position_m().z,
+            on_the_sea: OnceLock::new(),
         }
+    }
+
+    /// Effective RCS over the sea at one aspect, m²: `|Σ S|²` over every path, direct and via
+    /// the sea, of a radar `radar_height_m` above the sea whose line of sight to the
+    /// object's reference point at the waterline is depressed by `el_rad` (ground range
+    /// `radar_height_m / tan el`), from azimuth `az_rad` of the object's bow. The object
+    /// stands at its scene height; the radar is a point, so the paths are those of a
+    /// rendered scene (docs/physics.md §2.5) at that range.
+    pub fn over_sea_m2(
+        &self,
+        az_rad: f64,
+        el_rad: f64,
+        radar_height_m: f64,
+        sea: &SeaSurface,
+        s: &RcsSettings,
+    ) -> f64 {
+        if let ShapeGeometry::Point { rcs_m2 } = self.shape {
+            return rcs_m2;
+        }
+        let (bvh, optics) = self.on_the_sea.get_or_init(|| {
+            let at = glam::DVec3::new(0.0, 0.0, self.height_m);
+            let prims = self.shape.primitives(at, DMat3::IDENTITY, 0);
+            let optics = ObjectOptics {
+                rods: self
+                    .shape
+                    .rods()
+                    .iter()
+                    .map(|r| r.placed(at, DMat3::IDENTITY))
+                    .collect(),
+                ..self.optics.clone()
+            };
+            (Bvh::build(prims), optics)
+        });
+        let ground_m = radar_height_m / el_rad.tan();
+        let radar_m = glam::DVec3::new(
+            ground_m * az_rad.sin(),
+            ground_m * az_rad.cos(),
+            radar_height_m,
+        );
+        let lambda = wavelength_m(s.freq_hz);
+        let sbr = SbrSettings {
+            wavelength_m: lambda,
+            polarisation: s.polarisation,
+            max_bounces: s.max_bounces,
+            spacing_m: s.ray_spacing_wavelengths * lambda,
+            max_rays: s.max_rays,
+            sea: Some(*sea),
+            earth_curvature: false,
+        };
+        let centre = self.centre_local_m + glam::DVec3::Z * self.height_m;
+        trace_object(
+            bvh,
+            Illumination::FromPoint { radar_m },
+            centre,
+            self.radius_m,
+            0,
+            optics,
+            &sbr,
+        )
+        .returns
+        .iter()
+        .map(|r| r.root_rcs_m)
+        .sum::<num_complex::Complex64>()
+        .norm_sqr()
+    }
+
+    /// [`RcsTarget::over_sea_m2`] at many aspects (in parallel, results in input order), m².
+    pub fn over_sea_sweep_m2(
+        &self,
+        aspects_rad: &[(f64, f64)],
+        radar_height_m: f64,
+        sea: &SeaSurface,
+        s: &RcsSettings,
+    ) -> Vec<f64> {
+        aspects_rad
+            .par_iter()
+            .map(|&(az, el)| self.over_sea_m2(az, el, radar_height_m, sea, s))
+            .collect()
     }
 
     /// RCS at one aspect, m².
@@ -73,6 +165,7 @@ impl RcsTarget {
             self.centre_local_m,
             self.radius_m,
             0,
+            &self.optics,
             &sbr,
         )
     }

@@ -530,6 +530,14 @@ pub struct ObjectSpec {
     /// vessel: height of the deck structures above the deck, m (default: a fraction of the
     /// beam that depends on `superstructure`).
     pub superstructure_height_m: Option<f64>,
+    /// vessel: a detailed vessel with the structures of its type (instead of
+    /// `superstructure`): "container-ship", "bulk-carrier", "tanker", "ferry", "trawler",
+    /// "workboat", "yacht", "rib" or "kayak" (docs/targets.md, "Detailed vessels");
+    /// `superstructure_height_m` is then its deck house's height.
+    pub outfit: Option<crate::geometry::Outfit>,
+    /// vessel: the draw that varies a detailed vessel's structures (stack heights, holds,
+    /// cranes, booms), any integer (default 0).
+    pub outfit_seed: Option<u64>,
     /// vessel, buoy: height of the mast's (buoy: the structure's) top above the waterline, m
     /// (default: no mast).
     pub mast_height_m: Option<f64>,

@@ -122,7 +122,8 @@ fn ship_yacht_and_buoy(radar_height_m: f64) -> xbandsim::Scene {
 #[test]
 fn tubes_outside_the_window_return_nothing() {
     use xbandsim::scattering::po::{
-        object_parts, sea_mirror, settings_for, trace_object, trace_tube, Illumination, TubeGrid,
+        object_parts, sea_mirror, settings_for, trace_object, trace_tube, Illumination,
+        ObjectOptics, TubeGrid,
     };
     let s = ship_yacht_and_buoy(12.0);
     let bvh = xbandsim::scattering::build_scene_bvh(s.objects());
@@ -200,7 +201,15 @@ fn tubes_outside_the_window_return_nothing() {
             }
         }
         assert!(culled > 0, "object {index}: no plane-wave tube culled");
-        let traced = trace_object(&bvh, illumination, centre, radius, index, &settings);
+        let traced = trace_object(
+            &bvh,
+            illumination,
+            centre,
+            radius,
+            index,
+            &ObjectOptics::conductor(),
+            &settings,
+        );
         assert!(
             !traced.returns.is_empty(),
             "object {index} returned nothing"
@@ -225,7 +234,9 @@ fn tubes_outside_the_window_return_nothing() {
 fn first_hit_returns_are_clear() {
     use glam::DVec3;
     use xbandsim::geometry::Ray;
-    use xbandsim::scattering::po::{sea_mirror, settings_for, trace_object, Illumination};
+    use xbandsim::scattering::po::{
+        sea_mirror, settings_for, trace_object, Illumination, ObjectOptics,
+    };
     // Off the surface by this along the return (the tracer lifts along the normal).
     const LIFT_M: f64 = 1e-3;
     for radar_height_m in [6.0, 25.0] {
@@ -261,6 +272,7 @@ fn first_hit_returns_are_clear() {
                 obj.bounding_centre_m(),
                 obj.shape().bounding_radius_m(),
                 index as u32,
+                &ObjectOptics::conductor(),
                 &settings,
             );
             for r in traced.returns.iter().filter(|r| r.bounces == 1) {

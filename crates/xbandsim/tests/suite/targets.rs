@@ -5,7 +5,7 @@
 
 use std::f64::consts::PI;
 use xbandsim::constants::{linear_to_db, wavelength_m};
-use xbandsim::geometry::ShapeGeometry;
+use xbandsim::geometry::{Outfit, ShapeGeometry};
 use xbandsim::model::{Polarisation, Scene};
 use xbandsim::scattering::rcs::{RcsSettings, RcsTarget};
 use xbandsim::targets::{ReferenceRcs, TargetClass};
@@ -21,11 +21,6 @@ fn spec_of(class: TargetClass, size_m: f64, draws: &[f64; 3]) -> SceneSpec {
         objects: vec![o],
         ..SceneSpec::default()
     }
-}
-
-fn mid(class: TargetClass) -> Scene {
-    let (lo, hi) = class.size_range_m();
-    Scene::from_spec(&spec_of(class, 0.5 * (lo + hi), &[0.5; 3])).unwrap()
 }
 
 #[test]
@@ -149,6 +144,11 @@ fn vessel_and_buoy_fields_are_checked_by_name() {
         ("shape = \"buoy\"\nradius_m = 1.0\nheight_m = 1.0\nmast_height_m = 0.5", &["object \"v\".mast_height_m"]),
         ("shape = \"buoy\"\nradius_m = 20.0\nheight_m = 1.0", &["object \"v\".radius_m"]),
         ("shape = \"buoy\"\nradius_m = 1.0\nheight_m = 1.0\nlength_m = 3.0", &["object \"v\".length_m", "does not use"]),
+        ("shape = \"vessel\"\nlength_m = 30.0\noutfit = \"trawler\"\nsuperstructure = \"cabin\"", &["object \"v\".superstructure", "outfit \"trawler\""]),
+        ("shape = \"vessel\"\nlength_m = 30.0\noutfit_seed = 4", &["object \"v\".outfit_seed", "needs an outfit"]),
+        ("shape = \"vessel\"\nlength_m = 30.0\noutfit = \"container-ship\"", &["object \"v\".length_m", "\"container-ship\" is built for"]),
+        ("shape = \"vessel\"\nlength_m = 30.0\noutfit = \"submarine\"", &["submarine", "container-ship"]),
+        ("shape = \"buoy\"\nradius_m = 1.0\nheight_m = 1.0\noutfit = \"ferry\"", &["object \"v\".outfit", "does not use"]),
     ];
     for (fields, needles) in cases {
         let e = error_of(fields);
@@ -168,7 +168,7 @@ fn vessel_triangle_counts_follow_the_length_rule() {
         let text = format!("[[object]]\nname = \"v\"\nshape = \"vessel\"\n{fields}\nposition_m = [0.0, 300.0, 0.0]\n");
         let scene = Scene::from_toml_str(&text, "t").unwrap();
         match scene.objects()[0].shape() {
-            ShapeGeometry::Vessel { hull, .. } => hull.triangles.len(),
+            ShapeGeometry::Vessel { parts, .. } => parts.mesh.triangles.len(),
             other => panic!("{other:?}"),
         }
     };
@@ -209,97 +209,146 @@ fn corner_reflector_class_peak_matches_the_closed_form() {
     assert!(e.abs() < 0.25, "corner reflector a = {a}: {e:.2} dB");
 }
 
-/// The RCS of each class at its middle size and draws, over the aspects a ship's radar sees
-/// it from (azimuth every 5° from 2.5°, elevation 0.5°, 1°, 2°: antennas 10–20 m up, targets
-/// 0.3–2 km away), plane wave, HH, 9.41 GHz, tubes λ/2 up to 8192 per aspect: (median,
-/// linear mean, peak), m²; the peak also counts broadside (azimuth 90°) at 1°, which the grid
-/// steps over (a hull's broadside flash is a fraction of a degree wide).
-fn aspect_rcs(class: TargetClass) -> (f64, f64, f64) {
-    let scene = mid(class);
-    let target = RcsTarget::new(&scene.objects()[0]);
-    let aspects: Vec<(f64, f64)> = [0.5f64, 1.0, 2.0]
-        .iter()
-        .flat_map(|el| (0..72).map(move |i| ((5.0 * i as f64 + 2.5).to_radians(), el.to_radians())))
-        .collect();
-    let settings = rcs_settings(0.5, 8192);
-    let mut v = target.sweep_m2(&aspects, &settings);
+/// Percentile `p` (0 … 1) of `v` (sorted here), nearest rank.
+fn percentile(v: &mut [f64], p: f64) -> f64 {
     v.sort_by(f64::total_cmp);
-    let mean = v.iter().sum::<f64>() / v.len() as f64;
-    let broadside = target.rcs_m2(PI / 2.0, 1f64.to_radians(), &settings);
-    (v[v.len() / 2], mean, v[v.len() - 1].max(broadside))
+    v[((v.len() - 1) as f64 * p).round() as usize]
 }
 
-/// Each class's RCS is plausible at X band. The buoys, float and marker (analytic
-/// cylinders, spheres and plates) have their median within the band of the literature:
-/// IMO MSC.192(79) Table 2 rates a navigation buoy with a corner reflector at 10 m² and a
-/// channel marker at 1 m² (conservative reference targets, taken as the bands' lower ends);
-/// a lobster-pot float is a sphere, πr². The vessels (smooth procedural hulls and boxes)
-/// must bracket the literature value between their median and their peak over the aspects
-/// (small craft: IMO's 10 m vessel without reflector 2.5 m²; a kayak 0.5 m²; ships:
-/// Skolnik's formula), and their linear mean over the aspects must lie within 15 dB of it
-/// (the literature values are orders of magnitude: Skolnik's formula scatters by about
-/// ±10 dB about real ships).
-/// docs/targets.md gives the measured figures.
+/// What a class's RCS is over the aspects a ship's radar sees it from (azimuth every 10°
+/// from 5°, elevation 0.5°, 1°, 2° and 3°), HH, 9.41 GHz, tubes λ/2 up to 32 768 per aspect:
+/// free space (plane wave) and over the sea (the default environment's sea, radar 15 m up,
+/// ground range `15 m / tan el`, every path), each as (10th percentile, median, 90th
+/// percentile), m².
+fn aspect_rcs(scene: &Scene) -> ([f64; 3], [f64; 3]) {
+    let target = RcsTarget::new(&scene.objects()[0]);
+    let aspects: Vec<(f64, f64)> = [0.5f64, 1.0, 2.0, 3.0]
+        .iter()
+        .flat_map(|el| {
+            (0..36).map(move |i| ((10.0 * i as f64 + 5.0).to_radians(), el.to_radians()))
+        })
+        .collect();
+    let settings = rcs_settings(0.5, 32_768);
+    let sea = *Scene::from_spec(&SceneSpec::default())
+        .unwrap()
+        .environment()
+        .sea()
+        .unwrap();
+    let spread = |mut v: Vec<f64>| {
+        [
+            percentile(&mut v, 0.1),
+            percentile(&mut v, 0.5),
+            percentile(&mut v, 0.9),
+        ]
+    };
+    (
+        spread(target.sweep_m2(&aspects, &settings)),
+        spread(target.over_sea_sweep_m2(&aspects, 15.0, &sea, &settings)),
+    )
+}
+
+/// The classes whose median over aspect does not reach its reference yet, with how far
+/// short it may stay, dB (docs/targets.md, "RCS at X band", says why and by how much): the
+/// test fails if one falls further short, or lies more than 6 dB above it.
+const SHORT_OF_REFERENCE_DB: [(&str, f64); 3] = [
+    ("cargo_ship", 9.0),
+    ("cargo_ship bulk-carrier", 23.0),
+    ("tanker", 28.0),
+];
+
+/// Each class at its middle size and draws (and the cargo class's bulk carrier) against its
+/// published reference (`TargetClass::reference_rcs`): the median over aspect of the RCS the
+/// reference was measured as — over the sea for Skolnik's ship medians, free space for IMO's
+/// figures and the closed forms (`TargetClass::reference_is_over_sea`) — within ±6 dB of a
+/// median reference, inside a band reference, within 0.3 dB of the lobster-pot float's πr²;
+/// the classes of `SHORT_OF_REFERENCE_DB` no further short than listed. docs/targets.md gives
+/// the measured figures.
 #[test]
-fn class_rcs_is_plausible_at_x_band() {
+fn class_rcs_matches_published_references() {
     let t0 = std::time::Instant::now();
     let mut report = String::new();
     let mut failures = Vec::new();
-    let mut check = |ok: bool, why: String| {
-        if !ok {
-            failures.push(why)
-        }
-    };
+    let db = linear_to_db;
+    let mut rows: Vec<(TargetClass, String, SceneSpec)> = Vec::new();
     for c in TargetClass::all() {
         if *c == TargetClass::CornerReflector {
             continue;
         }
-        let (median, mean, peak) = aspect_rcs(*c);
-        report.push_str(&format!(
-            "{:>16}: median {:7.2} dBsm, mean {:7.2} dBsm, peak {:7.2} dBsm\n",
-            c.name(),
-            linear_to_db(median),
-            linear_to_db(mean),
-            linear_to_db(peak)
-        ));
         let (lo, hi) = c.size_range_m();
-        let spec = spec_of(*c, 0.5 * (lo + hi), &[0.5; 3]);
-        let literature = match c
+        rows.push((
+            *c,
+            c.name().to_string(),
+            spec_of(*c, 0.5 * (lo + hi), &[0.5; 3]),
+        ));
+    }
+    // The cargo class's other ship: the same, built as a bulk carrier.
+    let (lo, hi) = TargetClass::CargoShip.size_range_m();
+    let mut bulk = spec_of(TargetClass::CargoShip, 0.5 * (lo + hi), &[0.5; 3]);
+    bulk.objects[0].outfit = Some(Outfit::BulkCarrier);
+    rows.push((
+        TargetClass::CargoShip,
+        "cargo_ship bulk-carrier".into(),
+        bulk,
+    ));
+    for (c, label, spec) in rows {
+        let scene = Scene::from_spec(&spec).unwrap();
+        let (free, sea) = aspect_rcs(&scene);
+        let measured = if c.reference_is_over_sea() { sea } else { free };
+        report.push_str(&format!(
+            "{label:>24}: free {:6.1} {:6.1} {:6.1} | sea {:6.1} {:6.1} {:6.1} dBsm",
+            db(free[0]),
+            db(free[1]),
+            db(free[2]),
+            db(sea[0]),
+            db(sea[1]),
+            db(sea[2])
+        ));
+        let off_db = match c
             .reference_rcs(&spec.objects[0])
             .expect("every class but the reflector")
         {
             ReferenceRcs::Band {
                 low_m2, high_m2, ..
             } => {
-                check(
-                    (low_m2..=high_m2).contains(&median),
-                    format!("{c}: median {median} m²"),
-                );
+                report.push_str(&format!(" | band {:.1} … {:.1}\n", db(low_m2), db(high_m2)));
+                if !(low_m2..=high_m2).contains(&measured[1]) {
+                    failures.push(format!(
+                        "{label}: median {:.1} dBsm outside its band",
+                        db(measured[1])
+                    ));
+                }
                 continue;
             }
-            ReferenceRcs::Median { m2, .. } if *c == TargetClass::LobsterPot => {
-                let e = linear_to_db(median) - linear_to_db(m2);
-                check(e.abs() < 0.3, format!("{c}: {e:.2} dB from πr²"));
-                continue;
-            }
-            ReferenceRcs::Median { m2, .. } => m2,
+            ReferenceRcs::Median { m2, .. } => db(measured[1]) - db(m2),
         };
-        check(
-            median < literature && literature < peak,
-            format!(
-                "{c}: {literature:.3} m² not between the median {median:.3} and the peak {peak:.3}"
-            ),
-        );
-        let off = linear_to_db(mean) - linear_to_db(literature);
         report.push_str(&format!(
-            "{:>16}  literature {:7.2} dBsm, mean {off:+.1} dB from it\n",
-            "",
-            linear_to_db(literature)
+            " | {} median {off_db:+.1} dB from the reference\n",
+            if c.reference_is_over_sea() {
+                "sea"
+            } else {
+                "free"
+            }
         ));
-        check(
-            off.abs() < 15.0,
-            format!("{c}: mean {off:.1} dB from {literature:.3} m²"),
-        );
+        let allowed_short = SHORT_OF_REFERENCE_DB
+            .iter()
+            .find(|(name, _)| *name == label)
+            .map(|(_, d)| *d);
+        let tolerance = if c == TargetClass::LobsterPot {
+            0.3
+        } else {
+            6.0
+        };
+        match allowed_short {
+            None if off_db.abs() > tolerance => {
+                failures.push(format!("{label}: {off_db:+.1} dB from its reference"))
+            }
+            Some(short) if off_db.abs() <= 6.0 || off_db < -short || off_db > 6.0 => {
+                failures.push(format!(
+                    "{label}: {off_db:+.1} dB from its reference, listed as up to {short} dB short"
+                ))
+            }
+            _ => {}
+        }
     }
     eprintln!("{report}({:.2} s)", t0.elapsed().as_secs_f64());
     assert!(failures.is_empty(), "{failures:#?}\n{report}");

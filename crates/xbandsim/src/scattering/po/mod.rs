@@ -28,9 +28,11 @@
 //! Return paths other than the way a tube came in are checked with shadow rays.
 //! Ideal `point` objects give `S = √σ·exp(−j2πℓ/λ)` per path (four paths over the sea).
 
+mod rods;
+mod still;
 mod tube;
 
-mod still;
+pub use rods::{rod_returns, ROD_PIECE_M};
 
 pub use still::{KeptTrace, ObjectReach, StillTraces};
 pub use tube::{
@@ -39,13 +41,49 @@ pub use tube::{
 };
 
 use super::{azimuth_elevation_rad, carrier_phase, vector_bits, Contribution, ScatterSet};
-use crate::geometry::{Bvh, Ray, ShapeGeometry};
+use crate::geometry::{Bvh, Ray, Rod, ShapeGeometry};
 use crate::model::{Polarisation, Scene, SceneObject};
 use crate::propagation::SeaSurface;
 use crate::special::LastCall;
 use glam::DVec3;
 use num_complex::Complex64;
 use rayon::prelude::*;
+
+/// What of an object scatters besides its traced primitives, and how they reflect: its rods
+/// (world frame, [`rod_returns`]) and the amplitude reflectivity of its traced surfaces,
+/// applied at each reflection a return makes (on a return that also bounced off another
+/// object, at that bounce too: the rare cross-object paths take the traced object's
+/// material).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObjectOptics {
+    /// Rods, m.
+    pub rods: Vec<Rod>,
+    /// Amplitude reflectivity of the traced surfaces (1: a conductor).
+    pub reflectivity: f64,
+    /// The widest tube side its detail allows, m: the ray budget rises above
+    /// `max_rays_per_object` until the tubes are no wider (None: the budget as set).
+    pub max_tube_side_m: Option<f64>,
+}
+
+impl ObjectOptics {
+    /// A conductor without rods.
+    pub fn conductor() -> ObjectOptics {
+        ObjectOptics {
+            rods: Vec::new(),
+            reflectivity: 1.0,
+            max_tube_side_m: None,
+        }
+    }
+
+    /// Those of a scene object, placed in the world.
+    pub fn of(object: &SceneObject) -> ObjectOptics {
+        ObjectOptics {
+            rods: object.rods_m(),
+            reflectivity: object.shape().surface_reflectivity(),
+            max_tube_side_m: object.shape().max_tube_side_m(),
+        }
+    }
+}
 
 /// The tube grid an object was traced with, against what was asked for.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -89,9 +127,10 @@ pub fn trace_object(
     centre_m: DVec3,
     radius_m: f64,
     index: u32,
+    optics: &ObjectOptics,
     s: &SbrSettings,
 ) -> ObjectTrace {
-    let traced = trace_object_runs(bvh, illumination, centre_m, radius_m, index, s);
+    let traced = trace_object_runs(bvh, illumination, centre_m, radius_m, index, optics, s);
     let total: usize = traced.runs.iter().map(Vec::len).sum();
     let mut runs = traced.runs.into_iter();
     let mut returns = runs.next().unwrap_or_default();
@@ -113,22 +152,42 @@ fn trace_object_runs(
     centre_m: DVec3,
     radius_m: f64,
     index: u32,
+    optics: &ObjectOptics,
     s: &SbrSettings,
 ) -> ObjectRuns {
-    trace_object_runs_with(bvh, illumination, centre_m, radius_m, index, s, || ()).0
+    trace_object_runs_with(
+        bvh,
+        illumination,
+        centre_m,
+        radius_m,
+        index,
+        optics,
+        s,
+        || (),
+    )
+    .0
 }
 
 /// [`trace_object_runs`], handing every ray cast to a sink `new_sink` makes (one per run of
-/// rows traced together): the runs and their sinks, in order.
+/// rows traced together, and one for the rods): the runs and their sinks, in order.
+#[allow(clippy::too_many_arguments)]
 fn trace_object_runs_with<R: RaySink + Send>(
     bvh: &Bvh,
     illumination: Illumination,
     centre_m: DVec3,
     radius_m: f64,
     index: u32,
+    optics: &ObjectOptics,
     s: &SbrSettings,
     new_sink: impl Fn() -> R + Sync + Send,
 ) -> (ObjectRuns, Vec<R>) {
+    // A detailed object's budget grows until its tubes are no wider than its detail allows.
+    let max_rays = optics.max_tube_side_m.map_or(s.max_rays, |side| {
+        let cells = (2.0 * radius_m / side).ceil();
+        s.max_rays
+            .max((std::f64::consts::FRAC_PI_4 * cells * cells).ceil() as usize)
+    });
+    let s = &SbrSettings { max_rays, ..*s };
     let mut grids = vec![TubeGrid::new(
         illumination,
         centre_m,
@@ -198,6 +257,33 @@ fn trace_object_runs_with<R: RaySink + Send>(
             }
         }
     }
+    if optics.reflectivity != 1.0 {
+        // A plastic surface scales the field at every reflection on it.
+        for run in &mut returns {
+            for r in run.iter_mut() {
+                r.root_rcs_m *= optics.reflectivity.powi(i32::from(r.bounces));
+            }
+        }
+    }
+    let rods = &optics.rods;
+    if !rods.is_empty() {
+        // The rods' returns after the tubes', their paths measured as the direct grid's.
+        let mut sink = new_sink();
+        let mut run = Vec::new();
+        rays += rod_returns(
+            bvh,
+            illumination,
+            direct.plane_origin_m(),
+            rods,
+            s,
+            &mut run,
+            &mut sink,
+        );
+        sinks.push(sink);
+        if !run.is_empty() {
+            returns.push(run);
+        }
+    }
     let runs = ObjectRuns {
         runs: returns,
         rays,
@@ -220,6 +306,7 @@ pub fn plane_wave_rcs_m2(
     centre_m: DVec3,
     radius_m: f64,
     index: u32,
+    optics: &ObjectOptics,
     s: &SbrSettings,
 ) -> f64 {
     trace_object(
@@ -228,6 +315,7 @@ pub fn plane_wave_rcs_m2(
         centre_m,
         radius_m,
         index,
+        optics,
         s,
     )
     .returns
@@ -413,6 +501,7 @@ pub fn trace_selected(
             let illumination = Illumination::FromPoint {
                 radar_m: radar.position_m(),
             };
+            let optics = ObjectOptics::of(obj);
             if selection(idx) == Selection::Trace {
                 return Some(trace_object_runs(
                     bvh,
@@ -420,14 +509,21 @@ pub fn trace_selected(
                     centre,
                     radius,
                     idx as u32,
+                    &optics,
                     &s,
                 ));
             }
             let cones = ObjectReach::new(radar.position_m(), centre, radius, s.sea.is_some());
-            let (runs, sinks) =
-                trace_object_runs_with(bvh, illumination, centre, radius, idx as u32, &s, || {
-                    cones.same_cones()
-                });
+            let (runs, sinks) = trace_object_runs_with(
+                bvh,
+                illumination,
+                centre,
+                radius,
+                idx as u32,
+                &optics,
+                &s,
+                || cones.same_cones(),
+            );
             let mut reach = cones;
             reach.absorb(sinks);
             per_object[idx].reach = Some(reach);

@@ -228,6 +228,12 @@ impl TubeGrid {
         }
     }
 
+    /// Plane-wave mode: the reference plane's point on the axis that paths are measured
+    /// from, m.
+    pub fn plane_origin_m(&self) -> DVec3 {
+        self.plane_origin_m
+    }
+
     /// Grid point of cell (i, j) on the plane through the centre, if inside the covered disk
     /// (with half a cell of margin).
     #[inline]
