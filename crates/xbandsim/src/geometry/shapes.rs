@@ -44,6 +44,8 @@ pub enum ShapeGeometry {
     Vessel {
         params: VesselParams,
         parts: Arc<OutfitParts>,
+        /// Its box in its own frame, made once with the parts (every frame asks for it).
+        bounds: Aabb,
     },
     /// Procedural buoy: float, pillar and reflector.
     Buoy { params: BuoyParams },
@@ -120,10 +122,16 @@ impl ShapeGeometry {
 
     /// A procedural vessel, its hull built from `params`.
     pub fn vessel(params: VesselParams) -> ShapeGeometry {
-        ShapeGeometry::Vessel {
+        let mut shape = ShapeGeometry::Vessel {
             parts: Arc::new(params.parts()),
             params,
+            bounds: Aabb::EMPTY,
+        };
+        let made = shape.bounds_of_parts();
+        if let ShapeGeometry::Vessel { bounds, .. } = &mut shape {
+            *bounds = made;
         }
+        shape
     }
 
     /// Amplitude reflectivity of the shape's traced surfaces (1, a conductor, but for the
@@ -157,6 +165,14 @@ impl ShapeGeometry {
 
     /// Bounding box of the shape's primitives in object coordinates (empty for a point).
     pub fn local_bounds(&self) -> Aabb {
+        match self {
+            ShapeGeometry::Vessel { bounds, .. } => *bounds,
+            _ => self.bounds_of_parts(),
+        }
+    }
+
+    /// [`ShapeGeometry::local_bounds`] made from the primitives and rods.
+    fn bounds_of_parts(&self) -> Aabb {
         let mut b = Aabb::EMPTY;
         for p in self.primitives(DVec3::ZERO, DMat3::IDENTITY, 0) {
             let pb = p.bounds();

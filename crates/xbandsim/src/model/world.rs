@@ -102,7 +102,7 @@ impl SceneObject {
             ShapeGeometry::Cylinder { radius_m, height_m } => vec![*radius_m, *height_m],
             ShapeGeometry::Box { size_m } => size_m.to_array().to_vec(),
             ShapeGeometry::Mesh { mesh } => vec![mesh.triangles.len() as f64],
-            ShapeGeometry::Vessel { params, parts } => vec![
+            ShapeGeometry::Vessel { params, parts, .. } => vec![
                 params.length_m,
                 params.beam_m,
                 params.freeboard_m,

@@ -6,7 +6,8 @@
 //! piece of length ℓ is, by stationary phase around the circumference (Knott, Shaeffer &
 //! Tuley, *Radar Cross Section*, 2nd ed., §5.2; docs/physics.md §2.2),
 //!
-//! `S = (√(4π)/λ) · P · (n̂·ŝ) · w · ℓ · sinc(q_∥ℓ/2) · exp(−j2πL/λ − jπ/4)`,
+//! `S = (√(4π)/λ) · P · (n̂·ŝ) · w · ℓ · sinc(q_∥ℓ/2) · exp(−j2πL/λ − jπ/4)`
+//! (pieces of [`ROD_PIECE_M`], longer the farther the radar),
 //!
 //! times the rod's reflectivity (1 for a conductor), with `n̂ = q_⊥/|q_⊥|` the normal at the specular line, `w = √(2πa/|q_⊥|)` the width of
 //! the first Fresnel zone around it (capped at the diameter 2a where the stationary phase
@@ -32,9 +33,20 @@ use crate::scattering::carrier_phase;
 use glam::DVec3;
 use num_complex::Complex64;
 
-/// Longest piece a rod is cut into, m: the path over a piece of 0.5 m from a point 100 m
-/// away bends by `ℓ²/(8R)` = 0.3 mm, λ/100 at X band.
-pub const ROD_PIECE_M: f64 = 0.5;
+/// Shortest and longest piece a rod is cut into, m. Between them a piece is as long as
+/// keeps the wave front's bend over it, `ℓ²/(8R)` from the radar R away, under λ/10
+/// (`ℓ = √(0.8·λ·R)`: 1.6 m at 100 m, 5 m at 1 km at X band), so a piece's closed form holds
+/// as for a plane wave; the longest also bounds how coarsely a piece's shadow ray samples
+/// what hides the rod.
+pub const ROD_PIECE_M: (f64, f64) = (0.5, 4.0);
+
+/// The piece length for a rod whose nearest point lies `range_m` from the radar (infinite
+/// for a plane wave), m.
+fn piece_length_m(range_m: f64, wavelength_m: f64) -> f64 {
+    (0.8 * wavelength_m * range_m)
+        .sqrt()
+        .clamp(ROD_PIECE_M.0, ROD_PIECE_M.1)
+}
 
 /// Lift of a shadow ray's end off the rod's surface, m.
 const SURFACE_OFFSET_M: f64 = 1e-6;
@@ -173,7 +185,17 @@ pub fn rod_returns(
             continue;
         }
         let axis = (rod.b_m - rod.a_m) / length;
-        let pieces = (length / ROD_PIECE_M).ceil().max(1.0) as usize;
+        let range_m = match illumination {
+            Illumination::PlaneWave { .. } => f64::INFINITY,
+            Illumination::FromPoint { radar_m } => {
+                // The nearest point of the segment to the radar.
+                let t = (radar_m - rod.a_m).dot(axis).clamp(0.0, length);
+                (rod.a_m + axis * t - radar_m).length()
+            }
+        };
+        let pieces = (length / piece_length_m(range_m, s.wavelength_m))
+            .ceil()
+            .max(1.0) as usize;
         let piece_m = length / pieces as f64;
         for n in 0..pieces {
             let centre = rod.a_m + axis * (piece_m * (n as f64 + 0.5));
