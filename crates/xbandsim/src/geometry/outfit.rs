@@ -453,7 +453,8 @@ pub fn build_outfit(outfit: Outfit, sizes: &OutfitSizes, seed: u64) -> OutfitPar
             let (y0, y1) = (y(-0.44), y(-0.44) + (0.12 * l).max(10.0));
             let top = k.house(y0, y1, 0.8 * b, tiers, h / tiers as f64, 0.8, true);
             // Funnel behind the house, a mast on the house.
-            let funnel_r = 0.09 * b;
+            // (On a beamy ship the funnel narrows to stay forward of the transom.)
+            let funnel_r = (0.09 * b).min(0.02 * l);
             let zf = k.hull.deck_z_m(y0 - funnel_r);
             k.cylinder(
                 DVec3::new(0.0, y0 - 1.5 * funnel_r, zf),
@@ -512,7 +513,8 @@ pub fn build_outfit(outfit: Outfit, sizes: &OutfitSizes, seed: u64) -> OutfitPar
             for t in 0..tiers {
                 let front = y1 - 1.2 * t as f64;
                 let n = ((front - y0) / 2.0) as usize;
-                for i in 0..=n {
+                // (Mullions only between the sill at 0.9 m and 0.3 m under the deck head.)
+                for i in (0..=n).filter(|_| tier_h > 1.5) {
                     let yy = y0 + (front - y0) * i as f64 / n.max(1) as f64;
                     for side in [-1.0, 1.0] {
                         let x = side * (0.5 * w + 0.06);
@@ -527,7 +529,9 @@ pub fn build_outfit(outfit: Outfit, sizes: &OutfitSizes, seed: u64) -> OutfitPar
                 w = (w - 2.4).max(0.3 * 0.92 * b);
             }
             // Lifeboats in davits along both sides of the second tier.
-            let boats = d.int(2, 4);
+            // Boats of 7.5 m, as many a side as fit (none on a hull too narrow for davits).
+            let boats = d.int(2, 4).min(((y1 - y0) / 9.0) as usize);
+            let boats = if b < 8.0 { 0 } else { boats };
             let z_boat = k.hull.deck_z_m(0.0) + tier_h * 1.3;
             for i in 0..boats {
                 let yy = y0 + (y1 - y0) * (i as f64 + 0.5) / boats as f64;
@@ -635,7 +639,9 @@ pub fn build_outfit(outfit: Outfit, sizes: &OutfitSizes, seed: u64) -> OutfitPar
                 for side in [-1.0, 1.0] {
                     let pts = k.deck_edge(side, y(-0.49), y(0.45), -0.1);
                     for w in pts.windows(2) {
-                        k.rod(w[0] - DVec3::Z * 0.3, w[1] - DVec3::Z * 0.3, 0.15);
+                        // 0.3 m under the deck edge, but never in the water.
+                        let drop = |p: DVec3| DVec3::new(p.x, p.y, (p.z - 0.3).max(0.15));
+                        k.rod(drop(w[0]), drop(w[1]), 0.15);
                     }
                 }
                 let yt = y(-0.35);
@@ -663,7 +669,7 @@ pub fn build_outfit(outfit: Outfit, sizes: &OutfitSizes, seed: u64) -> OutfitPar
                 0.6 * mr,
             );
             // Forestay with its furled sail, backstay, shrouds with two spreaders.
-            let head = DVec3::new(0.0, ym, mast_z - 0.04 * l);
+            let head = DVec3::new(0.0, ym, mast_z - 0.04 * (mast_z - zd));
             let stem = DVec3::new(0.0, y(0.49), k.hull.deck_z_m(y(0.49)));
             k.rod(stem, head, 0.05);
             let stern = DVec3::new(0.0, y(-0.49), k.hull.deck_z_m(y(-0.49)));
@@ -679,7 +685,11 @@ pub fn build_outfit(outfit: Outfit, sizes: &OutfitSizes, seed: u64) -> OutfitPar
                     k.rod(prev, tip, 0.005);
                     prev = tip;
                 }
-                k.rod(prev, DVec3::new(0.0, ym, mast_z - 0.02 * l), 0.005);
+                k.rod(
+                    prev,
+                    DVec3::new(0.0, ym, mast_z - 0.02 * (mast_z - zd)),
+                    0.005,
+                );
             }
             // Pulpit, pushpit and guard rails (stanchions every 2 m, wires between).
             k.side_rails(y(-0.47), y(0.45), 0.65, 2.0, 0.012);
@@ -922,6 +932,9 @@ fn container_bays(k: &mut Builder, d: &mut Draws, y0: f64, y1: f64, bridge_z: f6
 /// deck make rows of corners facing aft and up.
 fn breakwater(k: &mut Builder, y_aft: f64, deck_z: f64) {
     let half = k.hull.deck_half_width_m(y_aft + 6.0) - 0.3;
+    if half < 2.0 {
+        return; // no room for a V on so fine a bow
+    }
     let (apex, height) = (DVec3::new(0.0, y_aft + 6.0, deck_z), 4.0);
     for side in [-1.0, 1.0] {
         let end = DVec3::new(side * half, y_aft + 1.0, deck_z);

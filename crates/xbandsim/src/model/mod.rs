@@ -25,7 +25,8 @@ pub use radar::{
 };
 pub use revolution::Revolution;
 pub use scattering::{
-    tube_grid_cells, ScatteringConfig, ScatteringModel, BYTES_PER_TUBE, MAX_TRACE_BYTES,
+    object_max_rays, tube_grid_cells, ScatteringConfig, ScatteringModel, BYTES_PER_TUBE,
+    MAX_TRACE_BYTES,
 };
 pub use world::SceneObject;
 
@@ -73,10 +74,15 @@ fn check_trace_memory(
         if matches!(obj.shape(), ShapeGeometry::Point { .. }) {
             continue;
         }
+        let radius_m = obj.shape().bounding_radius_m();
         let (cells, bound) = tube_grid_cells(
-            obj.shape().bounding_radius_m(),
+            radius_m,
             spacing_m,
-            scattering.max_rays_per_object(),
+            object_max_rays(
+                scattering.max_rays_per_object(),
+                radius_m,
+                obj.shape().max_tube_side_m(),
+            ),
         );
         tubes += grids * std::f64::consts::FRAC_PI_4 * (cells as f64).powi(2);
         capped |= bound;

@@ -35,6 +35,17 @@ pub fn tube_grid_cells(radius_m: f64, spacing_m: f64, max_rays: usize) -> (usize
     }
 }
 
+/// The tube budget of one object's grid: `max_rays`, raised for an object whose detail
+/// allows tubes no wider than `max_tube_side_m` (a detailed vessel,
+/// `ShapeGeometry::max_tube_side_m`) until its bounding disk of radius `radius_m` is covered
+/// at that side. The PO tracer and the scene's memory check both use it.
+pub fn object_max_rays(max_rays: usize, radius_m: f64, max_tube_side_m: Option<f64>) -> usize {
+    max_tube_side_m.map_or(max_rays, |side| {
+        let cells = (2.0 * radius_m / side).ceil();
+        max_rays.max((std::f64::consts::FRAC_PI_4 * cells * cells).ceil() as usize)
+    })
+}
+
 /// Scattering settings.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ScatteringConfig {

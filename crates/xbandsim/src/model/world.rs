@@ -544,6 +544,25 @@ fn vessel_params(
             hi,
             &format!("the lengths an outfit \"{}\" is built for", outfit.as_str()),
         )?;
+        let unused = match outfit {
+            crate::geometry::Outfit::Rib => Some(("mast_height_m", o.mast_height_m.is_some())),
+            crate::geometry::Outfit::Kayak => Some((
+                "mast_height_m or superstructure_height_m",
+                o.mast_height_m.is_some() || o.superstructure_height_m.is_some(),
+            )),
+            _ => None,
+        };
+        if let Some((field, true)) = unused {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                f(field.split(' ').next().unwrap_or(field)),
+                "(set)",
+                format!(
+                    "an outfit \"{}\" has no mast or deck house for {field} to set",
+                    outfit.as_str()
+                ),
+            ));
+        }
     }
     if let (Some(outfit), Some(s)) = (o.outfit, o.superstructure) {
         return Err(Error::invalid(

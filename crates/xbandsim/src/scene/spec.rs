@@ -536,7 +536,7 @@ pub struct ObjectSpec {
     /// `superstructure_height_m` is then its deck house's height.
     pub outfit: Option<crate::geometry::Outfit>,
     /// vessel: the draw that varies a detailed vessel's structures (stack heights, holds,
-    /// cranes, booms), any integer (default 0).
+    /// cranes, booms), an integer from 0 to 2⁶³ − 1 (default 0).
     pub outfit_seed: Option<u64>,
     /// vessel, buoy: height of the mast's (buoy: the structure's) top above the waterline, m
     /// (default: no mast).

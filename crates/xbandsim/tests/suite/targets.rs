@@ -146,6 +146,7 @@ fn vessel_and_buoy_fields_are_checked_by_name() {
         ("shape = \"buoy\"\nradius_m = 1.0\nheight_m = 1.0\nlength_m = 3.0", &["object \"v\".length_m", "does not use"]),
         ("shape = \"vessel\"\nlength_m = 30.0\noutfit = \"trawler\"\nsuperstructure = \"cabin\"", &["object \"v\".superstructure", "outfit \"trawler\""]),
         ("shape = \"vessel\"\nlength_m = 30.0\noutfit_seed = 4", &["object \"v\".outfit_seed", "needs an outfit"]),
+        ("shape = \"vessel\"\nlength_m = 6.0\noutfit = \"rib\"\nmast_height_m = 5.0", &["object \"v\".mast_height_m", "\"rib\" has no mast"]),
         ("shape = \"vessel\"\nlength_m = 30.0\noutfit = \"container-ship\"", &["object \"v\".length_m", "\"container-ship\" is built for"]),
         ("shape = \"vessel\"\nlength_m = 30.0\noutfit = \"submarine\"", &["submarine", "container-ship"]),
         ("shape = \"buoy\"\nradius_m = 1.0\nheight_m = 1.0\noutfit = \"ferry\"", &["object \"v\".outfit", "does not use"]),

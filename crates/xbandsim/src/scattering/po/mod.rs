@@ -182,11 +182,7 @@ fn trace_object_runs_with<R: RaySink + Send>(
     new_sink: impl Fn() -> R + Sync + Send,
 ) -> (ObjectRuns, Vec<R>) {
     // A detailed object's budget grows until its tubes are no wider than its detail allows.
-    let max_rays = optics.max_tube_side_m.map_or(s.max_rays, |side| {
-        let cells = (2.0 * radius_m / side).ceil();
-        s.max_rays
-            .max((std::f64::consts::FRAC_PI_4 * cells * cells).ceil() as usize)
-    });
+    let max_rays = crate::model::object_max_rays(s.max_rays, radius_m, optics.max_tube_side_m);
     let s = &SbrSettings { max_rays, ..*s };
     let mut grids = vec![TubeGrid::new(
         illumination,

@@ -21,7 +21,8 @@
 //! Over the sea each piece returns along the four paths of the two-ray model (radar or its
 //! image in z = 0, each way, with the sea's Fresnel reflection and shadow rays on each leg);
 //! a vertical rod's direct–sea paths are the rod–sea dihedral that makes masts bright at low
-//! grazing. Rods neither shadow nor bounce (they are not in the BVH); PO holds for `ka ≳ 1`
+//! grazing. A piece under the sea or below the radar horizon returns nothing, as a tube's
+//! hit there would not. Rods neither shadow nor bounce (they are not in the BVH); PO holds for `ka ≳ 1`
 //! (radius ≳ 5 mm at X band).
 
 use super::tube::{
@@ -102,6 +103,17 @@ fn legs_to(
             1
         }
         Illumination::FromPoint { radar_m } => {
+            // Under the sea, or below the radar horizon, as a tube's hit would be.
+            let hidden = (s.sea.is_some() && p.z <= 0.0)
+                || (s.earth_curvature
+                    && !crate::propagation::above_horizon(
+                        radar_m.z,
+                        (p - radar_m).truncate().length(),
+                        p.z,
+                    ));
+            if hidden {
+                return 0;
+            }
             let mut rays = 1;
             let v = p - radar_m;
             let len = v.length();
@@ -363,7 +375,43 @@ mod tests {
         }
     }
 
-    /// A rod hidden behind a plate returns nothing; in front of it, all.
+    /// Over the sea, a rod above it returns along all four paths; one under the water, or
+    /// beyond the radar horizon, returns nothing (as a tube's hit there would not).
+    #[test]
+    fn a_rod_in_the_water_or_past_the_horizon_is_silent() {
+        use crate::propagation::{SeaRoughness, SeaSurface};
+        let mut s = settings(Polarisation::Hh);
+        s.sea = Some(SeaSurface {
+            permittivity: Complex64::new(55.0, -35.0),
+            rms_height_m: 0.0,
+            roughness: SeaRoughness::Ament,
+        });
+        s.earth_curvature = true;
+        let bvh = Bvh::build(Vec::new());
+        let count = |rod: Rod, radar_m: DVec3| {
+            let mut out = Vec::new();
+            rod_returns(
+                &bvh,
+                Illumination::FromPoint { radar_m },
+                DVec3::ZERO,
+                &[rod],
+                &s,
+                &mut out,
+                &mut (),
+            );
+            out.len()
+        };
+        let near = DVec3::new(0.0, -300.0, 15.0);
+        let above = Rod::new(DVec3::new(0.0, 0.0, 1.0), DVec3::new(0.0, 0.0, 1.4), 0.05);
+        let under = Rod::new(DVec3::new(0.0, 0.0, -1.0), DVec3::new(0.0, 0.0, -0.6), 0.05);
+        assert_eq!(count(above, near), 4);
+        assert_eq!(count(under, near), 0);
+        // 40 km away from a 15 m antenna, a point 1.4 m up is below the horizon (about
+        // 16 km for the antenna plus 4.9 km for the point on the 4/3 earth).
+        assert_eq!(count(above, DVec3::new(0.0, -40_000.0, 15.0)), 0);
+    }
+
+    /// A rod hidden behind a plate returns nothing; in front of it, its one piece.
     #[test]
     fn a_rod_behind_a_plate_is_shadowed() {
         use crate::geometry::{Primitive, PrimitiveKind};
@@ -395,6 +443,7 @@ mod tests {
             out.len()
         };
         assert_eq!(count(&plate(5.0)), 0);
-        assert_eq!(count(&plate(-5.0)), 4);
+        // One piece: under a plane wave the 2 m rod is shorter than the longest piece.
+        assert_eq!(count(&plate(-5.0)), 1);
     }
 }
