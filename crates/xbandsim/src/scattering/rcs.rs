@@ -30,6 +30,23 @@ pub struct RcsSettings {
     pub max_bounces: usize,
 }
 
+impl RcsSettings {
+    /// The SBR settings of one trace, with the sea `sea` (None: free space); no earth
+    /// curvature.
+    fn sbr(&self, sea: Option<SeaSurface>) -> SbrSettings {
+        let lambda = wavelength_m(self.freq_hz);
+        SbrSettings {
+            wavelength_m: lambda,
+            polarisation: self.polarisation,
+            max_bounces: self.max_bounces,
+            spacing_m: self.ray_spacing_wavelengths * lambda,
+            max_rays: self.max_rays,
+            sea,
+            earth_curvature: false,
+        }
+    }
+}
+
 /// One object, ready for RCS sweeps.
 pub struct RcsTarget {
     bvh: Bvh,
@@ -103,16 +120,7 @@ impl RcsTarget {
             ground_m * az_rad.cos(),
             radar_height_m,
         );
-        let lambda = wavelength_m(s.freq_hz);
-        let sbr = SbrSettings {
-            wavelength_m: lambda,
-            polarisation: s.polarisation,
-            max_bounces: s.max_bounces,
-            spacing_m: s.ray_spacing_wavelengths * lambda,
-            max_rays: s.max_rays,
-            sea: Some(*sea),
-            earth_curvature: false,
-        };
+        let sbr = s.sbr(Some(*sea));
         let centre = self.centre_local_m + glam::DVec3::Z * self.height_m;
         trace_object(
             bvh,
@@ -149,16 +157,7 @@ impl RcsTarget {
         if let ShapeGeometry::Point { rcs_m2 } = self.shape {
             return rcs_m2;
         }
-        let lambda = wavelength_m(s.freq_hz);
-        let sbr = SbrSettings {
-            wavelength_m: lambda,
-            polarisation: s.polarisation,
-            max_bounces: s.max_bounces,
-            spacing_m: s.ray_spacing_wavelengths * lambda,
-            max_rays: s.max_rays,
-            sea: None,
-            earth_curvature: false,
-        };
+        let sbr = s.sbr(None);
         plane_wave_rcs_m2(
             &self.bvh,
             direction_from_az_el(az_rad, el_rad),
