@@ -336,12 +336,12 @@ impl Builder {
         }
     }
 
-    /// A mast from (x, y, z0) to z1 of radius r with a yard (span across, at `yard_z`) and
-    /// a radar scanner (a flat box) on it.
-    fn mast(&mut self, at: DVec3, z1: f64, r: f64, yard_span: f64, yard_z: f64) {
+    /// A mast from `at` up to z1 of radius r, with a yard `yard_span` across (none at 0)
+    /// six tenths of the way up.
+    fn mast(&mut self, at: DVec3, z1: f64, r: f64, yard_span: f64) {
         self.rod(at, DVec3::new(at.x, at.y, z1), r);
         if yard_span > 0.0 {
-            let yard = DVec3::new(at.x, at.y, yard_z);
+            let yard = DVec3::new(at.x, at.y, at.z + 0.6 * (z1 - at.z));
             self.rod(
                 yard - DVec3::X * (0.5 * yard_span),
                 yard + DVec3::X * (0.5 * yard_span),
@@ -462,13 +462,7 @@ pub fn build_outfit(outfit: Outfit, sizes: &OutfitSizes, seed: u64) -> OutfitPar
                 top - zf + 0.2 * h,
             );
             let mast_z = mast_top(top + 0.04 * l);
-            k.mast(
-                DVec3::new(0.0, 0.5 * (y0 + y1), top),
-                mast_z,
-                0.25,
-                0.6 * b,
-                top + 0.6 * (mast_z - top),
-            );
+            k.mast(DVec3::new(0.0, 0.5 * (y0 + y1), top), mast_z, 0.25, 0.6 * b);
             // Forecastle: a raised deck whose after face stands across the ship, bulwarks
             // round it, mooring winches on it and aft on the poop.
             let fwd = y(0.4);
@@ -488,7 +482,7 @@ pub fn build_outfit(outfit: Outfit, sizes: &OutfitSizes, seed: u64) -> OutfitPar
             }
             k.bulwarks(fwd, y(0.49), 1.4 + 2.6);
             let zb = k.hull.deck_z_m(y(0.44));
-            k.mast(DVec3::new(0.0, y(0.44), zb), zb + 0.06 * l, 0.2, 0.0, 0.0);
+            k.mast(DVec3::new(0.0, y(0.44), zb), zb + 0.06 * l, 0.2, 0.0);
             // Rails along the midbody.
             k.side_rails(y(-0.49), fwd, 1.1, 2.0, 0.025);
             let (cargo0, cargo1) = (y1 + 2.0, fwd - 2.0);
@@ -560,7 +554,6 @@ pub fn build_outfit(outfit: Outfit, sizes: &OutfitSizes, seed: u64) -> OutfitPar
                 mast_z,
                 0.2,
                 0.5 * b,
-                top + 0.6 * (mast_z - top),
             );
             k.side_rails(y(-0.49), y(0.45), 1.1, 2.0, 0.025);
             k.bulwarks(y(0.35), y(0.49), 1.2);
@@ -586,13 +579,7 @@ pub fn build_outfit(outfit: Outfit, sizes: &OutfitSizes, seed: u64) -> OutfitPar
                 0.02,
             );
             let mast_z = mast_top(top + 0.15 * l);
-            k.mast(
-                DVec3::new(0.0, 0.5 * (y0 + y1), top),
-                mast_z,
-                0.08,
-                0.5 * b,
-                top + 0.6 * (mast_z - top),
-            );
+            k.mast(DVec3::new(0.0, 0.5 * (y0 + y1), top), mast_z, 0.08, 0.5 * b);
             k.block(
                 DVec3::new(0.0, 0.5 * (y0 + y1), top + 0.5 * (mast_z - top)),
                 DVec3::new(1.2, 0.3, 0.25),
