@@ -630,6 +630,21 @@ impl Bvh {
         &self.primitives
     }
 
+    /// The primitive a hit of [`Bvh::closest_hit`] met, in whichever level holds it.
+    pub fn hit_primitive(&self, hit: &Hit) -> Option<&Primitive> {
+        let own = self
+            .primitives
+            .get(hit.primitive as usize)
+            .filter(|p| p.object == hit.object);
+        own.or_else(|| {
+            self.static_level.as_ref().and_then(|s| {
+                s.primitives
+                    .get(hit.primitive as usize)
+                    .filter(|p| p.object == hit.object)
+            })
+        })
+    }
+
     /// Number of nodes of the 4-wide tree.
     pub fn num_nodes(&self) -> usize {
         self.nodes.len()

@@ -11,11 +11,15 @@
 //! `S = (√(4π)/λ) · A⊥ · P · F · exp(−j2πℓ/λ)`
 //!
 //! - `A⊥` the tube's cross-section (δ² scaled by (ℓ₁/R)² for the spherical spread to the object),
-//! - `P = E_r · p̂_rx`, with the field reflected at each perfect-conductor hit as
-//!   `E_r = 2(n̂·E_i)n̂ − E_i` starting from the transmit polarisation `p̂_tx`, and at the sea
-//!   by the Fresnel coefficients Γ_H, Γ_V (complex) in the local plane of incidence,
-//! - `F = (n̂·ŝ)/|n̂·k̂_i| · sinc(q·e₁/2)·sinc(q·e₂/2)`, `q = k(ŝ − k̂_r)`, the exact PO integral
-//!   over the tube's parallelogram footprint `e₁, e₂` on its facet (sinc x = sin x / x),
+//! - `P = p̂_rx · (−[(n̂·E_i)k̂_i − (n̂·k̂_i)E_i]⊥)`, the received part of the far field of the
+//!   PO current `2n̂ × H_i` at the hit (its part across `ŝ`, times n̂·ŝ; Knott et al. eq. 5.37),
+//!   with the incident field `E_i` starting from the transmit polarisation `p̂_tx` and reflected
+//!   at each perfect-conductor hit as `E_r = 2(n̂·E_i)n̂ − E_i`, and at the sea by the Fresnel
+//!   coefficients Γ_H, Γ_V (complex) in the local plane of incidence. In the specular direction
+//!   `P = (n̂·ŝ)·E_r·p̂_rx`; off it, PO's polarisation independence holds (a plate's `cos θ` in
+//!   both planes),
+//! - `F = sinc(q·e₁/2)·sinc(q·e₂/2)/|n̂·k̂_i|`, `q = k(ŝ − k̂_r)`: with the n̂·ŝ in `P`, the exact
+//!   PO integral over the tube's parallelogram footprint `e₁, e₂` on its facet (sinc x = sin x / x),
 //! - `ℓ` the whole path radar → hits → radar (f64).
 //!
 //! **The sea (multipath).** With the sea on, the plane z = 0 reflects (`propagation::sea_reflection`).

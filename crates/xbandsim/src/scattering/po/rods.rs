@@ -6,13 +6,13 @@
 //! piece of length ℓ is, by stationary phase around the circumference (Knott, Shaeffer &
 //! Tuley, *Radar Cross Section*, 2nd ed., §5.2; docs/physics.md §2.2),
 //!
-//! `S = (√(4π)/λ) · P · (n̂·ŝ) · w · ℓ · sinc(q_∥ℓ/2) · exp(−j2πL/λ − jπ/4)`
+//! `S = (√(4π)/λ) · P · w · ℓ · sinc(q_∥ℓ/2) · exp(−j2πL/λ − jπ/4)`
 //! (pieces of [`ROD_PIECE_M`], longer the farther the radar),
 //!
 //! times the rod's reflectivity (1 for a conductor), with `n̂ = q_⊥/|q_⊥|` the normal at the specular line, `w = √(2πa/|q_⊥|)` the width of
 //! the first Fresnel zone around it (capped at the diameter 2a where the stationary phase
-//! fails, `|q_⊥|a < π/2`), `P` the polarisation factor of the reflected field
-//! `2(n̂·E)n̂ − E` as for a facet, and L the path through the specular point
+//! fails, `|q_⊥|a < π/2`), `P = p̂_rx·(−[(n̂·E)k̂_i − (n̂·k̂_i)E]⊥)` the received part of the
+//! field the PO current there radiates, as for a facet (it carries the factor n̂·ŝ), and L the path through the specular point
 //! `c + a·n̂` of the piece's centre c. Monostatic (`ŝ = −k̂_i`, tilt ψ from broadside) the
 //! pieces add up to Knott's `σ = k·a·L²·cos ψ·sinc²(kL sin ψ)` (Table 5.1) for a plane wave;
 //! from a point source each piece has its own path, so the rod is focused exactly as the
@@ -265,17 +265,17 @@ pub fn rod_returns(
                 if let (true, Some(sea)) = (leg_tx.via_sea, sea.as_ref()) {
                     e = sea_reflect(e, leg_tx.from_radar, sea, s.wavelength_m).0;
                 }
-                let mut e_r = e.pec_reflect(normal);
+                // The field radiated toward ŝ, times n̂·ŝ.
+                let mut radiated = e.po_radiated(normal, k_i, s_hat);
                 if let (true, Some(sea)) = (leg_rx.via_sea, sea.as_ref()) {
-                    e_r = sea_reflect(e_r, s_hat, sea, s.wavelength_m).0;
+                    radiated = sea_reflect(radiated, s_hat, sea, s.wavelength_m).0;
                 }
-                let pol = e_r.dot(polarisation_vector(leg_rx.from_radar, s.polarisation));
+                let pol = radiated.dot(polarisation_vector(leg_rx.from_radar, s.polarisation));
                 let width_m = (std::f64::consts::TAU * rod.radius_m / q_perp_len)
                     .sqrt()
                     .min(2.0 * rod.radius_m);
                 let along_m = piece_m * sinc(0.5 * q_par * piece_m);
-                let amplitude =
-                    pol * (root_4pi_over_lambda * rod.reflectivity * seen * width_m * along_m);
+                let amplitude = pol * (root_4pi_over_lambda * rod.reflectivity * width_m * along_m);
                 if amplitude.norm_sqr() == 0.0 {
                     continue;
                 }
@@ -337,8 +337,7 @@ mod tests {
     /// Knott et al., Table 5.1: a cylinder of radius a and length L seen at ψ from
     /// broadside, `σ = k·a·L²·cos ψ·sinc²(kL sin ψ)`, to 0.01 dB at broadside and wherever
     /// the pattern is within 20 dB of it, for a rod cut into many pieces (3.7 m) or one
-    /// (0.4 m). HH as given; VV times the reflected field's polarisation factor
-    /// `|2(n̂·v̂)² − 1|² = cos² 2ψ` that every PO facet carries too (docs/physics.md §2.2).
+    /// (0.4 m), in both polarisations alike, as PO has it (docs/physics.md §2.2).
     #[test]
     fn a_rod_has_knotts_cylinder_rcs() {
         for pol in [Polarisation::Hh, Polarisation::Vv] {
@@ -356,11 +355,7 @@ mod tests {
                     let toward = DVec3::new(0.6 * psi.cos(), -0.8 * psi.cos(), psi.sin());
                     let x = k * length * psi.sin();
                     let sinc = if x == 0.0 { 1.0 } else { x.sin() / x };
-                    let pol_factor = match pol {
-                        Polarisation::Hh => 1.0,
-                        Polarisation::Vv => (2.0 * psi).cos().powi(2),
-                    };
-                    let expected = peak * psi.cos() * sinc * sinc * pol_factor;
+                    let expected = peak * psi.cos() * sinc * sinc;
                     if expected < 0.01 * peak {
                         continue;
                     }
