@@ -439,6 +439,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         ray_spacing_wavelengths: 0.25,
         max_rays: 262_144,
         max_bounces: 3,
+        edge_diffraction: true,
     };
     let aspects: Vec<(f64, f64)> = (0..360).map(|d| ((d as f64).to_radians(), 0.0)).collect();
     let t = median_s(a.repeats.min(3), || {

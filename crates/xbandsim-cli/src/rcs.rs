@@ -123,6 +123,7 @@ pub fn run(a: &RcsArgs) -> Result<()> {
         ray_spacing_wavelengths: a.spacing_wavelengths,
         max_rays: a.max_rays,
         max_bounces: scene.scattering().max_bounces(),
+        edge_diffraction: scene.scattering().edge_diffraction(),
     };
     let target = RcsTarget::new(object);
     let el = a.el_deg.to_radians();

@@ -38,13 +38,15 @@ pub fn shape_rcs_m2(
             ray_spacing_wavelengths: 0.25,
             max_rays: 1 << 20,
             max_bounces: 3,
+            edge_diffraction: false,
         },
     )
 }
 
 /// RCS of a shape (TOML fields) at an aspect with a scene's default PO settings (tube side
-/// λ/2, `max_rays_per_object` 32768, 3 bounces): for ship-sized objects the ray budget binds
-/// and widens the tubes, m².
+/// λ/2, `max_rays_per_object` 32768, 3 bounces), PO alone as the closed forms it is checked
+/// against are (no edge diffraction): for ship-sized objects the ray budget binds and widens
+/// the tubes, m².
 pub fn shape_rcs_default_budget_m2(fields: &str, az_rad: f64, el_rad: f64) -> f64 {
     let (scene, t) = shape_target(fields);
     t.rcs_m2(
@@ -56,6 +58,7 @@ pub fn shape_rcs_default_budget_m2(fields: &str, az_rad: f64, el_rad: f64) -> f6
             ray_spacing_wavelengths: scene.scattering().ray_spacing_wavelengths(),
             max_rays: scene.scattering().max_rays_per_object(),
             max_bounces: scene.scattering().max_bounces(),
+            edge_diffraction: false,
         },
     )
 }
@@ -85,6 +88,7 @@ pub fn vessel_mean_rcs_m2(max_rays: usize, segments: usize) -> f64 {
             ray_spacing_wavelengths: 0.5,
             max_rays,
             max_bounces: 3,
+            edge_diffraction: false,
         },
     );
     rcs.iter().sum::<f64>() / rcs.len() as f64
@@ -161,6 +165,7 @@ pub fn mesh_rcs_m2(triangles: &[[DVec3; 3]], az_rad: f64, freq_hz: f64) -> f64 {
             ray_spacing_wavelengths: 0.25,
             max_rays: 1 << 20,
             max_bounces: 3,
+            edge_diffraction: false,
         },
     )
 }

@@ -288,6 +288,7 @@ pub fn object_snr_db(two_way_attenuation_db_per_km: f64) -> (f64, f64) {
             ray_spacing_wavelengths: scene.scattering().ray_spacing_wavelengths(),
             max_rays: scene.scattering().max_rays_per_object(),
             max_bounces: scene.scattering().max_bounces(),
+            edge_diffraction: scene.scattering().edge_diffraction(),
         },
     );
     let centre_range = (obj.bounding_centre_m() - radar.position_m()).length();

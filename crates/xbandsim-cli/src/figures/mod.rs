@@ -762,6 +762,7 @@ fn target_rcs(out: &Path) -> Result<()> {
         ray_spacing_wavelengths: 0.5,
         max_rays: 32_768,
         max_bounces: 3,
+        edge_diffraction: true,
     };
     const RADAR_HEIGHT_M: f64 = 15.0;
     let sea = *Scene::from_spec(&SceneSpec::default())?

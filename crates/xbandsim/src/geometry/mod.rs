@@ -9,6 +9,7 @@
 
 mod bvh;
 mod bvh_build;
+mod edge;
 pub mod mesh;
 pub mod outfit;
 mod primitives;
@@ -17,6 +18,7 @@ mod rod;
 mod shapes;
 
 pub use bvh::{Bvh, BvhTemplate, PlacedCopy};
+pub use edge::{wedge_edges, WedgeEdge, MIN_TURN_RAD};
 pub use mesh::{MeshUnit, TriangleMesh};
 pub use outfit::{Outfit, OutfitParts};
 pub use primitives::{Primitive, PrimitiveKind};

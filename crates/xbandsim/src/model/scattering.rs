@@ -57,6 +57,8 @@ pub struct ScatteringConfig {
     max_rays_per_object: usize,
     /// Maximum bounces.
     max_bounces: usize,
+    /// PO: the edges' fringe returns.
+    edge_diffraction: bool,
     /// Paper model: rays per degree of azimuth.
     paper_rays_per_degree_az: usize,
     /// Paper model: rays across the elevation beamwidth.
@@ -84,6 +86,11 @@ impl ScatteringConfig {
     /// Maximum bounces.
     pub fn max_bounces(&self) -> usize {
         self.max_bounces
+    }
+
+    /// PO: whether the objects' wedge edges add their fringe returns (docs/physics.md §2.2).
+    pub fn edge_diffraction(&self) -> bool {
+        self.edge_diffraction
     }
 
     /// Paper model: rays per degree of azimuth.
@@ -153,6 +160,7 @@ pub(super) fn build_scattering(s: &ScatteringSpec) -> Result<ScatteringConfig> {
         ray_spacing_wavelengths,
         max_rays_per_object,
         max_bounces,
+        edge_diffraction: s.edge_diffraction.unwrap_or(true),
         paper_rays_per_degree_az,
         paper_rays_elevation,
         paper_reference_voltage_v,

@@ -28,6 +28,8 @@ pub struct RcsSettings {
     pub max_rays: usize,
     /// Maximum bounces.
     pub max_bounces: usize,
+    /// Add the edges' PTD fringe returns (docs/physics.md §2.2).
+    pub edge_diffraction: bool,
 }
 
 impl RcsSettings {
@@ -43,6 +45,7 @@ impl RcsSettings {
             max_rays: self.max_rays,
             sea,
             earth_curvature: false,
+            edge_diffraction: self.edge_diffraction,
         }
     }
 }

@@ -473,6 +473,9 @@ pub struct ScatteringSpec {
     pub max_rays_per_object: Option<usize>,
     /// Maximum number of bounces traced (default 3).
     pub max_bounces: Option<usize>,
+    /// "po" model: add the fringe returns of the objects' wedge edges (physical theory of
+    /// diffraction; default true).
+    pub edge_diffraction: Option<bool>,
     /// "paper" model: rays per degree of azimuth in the scan grid (default 100).
     pub paper_rays_per_degree_az: Option<usize>,
     /// "paper" model: rays across the elevation beamwidth (default 100).

@@ -115,6 +115,7 @@ fn rcs_db(scene_text: &str, base: &Path, az_rad: f64) -> f64 {
         ray_spacing_wavelengths: 0.25,
         max_rays: 1 << 20,
         max_bounces: 3,
+        edge_diffraction: false,
     };
     linear_to_db(t.rcs_m2(az_rad, 0.0, &s))
 }

@@ -192,6 +192,7 @@ fn rcs_settings(spacing_wavelengths: f64, max_rays: usize) -> RcsSettings {
         ray_spacing_wavelengths: spacing_wavelengths,
         max_rays,
         max_bounces: 3,
+        edge_diffraction: true,
     }
 }
 
@@ -253,8 +254,8 @@ fn aspect_rcs(scene: &Scene) -> ([f64; 3], [f64; 3]) {
 /// test fails if one falls further short, or lies more than 6 dB above it.
 const SHORT_OF_REFERENCE_DB: [(&str, f64); 3] = [
     ("cargo_ship", 9.0),
-    ("cargo_ship bulk-carrier", 23.0),
-    ("tanker", 28.0),
+    ("cargo_ship bulk-carrier", 20.0),
+    ("tanker", 25.0),
 ];
 
 /// Each class at its middle size and draws (and the cargo class's bulk carrier) against its

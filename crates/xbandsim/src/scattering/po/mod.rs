@@ -32,10 +32,14 @@
 //! Return paths other than the way a tube came in are checked with shadow rays.
 //! Ideal `point` objects give `S = √σ·exp(−j2πℓ/λ)` per path (four paths over the sea).
 
+mod edges;
 mod rods;
 mod still;
 mod tube;
 
+pub use edges::{
+    edge_returns, fringe_coefficients, keller_coefficients, po_coefficients, MAX_SINC_ARGUMENT,
+};
 pub use rods::{rod_returns, ROD_PIECE_M};
 
 pub use still::{KeptTrace, ObjectReach, StillTraces};
@@ -45,7 +49,7 @@ pub use tube::{
 };
 
 use super::{azimuth_elevation_rad, carrier_phase, vector_bits, Contribution, ScatterSet};
-use crate::geometry::{Bvh, Ray, Rod, ShapeGeometry};
+use crate::geometry::{wedge_edges, Bvh, Ray, Rod, ShapeGeometry};
 use crate::model::{Polarisation, Scene, SceneObject};
 use crate::propagation::SeaSurface;
 use crate::special::LastCall;
@@ -284,6 +288,26 @@ fn trace_object_runs_with<R: RaySink + Send>(
             returns.push(run);
         }
     }
+    if s.edge_diffraction {
+        // The fringe returns of its wedge edges after the rods', their paths measured alike.
+        let edges = wedge_edges(bvh.object_primitives(index));
+        let mut sink = new_sink();
+        let mut run = Vec::new();
+        rays += edge_returns(
+            bvh,
+            illumination,
+            direct.plane_origin_m(),
+            &edges,
+            optics.reflectivity,
+            s,
+            &mut run,
+            &mut sink,
+        );
+        sinks.push(sink);
+        if !run.is_empty() {
+            returns.push(run);
+        }
+    }
     let runs = ObjectRuns {
         runs: returns,
         rays,
@@ -370,6 +394,7 @@ pub fn settings_for(scene: &Scene) -> SbrSettings {
         max_rays: scene.scattering().max_rays_per_object(),
         sea: scene.environment().sea().copied(),
         earth_curvature: scene.environment().earth_curvature(),
+        edge_diffraction: scene.scattering().edge_diffraction(),
     }
 }
 

@@ -43,7 +43,7 @@ pub const ROD_PIECE_M: (f64, f64) = (0.5, 4.0);
 
 /// The piece length for a rod whose nearest point lies `range_m` from the radar (infinite
 /// for a plane wave), m.
-fn piece_length_m(range_m: f64, wavelength_m: f64) -> f64 {
+pub(super) fn piece_length_m(range_m: f64, wavelength_m: f64) -> f64 {
     (0.8 * wavelength_m * range_m)
         .sqrt()
         .clamp(ROD_PIECE_M.0, ROD_PIECE_M.1)
@@ -54,13 +54,13 @@ const SURFACE_OFFSET_M: f64 = 1e-6;
 
 /// One clear leg between the radar and a point: the direction from the radar along its
 /// first segment, its length, and whether it goes via the sea.
-struct Leg {
+pub(super) struct Leg {
     /// Direction from the radar along the leg's first segment.
-    from_radar: DVec3,
+    pub(super) from_radar: DVec3,
     /// Length, m.
-    length_m: f64,
+    pub(super) length_m: f64,
     /// Via the sea.
-    via_sea: bool,
+    pub(super) via_sea: bool,
 }
 
 fn sinc(x: f64) -> f64 {
@@ -73,7 +73,7 @@ fn sinc(x: f64) -> f64 {
 
 /// The legs from the radar to `p` that nothing blocks: the direct one, and with the sea on
 /// the one reflected at z = 0. Each ray cast goes to `rays_met`; returns the rays cast.
-fn legs_to(
+pub(super) fn legs_to(
     bvh: &Bvh,
     illumination: Illumination,
     plane_origin_m: DVec3,
@@ -308,6 +308,7 @@ mod tests {
             wavelength_m: 0.0319,
             polarisation,
             max_bounces: 3,
+            edge_diffraction: false,
             spacing_m: 0.016,
             max_rays: 1 << 16,
             sea: None,

@@ -430,6 +430,8 @@ pub struct SbrSettings {
     pub sea: Option<SeaSurface>,
     /// Hide hits below the radar horizon of the 4/3 earth (scene rendering only).
     pub earth_curvature: bool,
+    /// Add the PTD fringe returns of the objects' wedge edges (`edges`).
+    pub edge_diffraction: bool,
 }
 
 /// Per-ray result: contributions as root-RCS with geometry, before the volt conversion.
@@ -497,7 +499,7 @@ const CURVED_SAG_PHASE_RAD: f64 = std::f64::consts::PI / 32.0;
 /// Sub-tubes a side for a footprint whose sag adds `sag_phase` rad at its corners: the sag
 /// goes as the footprint's length squared, so cutting each side in m divides it by m².
 fn curved_subdivisions(sag_phase: f64) -> usize {
-    if !(sag_phase > CURVED_SAG_PHASE_RAD) {
+    if sag_phase.is_nan() || sag_phase <= CURVED_SAG_PHASE_RAD {
         return 1;
     }
     ((sag_phase / CURVED_SAG_PHASE_RAD).sqrt().ceil() as usize).min(MAX_CURVED_SUBDIVISIONS)
