@@ -30,13 +30,9 @@
 //! every leg, as a rod's piece does. A piece whose `|q_∥ℓ/2|` exceeds [`MAX_SINC_ARGUMENT`]
 //! (its sinc's envelope under 1 %) is skipped before any ray is cast.
 
-use super::rods::{legs_to, piece_length_m, Leg};
-use super::tube::{
-    polarisation_vector, sea_mirror, sea_reflect, ComplexVec3, Illumination, RaySink, SbrSettings,
-    TubeReturn,
-};
+use super::rods::{leg_pair_return, legs_to, piece_length_m, Leg};
+use super::tube::{sea_mirror, ComplexVec3, Illumination, RaySink, SbrSettings, TubeReturn};
 use crate::geometry::{Bvh, WedgeEdge};
-use crate::scattering::carrier_phase;
 use glam::DVec3;
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -204,33 +200,21 @@ pub fn edge_returns(
                         continue;
                     };
                     let (f_soft, f_hard) = fringe_coefficients(phi, phi_source, edge.wedge_n);
-                    let mut e =
-                        ComplexVec3::real(polarisation_vector(leg_tx.from_radar, s.polarisation));
-                    if let (true, Some(sea)) = (leg_tx.via_sea, sea.as_ref()) {
-                        e = sea_reflect(e, leg_tx.from_radar, sea, s.wavelength_m).0;
-                    }
-                    let mut diffracted = ComplexVec3::scaled(along, e.dot(along) * f_soft)
+                    let e = leg_tx.field_at_end(s, sea.as_ref());
+                    let diffracted = ComplexVec3::scaled(along, e.dot(along) * f_soft)
                         .plus(ComplexVec3::scaled(u_s, e.dot(u_i) * f_hard));
-                    if let (true, Some(sea)) = (leg_rx.via_sea, sea.as_ref()) {
-                        diffracted = sea_reflect(diffracted, s_hat, sea, s.wavelength_m).0;
-                    }
-                    let pol =
-                        diffracted.dot(polarisation_vector(leg_rx.from_radar, s.polarisation));
+                    let pol = leg_rx.received(diffracted, s_hat, s, sea.as_ref());
                     let amplitude = pol * minus_j_over_root_pi * (reflectivity * length_factor);
                     if amplitude.norm_sqr() == 0.0 {
                         continue;
                     }
-                    let path_m = leg_tx.length_m + leg_rx.length_m;
-                    out.push(TubeReturn {
-                        root_rcs_m: carrier_phase(path_m, s.wavelength_m) * amplitude,
-                        path_m,
-                        tx_dir: leg_tx.from_radar,
-                        rx_dir: leg_rx.from_radar,
-                        range_tx_m: leg_tx.length_m,
-                        range_rx_m: leg_rx.length_m,
-                        bounces: 1,
-                        sea_reflections: u8::from(leg_tx.via_sea) + u8::from(leg_rx.via_sea),
-                    });
+                    out.push(leg_pair_return(
+                        leg_tx,
+                        leg_rx,
+                        Complex64::new(1.0, 0.0),
+                        amplitude,
+                        s.wavelength_m,
+                    ));
                 }
             }
         }

@@ -30,6 +30,7 @@ use super::tube::{
     TubeReturn,
 };
 use crate::geometry::{Bvh, Ray, Rod};
+use crate::propagation::SeaSurface;
 use crate::scattering::carrier_phase;
 use glam::DVec3;
 use num_complex::Complex64;
@@ -61,6 +62,56 @@ pub(super) struct Leg {
     pub(super) length_m: f64,
     /// Via the sea.
     pub(super) via_sea: bool,
+}
+
+impl Leg {
+    /// The field this leg brings from the radar to its end: the transmit polarisation,
+    /// reflected by the sea on a leg via it.
+    pub(super) fn field_at_end(&self, s: &SbrSettings, sea: Option<&SeaSurface>) -> ComplexVec3 {
+        let e = ComplexVec3::real(polarisation_vector(self.from_radar, s.polarisation));
+        match (self.via_sea, sea) {
+            (true, Some(sea)) => sea_reflect(e, self.from_radar, sea, s.wavelength_m).0,
+            _ => e,
+        }
+    }
+
+    /// What the radar receives of `field` leaving this leg's end toward it along `s_hat`:
+    /// reflected by the sea on a leg via it, projected on the receive polarisation.
+    pub(super) fn received(
+        &self,
+        field: ComplexVec3,
+        s_hat: DVec3,
+        s: &SbrSettings,
+        sea: Option<&SeaSurface>,
+    ) -> Complex64 {
+        let field = match (self.via_sea, sea) {
+            (true, Some(sea)) => sea_reflect(field, s_hat, sea, s.wavelength_m).0,
+            _ => field,
+        };
+        field.dot(polarisation_vector(self.from_radar, s.polarisation))
+    }
+}
+
+/// The return of a point scatterer lit along `leg_tx` and heard along `leg_rx`, of amplitude
+/// `phase_factor · amplitude` before the path's carrier phase.
+pub(super) fn leg_pair_return(
+    leg_tx: &Leg,
+    leg_rx: &Leg,
+    phase_factor: Complex64,
+    amplitude: Complex64,
+    wavelength_m: f64,
+) -> TubeReturn {
+    let path_m = leg_tx.length_m + leg_rx.length_m;
+    TubeReturn {
+        root_rcs_m: carrier_phase(path_m, wavelength_m) * phase_factor * amplitude,
+        path_m,
+        tx_dir: leg_tx.from_radar,
+        rx_dir: leg_rx.from_radar,
+        range_tx_m: leg_tx.length_m,
+        range_rx_m: leg_rx.length_m,
+        bounces: 1,
+        sea_reflections: u8::from(leg_tx.via_sea) + u8::from(leg_rx.via_sea),
+    }
 }
 
 fn sinc(x: f64) -> f64 {
@@ -260,17 +311,10 @@ pub fn rod_returns(
                 let (Some(leg_tx), Some(leg_rx)) = (find(tx == 1), find(rx == 1)) else {
                     continue;
                 };
-                let mut e =
-                    ComplexVec3::real(polarisation_vector(leg_tx.from_radar, s.polarisation));
-                if let (true, Some(sea)) = (leg_tx.via_sea, sea.as_ref()) {
-                    e = sea_reflect(e, leg_tx.from_radar, sea, s.wavelength_m).0;
-                }
+                let e = leg_tx.field_at_end(s, sea.as_ref());
                 // The field radiated toward ŝ, times n̂·ŝ.
-                let mut radiated = e.po_radiated(normal, k_i, s_hat);
-                if let (true, Some(sea)) = (leg_rx.via_sea, sea.as_ref()) {
-                    radiated = sea_reflect(radiated, s_hat, sea, s.wavelength_m).0;
-                }
-                let pol = radiated.dot(polarisation_vector(leg_rx.from_radar, s.polarisation));
+                let radiated = e.po_radiated(normal, k_i, s_hat);
+                let pol = leg_rx.received(radiated, s_hat, s, sea.as_ref());
                 let width_m = (std::f64::consts::TAU * rod.radius_m / q_perp_len)
                     .sqrt()
                     .min(2.0 * rod.radius_m);
@@ -279,19 +323,13 @@ pub fn rod_returns(
                 if amplitude.norm_sqr() == 0.0 {
                     continue;
                 }
-                let path_m = leg_tx.length_m + leg_rx.length_m;
-                out.push(TubeReturn {
-                    root_rcs_m: carrier_phase(path_m, s.wavelength_m)
-                        * quarter_turn_back
-                        * amplitude,
-                    path_m,
-                    tx_dir: leg_tx.from_radar,
-                    rx_dir: leg_rx.from_radar,
-                    range_tx_m: leg_tx.length_m,
-                    range_rx_m: leg_rx.length_m,
-                    bounces: 1,
-                    sea_reflections: u8::from(leg_tx.via_sea) + u8::from(leg_rx.via_sea),
-                });
+                out.push(leg_pair_return(
+                    leg_tx,
+                    leg_rx,
+                    quarter_turn_back,
+                    amplitude,
+                    s.wavelength_m,
+                ));
             }
         }
     }
