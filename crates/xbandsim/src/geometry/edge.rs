@@ -2,8 +2,8 @@
 //! face ends, for edge diffraction (`scattering::po::edges`, docs/physics.md §2.2).
 //!
 //! Faces are the object's triangles and parallelograms. Their corners are welded on a grid of
-//! [`WELD_M`], an edge is the segment between two welded corners, and the faces that share it
-//! say what it is:
+//! [`WELD_M`], an edge is the segment between two welded corners (its ends are the welded
+//! points), and the faces that share it say what it is:
 //! - one face: a half-plane (the edge of a plate, a bulwark, a sign), exterior angle 2π;
 //! - two faces whose outward normals make it convex (each face lies behind the other's
 //!   normal): a wedge of exterior angle `2π − α`, α the angle between the faces. Its
@@ -95,10 +95,11 @@ struct FaceSide {
     inward: DVec3,
 }
 
-/// The wedge edges of `primitives` (one object's), in a fixed order: that of their first
-/// face, then of the corners.
+/// The wedge edges of `primitives` (one object's), sorted by their welded ends, each with
+/// face 0 the one of lower normal (x, then y, then z): the same edges in the same order
+/// whatever order the faces come in (a BVH's order differs between its builds).
 pub fn wedge_edges<'a>(primitives: impl IntoIterator<Item = &'a Primitive>) -> Vec<WedgeEdge> {
-    let mut order: Vec<([i64; 3], [i64; 3], DVec3, DVec3)> = Vec::new();
+    let mut order: Vec<([i64; 3], [i64; 3])> = Vec::new();
     let mut sides: HashMap<([i64; 3], [i64; 3]), Vec<FaceSide>> = HashMap::new();
     for p in primitives {
         let Some((count, corners)) = face_corners(p) else {
@@ -124,19 +125,25 @@ pub fn wedge_edges<'a>(primitives: impl IntoIterator<Item = &'a Primitive>) -> V
             let key = if wa <= wb { (wa, wb) } else { (wb, wa) };
             let entry = sides.entry(key).or_default();
             if entry.is_empty() {
-                order.push((
-                    key.0,
-                    key.1,
-                    if wa <= wb { a } else { b },
-                    if wa <= wb { b } else { a },
-                ));
+                order.push(key);
             }
             entry.push(FaceSide { normal, inward });
         }
     }
+    order.sort();
+    let unweld = |k: [i64; 3]| DVec3::new(k[0] as f64, k[1] as f64, k[2] as f64) * WELD_M;
+    let by_normal = |f: &FaceSide, g: &FaceSide| {
+        let (p, q) = (f.normal.to_array(), g.normal.to_array());
+        (0..3)
+            .map(|i| p[i].total_cmp(&q[i]))
+            .find(|o| o.is_ne())
+            .unwrap_or(std::cmp::Ordering::Equal)
+    };
     let mut edges = Vec::new();
-    for (ka, kb, a, b) in order {
-        let faces = &sides[&(ka, kb)];
+    for (ka, kb) in order {
+        let (a, b) = (unweld(ka), unweld(kb));
+        let mut faces = sides[&(ka, kb)].clone();
+        faces.sort_by(by_normal);
         let edge = match faces.as_slice() {
             [one] => Some(WedgeEdge {
                 a_m: a,
@@ -230,6 +237,34 @@ mod tests {
         let a = tri(DVec3::ZERO, DVec3::X * 2.0, DVec3::new(2.0, 1.0, 0.0));
         let b = tri(DVec3::ZERO, DVec3::new(2.0, 1.0, 0.0), DVec3::Y);
         assert_eq!(wedge_edges(&[a, b]).len(), 4);
+    }
+
+    /// A floor and a wall meeting at an inner corner (both wound to face the corner's open
+    /// side): the corner is concave and gives no edge; wound against each other, the same
+    /// faces are taken as a convex right-angled edge.
+    #[test]
+    fn a_concave_corner_gives_no_edge_and_disagreeing_windings_a_convex_one() {
+        let floor = parallelogram(DVec3::ZERO, DVec3::X, DVec3::Y); // normal +z
+        let wall = parallelogram(DVec3::ZERO, DVec3::Y, DVec3::Z); // normal +x
+        let edges = wedge_edges(&[floor, wall]);
+        assert_eq!(edges.len(), 6);
+        assert!(edges.iter().all(|e| e.wedge_n == 2.0));
+        let wall_flipped = parallelogram(DVec3::ZERO, DVec3::Z, DVec3::Y); // normal −x
+        let edges = wedge_edges(&[floor, wall_flipped]);
+        assert_eq!(edges.len(), 7);
+        let corner: Vec<_> = edges.iter().filter(|e| e.wedge_n != 2.0).collect();
+        assert_eq!(corner.len(), 1);
+        assert!((corner[0].wedge_n - 1.5).abs() < 1e-12);
+    }
+
+    /// The same faces in any order give the same edges, in the same order.
+    #[test]
+    fn the_edges_do_not_depend_on_the_faces_order() {
+        let mut faces = unit_box();
+        let forward = wedge_edges(&faces);
+        faces.reverse();
+        faces.swap(1, 4);
+        assert_eq!(wedge_edges(&faces), forward);
     }
 
     #[test]

@@ -12,8 +12,9 @@
 //!
 //! `D_s,h = C·(sin(π/n)/n)·[1/(cos(π/n) − cos((φ−φ′)/n)) ∓ 1/(cos(π/n) − cos((φ+φ′)/n))]`,
 //!
-//! and PO's, of each lit face (face 0 when φ′ < π; face n, with φ and φ′ measured from it,
-//! when φ′ > (n−1)π), `C·sin φ′/(cos φ + cos φ′)` and `−C·sin φ/(cos φ + cos φ′)`. The fringe
+//! and PO's, of each face lit and seen (face 0 when φ′ < π and φ < π; face n, with φ and φ′
+//! measured from it, when both exceed (n−1)π: the faces whose current the tubes radiate),
+//! `C·sin φ′/(cos φ + cos φ′)` and `−C·sin φ/(cos φ + cos φ′)`. The fringe
 //! coefficient is their difference; it stays finite where each is infinite (the faces'
 //! specular directions).
 //!
@@ -62,20 +63,22 @@ pub fn keller_coefficients(phi: f64, phi_source: f64, wedge_n: f64) -> (f64, f64
     (scale * (minus - plus), scale * (minus + plus))
 }
 
-/// PO's edge coefficients over C (soft, hard) of the lit faces, for the same angles.
+/// PO's edge coefficients over C (soft, hard) of the faces that are lit and seen (the faces
+/// whose PO current the tubes radiate toward the receiver: a tube returns only from a face
+/// whose front the receiver sees), for the same angles.
 pub fn po_coefficients(phi: f64, phi_source: f64, wedge_n: f64) -> (f64, f64) {
     let face = |phi: f64, phi_source: f64| {
         let denominator = phi.cos() + phi_source.cos();
         (phi_source.sin() / denominator, -phi.sin() / denominator)
     };
     let (mut soft, mut hard) = (0.0, 0.0);
-    if phi_source < PI {
+    if phi_source < PI && phi < PI {
         let (s, h) = face(phi, phi_source);
         soft += s;
         hard += h;
     }
     let far = wedge_n * PI;
-    if phi_source > far - PI {
+    if phi_source > far - PI && phi > far - PI {
         let (s, h) = face(far - phi, far - phi_source);
         soft += s;
         hard += h;
@@ -150,18 +153,34 @@ pub fn edge_returns(
             edge.face0_dir * half_exterior.cos() + edge.face0_normal * half_exterior.sin();
         for p in 0..pieces {
             let centre = edge.a_m + along * (piece_m * (p as f64 + 0.5));
-            // The direct arrival decides whether the piece can return at all: lit, and
-            // across the edge within the sinc's reach (the sea's paths differ by twice the
-            // grazing angle, a few degrees at most).
-            let k_direct = match illumination {
-                Illumination::PlaneWave { toward_radar } => -toward_radar,
-                Illumination::FromPoint { radar_m } => (centre - radar_m).normalize(),
-            };
-            let phi_direct = edge.angle_of(-k_direct);
-            if !(phi_direct > 0.0 && phi_direct < edge.wedge_n * PI) {
-                continue;
+            // Before any ray: can some pair of arrivals (straight from the radar, and up from
+            // the sea) light the piece, be seen from it, and fall within the sinc's reach?
+            // (A vertical edge's mixed pairs are its dihedral with the sea, which can return
+            // where the direct pair's sinc has long died.)
+            let mut arrivals = [None, None];
+            match illumination {
+                Illumination::PlaneWave { toward_radar } => arrivals[0] = Some(-toward_radar),
+                Illumination::FromPoint { radar_m } => {
+                    arrivals[0] = Some((centre - radar_m).normalize());
+                    if sea.is_some() && radar_m.z > 0.0 && centre.z > 0.0 {
+                        arrivals[1] = Some(sea_mirror((sea_mirror(centre) - radar_m).normalize()));
+                    }
+                }
             }
-            if (wavenumber * k_direct.dot(along) * piece_m).abs() > MAX_SINC_ARGUMENT {
+            let exterior = edge.wedge_n * PI;
+            let outside = |d: DVec3| {
+                let phi = edge.angle_of(d);
+                phi > 0.0 && phi < exterior
+            };
+            let may_return = arrivals.iter().flatten().any(|&k_tx| {
+                arrivals.iter().flatten().any(|&k_rx| {
+                    outside(-k_tx)
+                        && outside(-k_rx)
+                        && (0.5 * wavenumber * (k_tx + k_rx).dot(along) * piece_m).abs()
+                            <= MAX_SINC_ARGUMENT
+                })
+            });
+            if !may_return {
                 continue;
             }
             let point = centre + bisector * EDGE_OFFSET_M;
@@ -185,12 +204,11 @@ pub fn edge_returns(
                     };
                     let k_i = arrival(leg_tx);
                     let s_hat = -arrival(leg_rx);
-                    let phi_source = edge.angle_of(-k_i);
-                    let phi = edge.angle_of(s_hat);
-                    let exterior = edge.wedge_n * PI;
-                    if !(phi_source > 0.0 && phi_source < exterior && phi > 0.0 && phi < exterior) {
+                    if !(outside(-k_i) && outside(s_hat)) {
                         continue;
                     }
+                    let phi_source = edge.angle_of(-k_i);
+                    let phi = edge.angle_of(s_hat);
                     let q_along = wavenumber * (s_hat - k_i).dot(along);
                     let length_factor = piece_m * sinc(0.5 * q_along * piece_m);
                     let (Some(u_i), Some(u_s)) = (
@@ -244,6 +262,30 @@ mod tests {
             (fs + 0.5).abs() < 1e-7 && (fh + 0.5).abs() < 1e-7,
             "{fs} {fh}"
         );
+    }
+
+    /// Keller's, PO's and the fringe coefficients are the same seen from either face
+    /// (φ → nπ − φ, φ′ → nπ − φ′): face n's PO term is face 0's mirrored, for a wedge lit on
+    /// face n alone and on both faces.
+    #[test]
+    fn coefficients_are_symmetric_between_the_faces() {
+        for n in [1.3f64, 1.5, 1.8, 2.0] {
+            let far = n * PI;
+            for (phi, source) in [
+                (0.4, 0.5),
+                (far - 0.6, far - 0.5),
+                (0.5 * far, 0.5 * far + 0.05),
+            ] {
+                for f in [keller_coefficients, po_coefficients, fringe_coefficients] {
+                    let (s1, h1) = f(phi, source, n);
+                    let (s2, h2) = f(far - phi, far - source, n);
+                    assert!(
+                        (s1 - s2).abs() < 1e-9 && (h1 - h2).abs() < 1e-9,
+                        "n {n} φ {phi} φ′ {source}: ({s1}, {h1}) vs ({s2}, {h2})"
+                    );
+                }
+            }
+        }
     }
 
     /// The fringe is finite and continuous through a face's specular direction, where

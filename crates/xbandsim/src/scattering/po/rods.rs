@@ -9,11 +9,12 @@
 //! `S = (√(4π)/λ) · P · w · ℓ · sinc(q_∥ℓ/2) · exp(−j2πL/λ − jπ/4)`
 //! (pieces of [`ROD_PIECE_M`], longer the farther the radar),
 //!
-//! times the rod's reflectivity (1 for a conductor), with `n̂ = q_⊥/|q_⊥|` the normal at the specular line, `w = √(2πa/|q_⊥|)` the width of
-//! the first Fresnel zone around it (capped at the diameter 2a where the stationary phase
-//! fails, `|q_⊥|a < π/2`), `P = p̂_rx·(−[(n̂·E)k̂_i − (n̂·k̂_i)E]⊥)` the received part of the
-//! field the PO current there radiates, as for a facet (it carries the factor n̂·ŝ), and L the path through the specular point
-//! `c + a·n̂` of the piece's centre c. Monostatic (`ŝ = −k̂_i`, tilt ψ from broadside) the
+//! times the rod's reflectivity (1 for a conductor), with `n̂ = q_⊥/|q_⊥|` the normal at the
+//! specular line, `w = √(2πa/|q_⊥|)` the width of the first Fresnel zone around it (capped at
+//! the diameter 2a where the stationary phase fails, `|q_⊥|a < π/2`),
+//! `P = p̂_rx·(−[(n̂·E)k̂_i − (n̂·k̂_i)E]⊥)` the received part of the field the PO current there
+//! radiates, as for a facet (it carries the factor n̂·ŝ), and L the path through the specular
+//! point `c + a·n̂` of the piece's centre c. Monostatic (`ŝ = −k̂_i`, tilt ψ from broadside) the
 //! pieces add up to Knott's `σ = k·a·L²·cos ψ·sinc²(kL sin ψ)` (Table 5.1) for a plane wave;
 //! from a point source each piece has its own path, so the rod is focused exactly as the
 //! wave front curves.

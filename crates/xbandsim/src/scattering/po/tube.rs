@@ -477,13 +477,12 @@ impl RaySink for () {
     fn segment(&mut self, _: DVec3, _: DVec3, _: f64) {}
 }
 
-/// The radius of curvature of a curved primitive's surface (a sphere's, a cylinder wall's
-/// across its axis), m; `None` for flat ones.
-fn curvature_radius_m(p: &Primitive) -> Option<f64> {
+/// How a curved primitive's surface bends: its radius of curvature, m, and for a cylinder
+/// wall its axis, along which it does not bend; `None` for flat primitives.
+fn curved_surface(p: &Primitive) -> Option<(f64, Option<DVec3>)> {
     match p.kind {
-        PrimitiveKind::Sphere { radius_m, .. } | PrimitiveKind::Cylinder { radius_m, .. } => {
-            Some(radius_m)
-        }
+        PrimitiveKind::Sphere { radius_m, .. } => Some((radius_m, None)),
+        PrimitiveKind::Cylinder { radius_m, axis, .. } => Some((radius_m, Some(axis))),
         _ => None,
     }
 }
@@ -525,10 +524,10 @@ fn radiated_over_sub_tubes(
     m: usize,
     wavenumber: f64,
 ) -> ComplexVec3 {
-    let radius_m = curvature_radius_m(primitive).unwrap_or(0.0);
     let (sub_u, sub_v) = (edge_u / m as f64, edge_v / m as f64);
-    // Far enough back along −k that every sub-ray starts outside the surface.
-    let back_m = 2.0 * radius_m + edge_u.length() + edge_v.length();
+    // Far enough back along −k that every sub-ray starts outside the primitive's box.
+    let bounds = primitive.bounds();
+    let back_m = (bounds.max - bounds.min).length() + edge_u.length() + edge_v.length();
     let weight = 1.0 / (m * m) as f64;
     let mut sum = ComplexVec3::real(DVec3::ZERO);
     for a in 0..m {
@@ -626,7 +625,7 @@ pub fn trace_tube_with(
         );
         let curvature_m = hit
             .and_then(|h| bvh.hit_primitive(&h))
-            .and_then(curvature_radius_m);
+            .and_then(curved_surface);
         let (t, normal, object) = match (hit, sea_t) {
             (Some(h), _) => (h.t_m, h.normal, Some(h.object)),
             (None, Some(ts)) => (ts, DVec3::Z, None),
@@ -773,8 +772,10 @@ pub fn trace_tube_with(
             // The field radiated toward ŝ times the footprint's integral (n̂·ŝ is in
             // `po_radiated`); on a curved surface whose bend over the footprint the tangent
             // plane would miss, summed over sub-tubes on the surface itself.
-            let subdivisions = curvature_m.map_or(1, |radius_m| {
-                let longest_m = f1.length().max(f2.length());
+            let subdivisions = curvature_m.map_or(1, |(radius_m, axis)| {
+                // The footprint's extent across the bend (a cylinder is straight along its axis).
+                let across = |f: DVec3| axis.map_or(f, |a| f - a * f.dot(a)).length();
+                let longest_m = across(f1).max(across(f2));
                 // The sag h = ℓ²/(8R) off the tangent plane lengthens the path in along k
                 // by h/|n̂·k̂| and shortens the one out along ŝ by (h/|n̂·k̂|)·(k̂·ŝ).
                 let sag_m = longest_m * longest_m / (8.0 * radius_m);
