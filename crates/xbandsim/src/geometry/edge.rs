@@ -272,13 +272,17 @@ mod tests {
         let edges = wedge_edges(&unit_box());
         for e in &edges {
             let n = e.wedge_n;
-            // Along face 0: 0; along the normal: π/2; along face 1: nπ.
-            assert!(e.angle_of(e.face0_dir).abs() < 1e-12);
-            assert!((e.angle_of(e.face0_normal) - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+            // Away from the box's centre lies in the exterior (0, nπ); toward it, not.
+            let mid = 0.5 * (e.a_m + e.b_m);
+            let away = e.angle_of(mid - DVec3::splat(0.5));
+            let toward = e.angle_of(DVec3::splat(0.5) - mid);
+            let exterior = n * std::f64::consts::PI;
+            assert!(away > 0.0 && away < exterior, "{e:?}: {away}");
+            assert!(toward > exterior, "{e:?}: {toward}");
+            // Face 1 lies at nπ.
             let face1 = e.face0_dir * (n * std::f64::consts::PI).cos()
                 + e.face0_normal * (n * std::f64::consts::PI).sin();
             // Face 1's own direction into it is one of the box's axes.
-            let mid = 0.5 * (e.a_m + e.b_m);
             let inside = mid + face1 * 0.5 - DVec3::splat(0.5);
             assert!(inside.abs().max_element() <= 0.5 + 1e-9, "{e:?}");
         }
