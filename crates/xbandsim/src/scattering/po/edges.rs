@@ -31,7 +31,7 @@
 //! every leg, as a rod's piece does. A piece whose `|q_∥ℓ/2|` exceeds [`MAX_SINC_ARGUMENT`]
 //! (its sinc's envelope under 1 %) is skipped before any ray is cast.
 
-use super::rods::{leg_pair_return, legs_to, piece_length_m, Leg};
+use super::rods::{arrivals_at, leg_pair_return, legs_to, segment_pieces, Leg};
 use super::tube::{sea_mirror, ComplexVec3, Illumination, RaySink, SbrSettings, TubeReturn};
 use crate::geometry::{Bvh, WedgeEdge};
 use glam::DVec3;
@@ -137,17 +137,8 @@ pub fn edge_returns(
             continue;
         }
         let along = (edge.b_m - edge.a_m) / length;
-        let range_m = match illumination {
-            Illumination::PlaneWave { .. } => f64::INFINITY,
-            Illumination::FromPoint { radar_m } => {
-                let t = (radar_m - edge.a_m).dot(along).clamp(0.0, length);
-                (edge.a_m + along * t - radar_m).length()
-            }
-        };
-        let pieces = (length / piece_length_m(range_m, s.wavelength_m))
-            .ceil()
-            .max(1.0) as usize;
-        let piece_m = length / pieces as f64;
+        let (pieces, piece_m) =
+            segment_pieces(edge.a_m, along, length, illumination, s.wavelength_m);
         let half_exterior = 0.5 * edge.wedge_n * PI;
         let bisector =
             edge.face0_dir * half_exterior.cos() + edge.face0_normal * half_exterior.sin();
@@ -157,16 +148,7 @@ pub fn edge_returns(
             // the sea) light the piece, be seen from it, and fall within the sinc's reach?
             // (A vertical edge's mixed pairs are its dihedral with the sea, which can return
             // where the direct pair's sinc has long died.)
-            let mut arrivals = [None, None];
-            match illumination {
-                Illumination::PlaneWave { toward_radar } => arrivals[0] = Some(-toward_radar),
-                Illumination::FromPoint { radar_m } => {
-                    arrivals[0] = Some((centre - radar_m).normalize());
-                    if sea.is_some() && radar_m.z > 0.0 && centre.z > 0.0 {
-                        arrivals[1] = Some(sea_mirror((sea_mirror(centre) - radar_m).normalize()));
-                    }
-                }
-            }
+            let arrivals = arrivals_at(centre, illumination, sea.as_ref());
             let exterior = edge.wedge_n * PI;
             let outside = |d: DVec3| {
                 let phi = edge.angle_of(d);

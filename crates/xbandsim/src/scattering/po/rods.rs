@@ -45,10 +45,54 @@ pub const ROD_PIECE_M: (f64, f64) = (0.5, 4.0);
 
 /// The piece length for a rod whose nearest point lies `range_m` from the radar (infinite
 /// for a plane wave), m.
-pub(super) fn piece_length_m(range_m: f64, wavelength_m: f64) -> f64 {
+fn piece_length_m(range_m: f64, wavelength_m: f64) -> f64 {
     (0.8 * wavelength_m * range_m)
         .sqrt()
         .clamp(ROD_PIECE_M.0, ROD_PIECE_M.1)
+}
+
+/// How many pieces a segment from `a_m` along unit `along` for `length_m` is cut into under
+/// `illumination`, and their length, m ([`piece_length_m`] at the segment's nearest point to
+/// the radar).
+pub(super) fn segment_pieces(
+    a_m: DVec3,
+    along: DVec3,
+    length_m: f64,
+    illumination: Illumination,
+    wavelength_m: f64,
+) -> (usize, f64) {
+    let range_m = match illumination {
+        Illumination::PlaneWave { .. } => f64::INFINITY,
+        Illumination::FromPoint { radar_m } => {
+            // The nearest point of the segment to the radar.
+            let t = (radar_m - a_m).dot(along).clamp(0.0, length_m);
+            (a_m + along * t - radar_m).length()
+        }
+    };
+    let pieces = (length_m / piece_length_m(range_m, wavelength_m))
+        .ceil()
+        .max(1.0) as usize;
+    (pieces, length_m / pieces as f64)
+}
+
+/// The directions of travel at `point`: straight from the radar, and with the sea on, up
+/// from the sea toward it (on the line from the radar to its image).
+pub(super) fn arrivals_at(
+    point: DVec3,
+    illumination: Illumination,
+    sea: Option<&SeaSurface>,
+) -> [Option<DVec3>; 2] {
+    let mut arrivals = [None, None];
+    match illumination {
+        Illumination::PlaneWave { toward_radar } => arrivals[0] = Some(-toward_radar),
+        Illumination::FromPoint { radar_m } => {
+            arrivals[0] = Some((point - radar_m).normalize());
+            if sea.is_some() && radar_m.z > 0.0 && point.z > 0.0 {
+                arrivals[1] = Some(sea_mirror((sea_mirror(point) - radar_m).normalize()));
+            }
+        }
+    }
+    arrivals
 }
 
 /// Lift of a shadow ray's end off the rod's surface, m.
@@ -249,32 +293,12 @@ pub fn rod_returns(
             continue;
         }
         let axis = (rod.b_m - rod.a_m) / length;
-        let range_m = match illumination {
-            Illumination::PlaneWave { .. } => f64::INFINITY,
-            Illumination::FromPoint { radar_m } => {
-                // The nearest point of the segment to the radar.
-                let t = (radar_m - rod.a_m).dot(axis).clamp(0.0, length);
-                (rod.a_m + axis * t - radar_m).length()
-            }
-        };
-        let pieces = (length / piece_length_m(range_m, s.wavelength_m))
-            .ceil()
-            .max(1.0) as usize;
-        let piece_m = length / pieces as f64;
+        let (pieces, piece_m) = segment_pieces(rod.a_m, axis, length, illumination, s.wavelength_m);
         for n in 0..pieces {
             let centre = rod.a_m + axis * (piece_m * (n as f64 + 0.5));
             // The directions of travel at the piece: straight from the radar, and up from
             // the sea toward it (on the line from the radar to its image).
-            let mut arrivals = [None, None];
-            match illumination {
-                Illumination::PlaneWave { toward_radar } => arrivals[0] = Some(-toward_radar),
-                Illumination::FromPoint { radar_m } => {
-                    arrivals[0] = Some((centre - radar_m).normalize());
-                    if sea.is_some() && radar_m.z > 0.0 && centre.z > 0.0 {
-                        arrivals[1] = Some(sea_mirror((sea_mirror(centre) - radar_m).normalize()));
-                    }
-                }
-            }
+            let arrivals = arrivals_at(centre, illumination, sea.as_ref());
             // Pairs (transmit route, receive route); the two mixed pairs share their
             // specular point and its legs.
             let mut mixed_legs_found = false;
