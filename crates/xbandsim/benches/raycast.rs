@@ -20,23 +20,35 @@ fn scan_rays(c: &mut Criterion) {
     let mut g = c.benchmark_group("raycast");
     g.throughput(Throughput::Elements(n as u64));
     let origin = scene.radar().position_m();
+    // The degree's rays made once: both searches below cast the same ones.
+    let rays: Vec<Ray> = ((36 * n)..(37 * n))
+        .map(|i| {
+            let (az, el) = paper::grid_direction(scene.scattering(), scene.radar().antenna(), i);
+            Ray {
+                origin_m: origin,
+                dir: direction_from_az_el(az, el),
+            }
+        })
+        .collect();
     g.bench_function("paper_scene_scan_grid_1deg", |b| {
         b.iter(|| {
-            let mut hits = 0;
-            for i in (36 * n)..(37 * n) {
-                let (az, el) =
-                    paper::grid_direction(scene.scattering(), scene.radar().antenna(), i);
-                hits += bvh
-                    .closest_hit(
-                        &Ray {
-                            origin_m: origin,
-                            dir: direction_from_az_el(az, el),
-                        },
-                        f64::INFINITY,
-                    )
-                    .is_some() as usize;
+            rays.iter()
+                .filter(|ray| bvh.closest_hit(ray, f64::INFINITY).is_some())
+                .count()
+        })
+    });
+    // The same as packets, a column (one azimuth, every elevation) at a time.
+    let n_el = scene.scattering().paper_rays_elevation();
+    let t_max = vec![f64::INFINITY; n_el];
+    let mut hits = vec![None; n_el];
+    g.bench_function("paper_scene_scan_grid_1deg_packets", |b| {
+        b.iter(|| {
+            let mut met = 0;
+            for column in rays.chunks(n_el) {
+                bvh.closest_hits(column, &t_max, &mut hits);
+                met += hits.iter().filter(|h| h.is_some()).count();
             }
-            hits
+            met
         })
     });
     let sim = Simulation::new(scene.clone());

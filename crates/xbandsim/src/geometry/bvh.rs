@@ -16,13 +16,17 @@
 //! rounding covered by a relative margin (Ize, "Robust BVH ray traversal", JCGT 2(2), 2013),
 //! so every primitive the exact f64 test would meet is still intersected in f64
 //! (docs/architecture.md "The ray caster"). Trees or rays beyond f32's reach (coordinates past
-//! 10^36 m) take the same traversal with f64 boxes.
+//! 10^36 m) take the same traversal with f64 boxes. Coherent rays are searched together as
+//! packets (`packet.rs`, [`Bvh::closest_hits`]), with the same hits.
 
 use super::bvh_build::{build_binary, BinaryNode, BinaryTree, SAH_MAX_DEPTH};
 use super::{Aabb, Hit, Primitive, Ray};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::sync::Arc;
+
+mod packet;
+pub use packet::PACKET_RAYS;
 
 /// The deepest a binary tree gets, and so the 4-wide one (each of its levels is one or two
 /// binary levels).
@@ -97,6 +101,45 @@ fn f32_down(x: f64) -> f32 {
 /// The smallest f32 not below `x` (+∞ above f32's range).
 fn f32_up(x: f64) -> f32 {
     -f32_down(-x)
+}
+
+/// The reach of the search for a hit on primitive `index` given the `best` hit so far at
+/// `t_best_m`: the closest hit is the least (distance, primitive index) pair, so a primitive
+/// of a lower index than the best's may also hit at the same distance (just past it: f64's
+/// next value up), any other only nearer. The order in which a traversal meets the
+/// primitives then never matters, which keeps packet and single-ray searches alike
+/// (`packet.rs`).
+#[inline(always)]
+fn tie_reach(best: &Option<Hit>, index: u32, t_best_m: f64) -> f64 {
+    match best {
+        Some(b) if index < b.primitive => t_best_m.next_up(),
+        _ => t_best_m,
+    }
+}
+
+/// Searches the leaf `primitives[leaf]` for a hit of `ray` that beats its `best` so far (at
+/// `t_best`; [`tie_reach`]), and keeps it there.
+#[inline(always)]
+fn search_leaf(
+    primitives: &[Primitive],
+    leaf: std::ops::Range<usize>,
+    ray: &Ray,
+    best: &mut Option<Hit>,
+    t_best: &mut TMax,
+) {
+    let first = leaf.start;
+    for (k, p) in primitives[leaf].iter().enumerate() {
+        let index = (first + k) as u32;
+        if let Some((t, normal)) = p.intersect(ray, tie_reach(best, index, t_best.m)) {
+            *t_best = TMax::new(t);
+            *best = Some(Hit {
+                t_m: t,
+                normal,
+                primitive: index,
+                object: p.object,
+            });
+        }
+    }
 }
 
 /// A pending node of a closest-hit search, and a lower bound on the distance at which the
@@ -253,6 +296,9 @@ macro_rules! traverse {
         match ($bvh.wide_ray($ray), shallow) {
             (Some(b), true) => $bvh.$with::<SHALLOW_STACK, _>($ray, $t_max_m, &b),
             (Some(b), false) => $bvh.$with::<TRAVERSAL_STACK, _>($ray, $t_max_m, &b),
+            // A ray with a NaN (a zero direction normalised) meets nothing; the f64 boxes
+            // would take its NaN distances for a meeting, even with an unused lane.
+            (None, _) if $ray.origin_m.is_nan() || $ray.dir.is_nan() => $empty,
             (None, true) => $bvh.$with::<SHALLOW_STACK, _>($ray, $t_max_m, &$bvh.exact_boxes($ray)),
             (None, false) => {
                 $bvh.$with::<TRAVERSAL_STACK, _>($ray, $t_max_m, &$bvh.exact_boxes($ray))
@@ -719,7 +765,9 @@ impl Bvh {
         }
     }
 
-    /// Closest intersection before `t_max_m`.
+    /// Closest intersection before `t_max_m`; of hits at the same distance, the one on the
+    /// primitive of the lowest index ([`Hit::primitive`]; the static level's only when it is
+    /// strictly nearer than this level's).
     pub fn closest_hit(&self, ray: &Ray, t_max_m: f64) -> Option<Hit> {
         let own = self.own_closest_hit(ray, t_max_m);
         match &self.static_level {
@@ -782,17 +830,13 @@ impl Bvh {
                     n += 1;
                     continue;
                 }
-                for (k, p) in self.primitives[first..first + count].iter().enumerate() {
-                    if let Some((t, normal)) = p.intersect(ray, t_best.m) {
-                        t_best = TMax::new(t);
-                        best = Some(Hit {
-                            t_m: t,
-                            normal,
-                            primitive: (first + k) as u32,
-                            object: p.object,
-                        });
-                    }
-                }
+                search_leaf(
+                    &self.primitives,
+                    first..first + count,
+                    ray,
+                    &mut best,
+                    &mut t_best,
+                );
             }
             // One at a time: a slice copy of a variable length is a call to memcpy.
             for &pending in &met[..n] {

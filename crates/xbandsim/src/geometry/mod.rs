@@ -17,7 +17,7 @@ pub mod procedural;
 mod rod;
 mod shapes;
 
-pub use bvh::{Bvh, BvhTemplate, PlacedCopy};
+pub use bvh::{Bvh, BvhTemplate, PlacedCopy, PACKET_RAYS};
 pub use edge::{wedge_edges, WedgeEdge, MIN_TURN_RAD};
 pub use mesh::{MeshUnit, TriangleMesh};
 pub use outfit::{Outfit, OutfitParts};

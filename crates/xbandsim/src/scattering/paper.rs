@@ -67,36 +67,59 @@ pub fn trace(scene: &Scene, bvh: &Bvh) -> ScatterSet {
         }
     }
     let columns: Vec<usize> = (0..n_az).filter(|&i| live[i]).collect();
-    let mut contributions: Vec<Contribution> = columns
+    // Each live column's rays traced as packets ([`Bvh::closest_hits`]); the columns in runs
+    // per task, each run's contributions in one vector, collected in order.
+    let runs: Vec<Vec<Contribution>> = columns
         .par_iter()
-        .flat_map_iter(|&ia| {
-            (0..n_el).filter_map(move |ie| {
-                let (az, el) = grid_direction(scene.scattering(), radar.antenna(), ia * n_el + ie);
-                let ray = Ray {
-                    origin_m: origin,
-                    dir: direction_from_az_el(az, el),
-                };
-                let hit = bvh.closest_hit(&ray, f64::INFINITY)?;
-                // The ray's own grid angles, not read back from its direction (which only
-                // adds rounding; where a grid azimuth falls on an echo group's cell edge, a
-                // last bit decides the group).
-                let (az_h, el_h) = (az, el);
-                let path_m = 2.0 * hit.t_m;
-                Some(Contribution {
-                    amplitude_v: carrier_phase(path_m, lambda) * (v_ref * paper_amplitude(hit.t_m)),
-                    root_rcs_m: Complex64::new(0.0, 0.0),
-                    path_m,
-                    az_tx_rad: az_h,
-                    el_tx_rad: el_h,
-                    az_rx_rad: az_h,
-                    el_rx_rad: el_h,
-                    object: hit.object,
-                    bounces: 1,
-                    sea_reflections: 0,
-                })
-            })
-        })
+        .with_min_len(4)
+        .fold(
+            || {
+                (
+                    Vec::new(),
+                    vec![f64::INFINITY; n_el],
+                    vec![None; n_el],
+                    Vec::new(),
+                )
+            },
+            |(mut rays, t_max, mut hits, mut out), &ia| {
+                rays.clear();
+                rays.extend((0..n_el).map(|ie| {
+                    let (az, el) =
+                        grid_direction(scene.scattering(), radar.antenna(), ia * n_el + ie);
+                    Ray {
+                        origin_m: origin,
+                        dir: direction_from_az_el(az, el),
+                    }
+                }));
+                bvh.closest_hits(&rays, &t_max, &mut hits);
+                for (ie, hit) in hits.iter().enumerate() {
+                    let Some(hit) = hit else { continue };
+                    // The ray's own grid angles, not read back from its direction (which only
+                    // adds rounding; where a grid azimuth falls on an echo group's cell edge, a
+                    // last bit decides the group).
+                    let (az_h, el_h) =
+                        grid_direction(scene.scattering(), radar.antenna(), ia * n_el + ie);
+                    let path_m = 2.0 * hit.t_m;
+                    out.push(Contribution {
+                        amplitude_v: carrier_phase(path_m, lambda)
+                            * (v_ref * paper_amplitude(hit.t_m)),
+                        root_rcs_m: Complex64::new(0.0, 0.0),
+                        path_m,
+                        az_tx_rad: az_h,
+                        el_tx_rad: el_h,
+                        az_rx_rad: az_h,
+                        el_rx_rad: el_h,
+                        object: hit.object,
+                        bounces: 1,
+                        sea_reflections: 0,
+                    });
+                }
+                (rays, t_max, hits, out)
+            },
+        )
+        .map(|(_, _, _, out)| out)
         .collect();
+    let mut contributions: Vec<Contribution> = runs.concat();
     contributions.shrink_to_fit();
     ScatterSet {
         contributions,
