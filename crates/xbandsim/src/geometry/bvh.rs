@@ -767,7 +767,9 @@ impl Bvh {
 
     /// Closest intersection before `t_max_m`; of hits at the same distance, the one on the
     /// primitive of the lowest index ([`Hit::primitive`]; the static level's only when it is
-    /// strictly nearer than this level's).
+    /// strictly nearer than this level's). That holds wherever the f32 boxes are used (every
+    /// scene's tree); the f64 boxes, for trees and rays beyond their reach, carry no margin,
+    /// and a box entered within rounding of the best hit may still hide a tie.
     pub fn closest_hit(&self, ray: &Ray, t_max_m: f64) -> Option<Hit> {
         let own = self.own_closest_hit(ray, t_max_m);
         match &self.static_level {
