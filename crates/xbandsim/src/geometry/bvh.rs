@@ -249,16 +249,27 @@ impl ChildBoxes for WideRay<'_> {
                 exit[c] = if t_far < exit[c] { t_far } else { exit[c] };
             }
         }
-        let mut mask = 0;
-        for c in 0..4 {
-            let lo = entry[c] * ENTRY_SHRINK;
-            let hi = exit[c] * EXIT_GROW;
-            let hi = if hi < t_max.f32_up { hi } else { t_max.f32_up };
-            mask |= u32::from(lo <= hi) << c;
-            entry[c] = lo;
-        }
+        let mask = lanes_met(&mut entry, &exit, &[t_max.f32_up; 4]);
         (entry, mask)
     }
+}
+
+/// The lanes (a bit each) whose box is met: the slab test's `entry` and `exit` distances
+/// widened by their relative margins, the exit capped at the lane's `t_max_up` (f32, rounded
+/// up). `entry` is left holding the widened entries.
+#[inline(always)]
+fn lanes_met<const N: usize>(entry: &mut [f32; N], exit: &[f32; N], t_max_up: &[f32; N]) -> u32 {
+    let mut met = [false; N];
+    for c in 0..N {
+        let lo = entry[c] * ENTRY_SHRINK;
+        let hi = exit[c] * EXIT_GROW;
+        let hi = if hi < t_max_up[c] { hi } else { t_max_up[c] };
+        met[c] = lo <= hi;
+        entry[c] = lo;
+    }
+    met.iter()
+        .enumerate()
+        .fold(0, |m, (c, &met)| m | (u32::from(met) << c))
 }
 
 /// The f64 box test, for trees and rays beyond the f32 one's reach.

@@ -19,8 +19,8 @@
 //! those of [`Bvh::closest_hit`], whatever order the packet meets the leaves in.
 
 use super::{
-    search_leaf, Bvh, Pending, TMax, WideNode, ENTRY_SHRINK, EXIT_GROW, F32_EPSILON_HALF_UP,
-    F32_MIN_DIRECTION, F32_REACH_M, SHALLOW_DEPTH, SHALLOW_STACK, TRAVERSAL_STACK,
+    lanes_met, search_leaf, Bvh, Pending, TMax, WideNode, F32_EPSILON_HALF_UP, F32_MIN_DIRECTION,
+    F32_REACH_M, SHALLOW_DEPTH, SHALLOW_STACK, TRAVERSAL_STACK,
 };
 use crate::geometry::{Hit, Ray};
 
@@ -139,14 +139,7 @@ impl PacketBounds {
                 exit[c] = if t_far < exit[c] { t_far } else { exit[c] };
             }
         }
-        let mut mask = 0;
-        for c in 0..4 {
-            let lo = entry[c] * ENTRY_SHRINK;
-            let hi = exit[c] * EXIT_GROW;
-            let hi = if hi < t_max_up { hi } else { t_max_up };
-            mask |= u32::from(lo <= hi) << c;
-        }
-        mask
+        lanes_met(&mut entry, &exit, &[t_max_up; 4])
     }
 }
 
@@ -244,19 +237,8 @@ impl PacketRays {
                     exit[r] = if t_far < exit[r] { t_far } else { exit[r] };
                 }
             }
-            let mut met = [false; PACKET_RAYS];
-            for r in 0..PACKET_RAYS {
-                let lo = entry[r] * ENTRY_SHRINK;
-                let hi = exit[r] * EXIT_GROW;
-                let hi = if hi < t_max_up[r] { hi } else { t_max_up[r] };
-                met[r] = lo <= hi;
-                entry[r] = lo;
-            }
+            masks[c] = lanes_met(&mut entry, &exit, t_max_up);
             entries[c] = entry;
-            masks[c] = met
-                .iter()
-                .enumerate()
-                .fold(0, |m, (r, &met)| m | (u32::from(met) << r));
         }
         (entries, masks)
     }

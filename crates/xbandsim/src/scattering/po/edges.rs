@@ -122,11 +122,8 @@ pub fn edge_returns(
     out: &mut Vec<TubeReturn>,
     rays_met: &mut impl RaySink,
 ) -> u64 {
-    let sea = match illumination {
-        Illumination::FromPoint { .. } => s.sea,
-        Illumination::PlaneWave { .. } => None,
-    };
-    let settings = SbrSettings { sea, ..*s };
+    let settings = s.seen_from(illumination);
+    let sea = settings.sea;
     let wavenumber = std::f64::consts::TAU / s.wavelength_m;
     let minus_j_over_root_pi = Complex64::new(0.0, -1.0 / PI.sqrt());
     let mut rays = 0u64;

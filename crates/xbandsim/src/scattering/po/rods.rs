@@ -277,11 +277,8 @@ pub fn rod_returns(
     out: &mut Vec<TubeReturn>,
     rays_met: &mut impl RaySink,
 ) -> u64 {
-    let sea = match illumination {
-        Illumination::FromPoint { .. } => s.sea,
-        Illumination::PlaneWave { .. } => None,
-    };
-    let settings = SbrSettings { sea, ..*s };
+    let settings = s.seen_from(illumination);
+    let sea = settings.sea;
     let wavenumber = std::f64::consts::TAU / s.wavelength_m;
     let root_4pi_over_lambda = (4.0 * std::f64::consts::PI).sqrt() / s.wavelength_m;
     let quarter_turn_back = Complex64::from_polar(1.0, -std::f64::consts::FRAC_PI_4);

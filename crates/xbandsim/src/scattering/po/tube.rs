@@ -434,6 +434,19 @@ pub struct SbrSettings {
     pub edge_diffraction: bool,
 }
 
+impl SbrSettings {
+    /// These settings as a trace from `illumination` uses them: the sea for a radar's point
+    /// source, none for a plane wave (the RCS tool's free space).
+    #[inline]
+    pub fn seen_from(&self, illumination: Illumination) -> SbrSettings {
+        let sea = match illumination {
+            Illumination::FromPoint { .. } => self.sea,
+            Illumination::PlaneWave { .. } => None,
+        };
+        SbrSettings { sea, ..*self }
+    }
+}
+
 /// Per-ray result: contributions as root-RCS with geometry, before the volt conversion.
 #[derive(Debug, Clone, Copy)]
 pub struct TubeReturn {
@@ -592,11 +605,7 @@ pub fn trace_tube_with(
     };
     let wavenumber = std::f64::consts::TAU / s.wavelength_m;
     let root_4pi_over_lambda = (4.0 * std::f64::consts::PI).sqrt() / s.wavelength_m;
-    let sea = if matches!(grid.illumination, Illumination::FromPoint { .. }) {
-        s.sea
-    } else {
-        None
-    };
+    let sea = s.seen_from(grid.illumination).sea;
     let pol_k0 = polarisation_vector(k0, s.polarisation);
     let mut e_field = ComplexVec3::real(pol_k0);
     let mut origin = launch;
