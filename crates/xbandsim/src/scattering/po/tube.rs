@@ -491,12 +491,49 @@ impl RaySink for () {
 }
 
 /// How a curved primitive's surface bends: its radius of curvature, m, and for a cylinder
-/// wall its axis, along which it does not bend; `None` for flat primitives.
-fn curved_surface(p: &Primitive) -> Option<(f64, Option<DVec3>)> {
+/// wall the straight span along which it does not bend; `None` for flat primitives.
+fn curved_surface(p: &Primitive) -> Option<(f64, Option<AxialSpan>)> {
     match p.kind {
         PrimitiveKind::Sphere { radius_m, .. } => Some((radius_m, None)),
-        PrimitiveKind::Cylinder { radius_m, axis, .. } => Some((radius_m, Some(axis))),
+        PrimitiveKind::Cylinder {
+            base,
+            axis,
+            radius_m,
+            height_m,
+        } => Some((
+            radius_m,
+            Some(AxialSpan {
+                base,
+                axis,
+                height_m,
+            }),
+        )),
         _ => None,
+    }
+}
+
+/// A cylinder wall's axis (unit) and the span of it, from `base` for `height_m`, that the
+/// wall covers.
+#[derive(Clone, Copy)]
+struct AxialSpan {
+    base: DVec3,
+    axis: DVec3,
+    height_m: f64,
+}
+
+impl AxialSpan {
+    /// Whether every sub-ray of a tube travelling along `k` whose footprint on the tangent
+    /// plane at `hit_p` has edges `f1`, `f2` meets the wall within its span, for a wall of
+    /// radius `radius_m`. The rays meet the surface behind that plane, at most 2R/|k̂⊥| along
+    /// k̂ (across the whole circle), which moves them along the axis by 2R·|k̂·â|/|k̂⊥|.
+    fn holds_footprint(self, hit_p: DVec3, f1: DVec3, f2: DVec3, k: DVec3, radius_m: f64) -> bool {
+        let k_along = k.dot(self.axis).abs();
+        let k_across = (1.0 - k_along * k_along).max(0.0).sqrt();
+        let shift_m = 2.0 * radius_m * k_along / k_across;
+        let centre_m = (hit_p - self.base).dot(self.axis);
+        let half_span_m = 0.5 * (f1.dot(self.axis).abs() + f2.dot(self.axis).abs()) + shift_m;
+        // False for NaN (a tube along the axis: k̂⊥ = 0).
+        centre_m - half_span_m >= 0.0 && centre_m + half_span_m <= self.height_m
     }
 }
 
@@ -519,7 +556,8 @@ fn curved_subdivisions(sag_phase: f64) -> usize {
 
 /// The field a tube of cross-section edges `edges` radiates toward `s_hat` from the curved
 /// `primitive` it hit at `hit_p` (travelling along `k` with field `e_field`), with its
-/// footprint integral: the sum over m × m sub-tubes, each met on the surface itself (one
+/// footprint integral: the sum over m_u × m_v sub-tubes (each edge cut for the sag across
+/// its own length: along a cylinder's axis, one), each met on the surface itself (one
 /// that misses it, past its silhouette, adds nothing), with its own normal, its own tangent
 /// plane's footprint integral and its path's phase relative to the tube's centre. The
 /// tangent plane of a single footprint misses the surface's bend near a silhouette, where
@@ -534,19 +572,19 @@ fn radiated_over_sub_tubes(
     e_field: ComplexVec3,
     s_hat: DVec3,
     (edge_u, edge_v): (DVec3, DVec3),
-    m: usize,
+    (m_u, m_v): (usize, usize),
     wavenumber: f64,
 ) -> ComplexVec3 {
-    let (sub_u, sub_v) = (edge_u / m as f64, edge_v / m as f64);
+    let (sub_u, sub_v) = (edge_u / m_u as f64, edge_v / m_v as f64);
     // Far enough back along −k that every sub-ray starts outside the primitive's box.
     let bounds = primitive.bounds();
     let back_m = (bounds.max - bounds.min).length() + edge_u.length() + edge_v.length();
-    let weight = 1.0 / (m * m) as f64;
+    let weight = 1.0 / (m_u * m_v) as f64;
     let mut sum = ComplexVec3::real(DVec3::ZERO);
-    for a in 0..m {
-        for b in 0..m {
-            let offset = sub_u * (a as f64 + 0.5 - 0.5 * m as f64)
-                + sub_v * (b as f64 + 0.5 - 0.5 * m as f64);
+    for a in 0..m_u {
+        for b in 0..m_v {
+            let offset = sub_u * (a as f64 + 0.5 - 0.5 * m_u as f64)
+                + sub_v * (b as f64 + 0.5 - 0.5 * m_v as f64);
             let ray = Ray {
                 origin_m: hit_p + offset - k * back_m,
                 dir: k,
@@ -781,17 +819,29 @@ pub fn trace_tube_with(
             // The field radiated toward ŝ times the footprint's integral (n̂·ŝ is in
             // `po_radiated`); on a curved surface whose bend over the footprint the tangent
             // plane would miss, summed over sub-tubes on the surface itself.
-            let subdivisions = curvature_m.map_or(1, |(radius_m, axis)| {
-                // The footprint's extent across the bend (a cylinder is straight along its axis).
-                let across = |f: DVec3| axis.map_or(f, |a| f - a * f.dot(a)).length();
-                let longest_m = across(f1).max(across(f2));
-                // The sag h = ℓ²/(8R) off the tangent plane lengthens the path in along k
-                // by h/|n̂·k̂| and shortens the one out along ŝ by (h/|n̂·k̂|)·(k̂·ŝ).
-                let sag_m = longest_m * longest_m / (8.0 * radius_m);
-                let sag_phase = wavenumber * sag_m * (1.0 - k.dot(exit.s_hat)) / n_dot_k.abs();
-                curved_subdivisions(sag_phase)
+            let subdivisions = curvature_m.map_or((1, 1), |(radius_m, span)| {
+                // Each footprint edge's extent across the bend (a cylinder is straight along
+                // its axis), and the sag h = ℓ²/(8R) off the tangent plane over it, which
+                // lengthens the path in along k by h/|n̂·k̂| and shortens the one out along ŝ
+                // by (h/|n̂·k̂|)·(k̂·ŝ).
+                let sag_phase_per_m2 =
+                    wavenumber * (1.0 - k.dot(exit.s_hat)) / (8.0 * radius_m * n_dot_k.abs());
+                let edge_subdivisions = |f: DVec3| {
+                    let across_m = span.map_or(f, |s| f - s.axis * f.dot(s.axis)).length();
+                    curved_subdivisions(sag_phase_per_m2 * across_m * across_m)
+                };
+                let (m_u, m_v) = (edge_subdivisions(f1), edge_subdivisions(f2));
+                // On a cylinder whose straight span holds the whole footprint, each edge is
+                // cut for its own sag. Elsewhere both edges are cut alike: on a sphere, whose
+                // bend is the same both ways, and where a cylinder's end may cut the
+                // footprint, so that the sub-tubes past the end drop out.
+                if span.is_some_and(|s| s.holds_footprint(hit_p, f1, f2, k, radius_m)) {
+                    (m_u, m_v)
+                } else {
+                    (m_u.max(m_v), m_u.max(m_v))
+                }
             });
-            let mut radiated = if subdivisions == 1 {
+            let mut radiated = if subdivisions == (1, 1) {
                 let footprint = sinc(0.5 * q.dot(f1)) * sinc(0.5 * q.dot(f2)) / n_dot_k.abs();
                 e_field
                     .po_radiated(n, k, exit.s_hat)
@@ -848,4 +898,97 @@ pub fn trace_tube_with(
         origin = lift;
     }
     rays
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const WAVENUMBER: f64 = std::f64::consts::TAU / 0.0319;
+
+    /// A vertical cylinder wall of radius 2 m from z = 0 to 10 m, and a tube of side 0.1 m
+    /// arriving along `k` (2.9° below the horizon) at the wall 1.2 rad round from the point
+    /// facing it, at height `z_m`: the wall, the hit, `k` and the tube's edges, one
+    /// horizontal and one in the vertical plane of `k`, whose footprint is along the axis.
+    fn cylinder_tube(z_m: f64) -> (Primitive, DVec3, DVec3, (DVec3, DVec3)) {
+        let wall = Primitive {
+            kind: PrimitiveKind::Cylinder {
+                base: DVec3::ZERO,
+                axis: DVec3::Z,
+                radius_m: 2.0,
+                height_m: 10.0,
+            },
+            object: 0,
+        };
+        let phi = 1.2f64;
+        let hit_p = DVec3::new(2.0 * phi.cos(), 2.0 * phi.sin(), z_m);
+        let k = DVec3::new(-1.0, 0.0, -0.05).normalize();
+        let edge_u = k.cross(DVec3::Z).normalize() * 0.1;
+        let edge_v = edge_u.cross(k).normalize() * 0.1;
+        (wall, hit_p, k, (edge_u, edge_v))
+    }
+
+    fn radiated(z_m: f64, cuts: (usize, usize)) -> ComplexVec3 {
+        let (wall, hit_p, k, edges) = cylinder_tube(z_m);
+        let e_field = ComplexVec3::real(polarisation_vector(k, Polarisation::Hh));
+        radiated_over_sub_tubes(&wall, hit_p, k, e_field, -k, edges, cuts, WAVENUMBER)
+    }
+
+    fn distance(a: ComplexVec3, b: ComplexVec3) -> f64 {
+        ((a.re - b.re).length_squared() + (a.im - b.im).length_squared()).sqrt()
+    }
+
+    fn norm(a: ComplexVec3) -> f64 {
+        (a.re.length_squared() + a.im.length_squared()).sqrt()
+    }
+
+    /// Along a cylinder's axis its wall is flat, so cutting a footprint there changes
+    /// nothing: the m sub-footprints' integrals of a linear phase sum to the whole one's
+    /// (Σ_b e^{−jθ(b−(m−1)/2)}·sinc(θ/2)/m = sinc(mθ/2)), so one cut along the axis gives
+    /// the m × m sum to rounding. Near the wall's end the cuts along the axis are what drop
+    /// the sub-tubes past it, and the wall's span then does not hold the footprint.
+    #[test]
+    fn a_cylinders_straight_span_needs_no_cuts_along_its_axis() {
+        for m in [2, 7, 16] {
+            let full = radiated(5.0, (m, m));
+            let across_only = radiated(5.0, (m, 1));
+            assert!(norm(full) > 1e-3, "m = {m}: the tube radiates");
+            let error = distance(full, across_only) / norm(full);
+            assert!(error < 1e-9, "m = {m}: relative difference {error:e}");
+        }
+        // The cuts across the bend do matter there.
+        let uncut = radiated(5.0, (1, 1));
+        let cut = radiated(5.0, (16, 1));
+        assert!(distance(cut, uncut) / norm(cut) > 0.01);
+        let (wall, hit_p, k, (edge_u, edge_v)) = cylinder_tube(5.0);
+        let PrimitiveKind::Cylinder {
+            base,
+            axis,
+            radius_m,
+            height_m,
+        } = wall.kind
+        else {
+            unreachable!()
+        };
+        let span = AxialSpan {
+            base,
+            axis,
+            height_m,
+        };
+        let n = (hit_p - DVec3::new(0.0, 0.0, hit_p.z)).normalize();
+        let footprint = |e: DVec3| e - k * (n.dot(e) / n.dot(k));
+        let (f1, f2) = (footprint(edge_u), footprint(edge_v));
+        assert!(
+            f2.cross(DVec3::Z).length() < 1e-12,
+            "the second edge's footprint is axial"
+        );
+        assert!(span.holds_footprint(hit_p, f1, f2, k, radius_m));
+        // 3 cm below the top the footprint (0.1 m along the axis) crosses the end.
+        let near_top = DVec3::new(hit_p.x, hit_p.y, 9.97);
+        assert!(!span.holds_footprint(near_top, f1, f2, k, radius_m));
+        let (full, across_only) = (radiated(9.97, (16, 16)), radiated(9.97, (16, 1)));
+        assert!(distance(full, across_only) / norm(full) > 0.1);
+        // Along the axis itself no span holds a footprint (k̂⊥ = 0).
+        assert!(!span.holds_footprint(hit_p, f1, f2, DVec3::NEG_Z, radius_m));
+    }
 }
