@@ -18,7 +18,6 @@
 
 use super::{Primitive, PrimitiveKind};
 use glam::DVec3;
-use std::collections::HashMap;
 
 /// Grid on which face corners are welded, m.
 pub const WELD_M: f64 = 1e-6;
@@ -99,8 +98,9 @@ struct FaceSide {
 /// face 0 the one of lower normal (x, then y, then z): the same edges in the same order
 /// whatever order the faces come in (a BVH's order differs between its builds).
 pub fn wedge_edges<'a>(primitives: impl IntoIterator<Item = &'a Primitive>) -> Vec<WedgeEdge> {
-    let mut order: Vec<([i64; 3], [i64; 3])> = Vec::new();
-    let mut sides: HashMap<([i64; 3], [i64; 3]), Vec<FaceSide>> = HashMap::new();
+    // Every face's side of every edge under its welded ends, then sorted by those ends (and
+    // by normal within an edge; the sort is stable, so equal normals keep the faces' order).
+    let mut sides: Vec<(([i64; 3], [i64; 3]), FaceSide)> = Vec::new();
     for p in primitives {
         let Some((count, corners)) = face_corners(p) else {
             continue;
@@ -123,14 +123,9 @@ pub fn wedge_edges<'a>(primitives: impl IntoIterator<Item = &'a Primitive>) -> V
             };
             let (wa, wb) = (weld(a), weld(b));
             let key = if wa <= wb { (wa, wb) } else { (wb, wa) };
-            let entry = sides.entry(key).or_default();
-            if entry.is_empty() {
-                order.push(key);
-            }
-            entry.push(FaceSide { normal, inward });
+            sides.push((key, FaceSide { normal, inward }));
         }
     }
-    order.sort();
     let unweld = |k: [i64; 3]| DVec3::new(k[0] as f64, k[1] as f64, k[2] as f64) * WELD_M;
     let by_normal = |f: &FaceSide, g: &FaceSide| {
         let (p, q) = (f.normal.to_array(), g.normal.to_array());
@@ -139,20 +134,20 @@ pub fn wedge_edges<'a>(primitives: impl IntoIterator<Item = &'a Primitive>) -> V
             .find(|o| o.is_ne())
             .unwrap_or(std::cmp::Ordering::Equal)
     };
+    sides.sort_by(|x, y| x.0.cmp(&y.0).then_with(|| by_normal(&x.1, &y.1)));
     let mut edges = Vec::new();
-    for (ka, kb) in order {
+    for edge_sides in sides.chunk_by(|x, y| x.0 == y.0) {
+        let (ka, kb) = edge_sides[0].0;
         let (a, b) = (unweld(ka), unweld(kb));
-        let mut faces = sides[&(ka, kb)].clone();
-        faces.sort_by(by_normal);
-        let edge = match faces.as_slice() {
-            [one] => Some(WedgeEdge {
+        let edge = match edge_sides {
+            [(_, one)] => Some(WedgeEdge {
                 a_m: a,
                 b_m: b,
                 face0_dir: one.inward,
                 face0_normal: one.normal,
                 wedge_n: 2.0,
             }),
-            [f0, f1] => {
+            [(_, f0), (_, f1)] => {
                 // Face 1 behind face 0's normal (or, windings disagreeing, either way): convex.
                 let alpha = f0.inward.dot(f1.inward).clamp(-1.0, 1.0).acos();
                 let normal0 = if f1.inward.dot(f0.normal) <= 0.0 {
