@@ -98,9 +98,9 @@ struct FaceSide {
 /// face 0 the one of lower normal (x, then y, then z): the same edges in the same order
 /// whatever order the faces come in (a BVH's order differs between its builds).
 pub fn wedge_edges<'a>(primitives: impl IntoIterator<Item = &'a Primitive>) -> Vec<WedgeEdge> {
-    // Every face's side of every edge under its welded ends, then sorted by those ends (and
-    // by normal within an edge; the sort is stable, so equal normals keep the faces' order).
-    let mut sides: Vec<(([i64; 3], [i64; 3]), FaceSide)> = Vec::new();
+    // Every face's side of every edge under its welded ends and its place in the faces'
+    // order, sorted by those ends and that place (in place: no scratch as large again).
+    let mut sides: Vec<(([i64; 3], [i64; 3]), u32, FaceSide)> = Vec::new();
     for p in primitives {
         let Some((count, corners)) = face_corners(p) else {
             continue;
@@ -123,7 +123,8 @@ pub fn wedge_edges<'a>(primitives: impl IntoIterator<Item = &'a Primitive>) -> V
             };
             let (wa, wb) = (weld(a), weld(b));
             let key = if wa <= wb { (wa, wb) } else { (wb, wa) };
-            sides.push((key, FaceSide { normal, inward }));
+            let place = sides.len() as u32;
+            sides.push((key, place, FaceSide { normal, inward }));
         }
     }
     let unweld = |k: [i64; 3]| DVec3::new(k[0] as f64, k[1] as f64, k[2] as f64) * WELD_M;
@@ -134,20 +135,26 @@ pub fn wedge_edges<'a>(primitives: impl IntoIterator<Item = &'a Primitive>) -> V
             .find(|o| o.is_ne())
             .unwrap_or(std::cmp::Ordering::Equal)
     };
-    sides.sort_by(|x, y| x.0.cmp(&y.0).then_with(|| by_normal(&x.1, &y.1)));
+    sides.sort_unstable_by(|x, y| x.0.cmp(&y.0).then(x.1.cmp(&y.1)));
     let mut edges = Vec::new();
     for edge_sides in sides.chunk_by(|x, y| x.0 == y.0) {
         let (ka, kb) = edge_sides[0].0;
         let (a, b) = (unweld(ka), unweld(kb));
         let edge = match edge_sides {
-            [(_, one)] => Some(WedgeEdge {
+            [(_, _, one)] => Some(WedgeEdge {
                 a_m: a,
                 b_m: b,
                 face0_dir: one.inward,
                 face0_normal: one.normal,
                 wedge_n: 2.0,
             }),
-            [(_, f0), (_, f1)] => {
+            [(_, _, first), (_, _, second)] => {
+                // Face 0 the one of lower normal; the first in the faces' order if equal.
+                let (f0, f1) = if by_normal(second, first).is_lt() {
+                    (second, first)
+                } else {
+                    (first, second)
+                };
                 // Face 1 behind face 0's normal (or, windings disagreeing, either way): convex.
                 let alpha = f0.inward.dot(f1.inward).clamp(-1.0, 1.0).acos();
                 let normal0 = if f1.inward.dot(f0.normal) <= 0.0 {
