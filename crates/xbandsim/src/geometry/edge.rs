@@ -87,6 +87,9 @@ fn weld(p: DVec3) -> [i64; 3] {
     ]
 }
 
+/// An edge's two ends on the weld grid, the lesser first.
+type WeldedEnds = ([i64; 3], [i64; 3]);
+
 /// One face's side of an edge: its outward normal and the unit vector into it across the edge.
 #[derive(Clone, Copy)]
 struct FaceSide {
@@ -100,7 +103,7 @@ struct FaceSide {
 pub fn wedge_edges<'a>(primitives: impl IntoIterator<Item = &'a Primitive>) -> Vec<WedgeEdge> {
     // Every face's side of every edge under its welded ends and its place in the faces'
     // order, sorted by those ends and that place (in place: no scratch as large again).
-    let mut sides: Vec<(([i64; 3], [i64; 3]), u32, FaceSide)> = Vec::new();
+    let mut sides: Vec<(WeldedEnds, u32, FaceSide)> = Vec::new();
     for p in primitives {
         let Some((count, corners)) = face_corners(p) else {
             continue;
