@@ -522,17 +522,30 @@ struct AxialSpan {
 }
 
 impl AxialSpan {
-    /// Whether every sub-ray of a tube travelling along `k` whose footprint on the tangent
-    /// plane at `hit_p` has edges `f1`, `f2` meets the wall within its span, for a wall of
-    /// radius `radius_m`. The rays meet the surface behind that plane, at most 2R/|k̂⊥| along
-    /// k̂ (across the whole circle), which moves them along the axis by 2R·|k̂·â|/|k̂⊥|.
-    fn holds_footprint(self, hit_p: DVec3, f1: DVec3, f2: DVec3, k: DVec3, radius_m: f64) -> bool {
-        let k_along = k.dot(self.axis).abs();
+    /// Whether every sub-ray of a tube travelling along `k` with cross-section edges
+    /// `edge_u`, `edge_v` centred on `hit_p` (on a wall of radius `radius_m`) meets the wall,
+    /// if at all, within its span. A sub-ray passes through `hit_p + offset`, the offset
+    /// within `½(|e_u·â| + |e_v·â|)` of it along the axis and `ρ = ½(|e_u⊥| + |e_v⊥|)` across
+    /// it; its hits lie within R of the axis and that point within R + ρ, so they are at
+    /// most `(2R + ρ)/|k̂⊥|` from it along k̂, and `|k̂·â|` times that along the axis. (The
+    /// footprint on the tangent plane would not do: near grazing that plane meets the rays
+    /// metres from the surface.)
+    fn holds_tube(
+        self,
+        hit_p: DVec3,
+        (edge_u, edge_v): (DVec3, DVec3),
+        k: DVec3,
+        radius_m: f64,
+    ) -> bool {
+        let a = self.axis;
+        let k_along = k.dot(a).abs();
         let k_across = (1.0 - k_along * k_along).max(0.0).sqrt();
-        let shift_m = 2.0 * radius_m * k_along / k_across;
-        let centre_m = (hit_p - self.base).dot(self.axis);
-        let half_span_m = 0.5 * (f1.dot(self.axis).abs() + f2.dot(self.axis).abs()) + shift_m;
-        // False for NaN (a tube along the axis: k̂⊥ = 0).
+        let across_m = |e: DVec3| (e - a * e.dot(a)).length();
+        let rho_m = 0.5 * (across_m(edge_u) + across_m(edge_v));
+        let shift_m = k_along * (2.0 * radius_m + rho_m) / k_across;
+        let centre_m = (hit_p - self.base).dot(a);
+        let half_span_m = 0.5 * (edge_u.dot(a).abs() + edge_v.dot(a).abs()) + shift_m;
+        // A tube along the axis (k̂⊥ = 0) has an infinite shift, or NaN: held by no span.
         centre_m - half_span_m >= 0.0 && centre_m + half_span_m <= self.height_m
     }
 }
@@ -831,11 +844,11 @@ pub fn trace_tube_with(
                     curved_subdivisions(sag_phase_per_m2 * across_m * across_m)
                 };
                 let (m_u, m_v) = (edge_subdivisions(f1), edge_subdivisions(f2));
-                // On a cylinder whose straight span holds the whole footprint, each edge is
-                // cut for its own sag. Elsewhere both edges are cut alike: on a sphere, whose
-                // bend is the same both ways, and where a cylinder's end may cut the
-                // footprint, so that the sub-tubes past the end drop out.
-                if span.is_some_and(|s| s.holds_footprint(hit_p, f1, f2, k, radius_m)) {
+                // On a cylinder whose straight span holds all the tube's sub-rays, each edge
+                // is cut for its own sag. Elsewhere both edges are cut alike: on a sphere,
+                // whose bend is the same both ways, and where a cylinder's end may cut the
+                // tube, so that each sub-ray past the end is met where it lands, if anywhere.
+                if span.is_some_and(|s| s.holds_tube(hit_p, (edge_u, edge_v), k, radius_m)) {
                     (m_u, m_v)
                 } else {
                     (m_u.max(m_v), m_u.max(m_v))
@@ -945,8 +958,8 @@ mod tests {
     /// Along a cylinder's axis its wall is flat, so cutting a footprint there changes
     /// nothing: the m sub-footprints' integrals of a linear phase sum to the whole one's
     /// (Σ_b e^{−jθ(b−(m−1)/2)}·sinc(θ/2)/m = sinc(mθ/2)), so one cut along the axis gives
-    /// the m × m sum to rounding. Near the wall's end the cuts along the axis are what drop
-    /// the sub-tubes past it, and the wall's span then does not hold the footprint.
+    /// the m × m sum to rounding. Near the wall's end the cuts along the axis matter, and
+    /// the wall's span then does not hold the tube.
     #[test]
     fn a_cylinders_straight_span_needs_no_cuts_along_its_axis() {
         for m in [2, 7, 16] {
@@ -960,7 +973,25 @@ mod tests {
         let uncut = radiated(5.0, (1, 1));
         let cut = radiated(5.0, (16, 1));
         assert!(distance(cut, uncut) / norm(cut) > 0.01);
-        let (wall, hit_p, k, (edge_u, edge_v)) = cylinder_tube(5.0);
+        let (wall, hit_p, k, edges) = cylinder_tube(5.0);
+        let n = (hit_p - DVec3::new(0.0, 0.0, hit_p.z)).normalize();
+        let footprint_v = edges.1 - k * (n.dot(edges.1) / n.dot(k));
+        assert!(
+            footprint_v.cross(DVec3::Z).length() < 1e-12,
+            "the second edge's footprint is axial"
+        );
+        let (span, radius_m) = span_of(&wall);
+        assert!(span.holds_tube(hit_p, edges, k, radius_m));
+        // 3 cm below the top the tube (0.1 m along the axis) crosses the end.
+        let near_top = DVec3::new(hit_p.x, hit_p.y, 9.97);
+        assert!(!span.holds_tube(near_top, edges, k, radius_m));
+        let (full, across_only) = (radiated(9.97, (16, 16)), radiated(9.97, (16, 1)));
+        assert!(distance(full, across_only) / norm(full) > 0.1);
+        // Along the axis itself no span holds a tube (k̂⊥ = 0).
+        assert!(!span.holds_tube(hit_p, edges, DVec3::NEG_Z, radius_m));
+    }
+
+    fn span_of(wall: &Primitive) -> (AxialSpan, f64) {
         let PrimitiveKind::Cylinder {
             base,
             axis,
@@ -975,20 +1006,117 @@ mod tests {
             axis,
             height_m,
         };
-        let n = (hit_p - DVec3::new(0.0, 0.0, hit_p.z)).normalize();
-        let footprint = |e: DVec3| e - k * (n.dot(e) / n.dot(k));
-        let (f1, f2) = (footprint(edge_u), footprint(edge_v));
-        assert!(
-            f2.cross(DVec3::Z).length() < 1e-12,
-            "the second edge's footprint is axial"
+        (span, radius_m)
+    }
+
+    /// Where a span holds a tube, every ray of a 17 × 17 grid over its cross-section
+    /// (corners included) meets the wall, extended without end, only within the span:
+    /// random walls (R 2 cm–2 m), tubes (sides 5 mm–0.2 m, turned at random), directions
+    /// (elevation ±60°) and hits, grazing ones included, and a tube 0.3° from grazing 1 cm
+    /// under a thin wall's top, whose footprint on the tangent plane has almost no extent
+    /// along the axis though its rays reach past the top.
+    #[test]
+    fn a_span_holds_a_tube_only_where_all_its_rays_land_on_it() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut uniform = move || {
+            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            (z ^ (z >> 31)) as f64 / u64::MAX as f64
+        };
+        // The wall from z = 0 to height_m, and the same wall without end.
+        let meets_only_within = |radius_m: f64, height_m: f64, hit_p, edges, k| {
+            let (edge_u, edge_v): (DVec3, DVec3) = edges;
+            let endless = Primitive {
+                kind: PrimitiveKind::Cylinder {
+                    base: DVec3::new(0.0, 0.0, -1e3),
+                    axis: DVec3::Z,
+                    radius_m,
+                    height_m: 2e3,
+                },
+                object: 0,
+            };
+            let back_m = 10.0 * (radius_m + edge_u.length() + edge_v.length());
+            (0..=16).all(|a| {
+                (0..=16).all(|b| {
+                    let offset =
+                        edge_u * (a as f64 / 16.0 - 0.5) + edge_v * (b as f64 / 16.0 - 0.5);
+                    let mut origin = hit_p + offset - k * back_m;
+                    // Both of the ray's crossings of the wall, near and far.
+                    let mut inside = true;
+                    while let Some((t, _)) = endless.intersect(
+                        &Ray {
+                            origin_m: origin,
+                            dir: k,
+                        },
+                        1e9,
+                    ) {
+                        let z = origin.z + t * k.z;
+                        inside &= (-1e-9..=height_m + 1e-9).contains(&z);
+                        origin += k * t;
+                    }
+                    inside
+                })
+            })
+        };
+        let mut held = 0;
+        let cases = 4000;
+        for case in 0..cases {
+            let radius_m = 0.02 * 100f64.powf(uniform());
+            let height_m = radius_m * (0.5 + 20.0 * uniform());
+            let side_m = 0.005 * 40f64.powf(uniform());
+            let elevation = (uniform() - 0.5) * 2.0 * 60f64.to_radians();
+            let k = -DVec3::new(elevation.cos(), 0.0, elevation.sin());
+            // Lit side of the wall, from facing the ray to grazing it.
+            let phi = (uniform() - 0.5) * std::f64::consts::PI * 0.9999;
+            let hit_p = DVec3::new(
+                radius_m * phi.cos(),
+                radius_m * phi.sin(),
+                height_m * uniform(),
+            );
+            let turn = uniform() * std::f64::consts::TAU;
+            let u0 = k.cross(DVec3::Z).normalize();
+            let v0 = u0.cross(k);
+            let edge_u = (u0 * turn.cos() + v0 * turn.sin()) * side_m;
+            let edge_v = (v0 * turn.cos() - u0 * turn.sin()) * side_m;
+            let span = AxialSpan {
+                base: DVec3::ZERO,
+                axis: DVec3::Z,
+                height_m,
+            };
+            if span.holds_tube(hit_p, (edge_u, edge_v), k, radius_m) {
+                held += 1;
+                assert!(
+                    meets_only_within(radius_m, height_m, hit_p, (edge_u, edge_v), k),
+                    "case {case}: R {radius_m} m, H {height_m} m, side {side_m} m, el {elevation}, phi {phi}, z {}",
+                    hit_p.z
+                );
+            }
+        }
+        assert!(held > cases / 5, "the span holds {held} of {cases} tubes");
+        // The thin wall's grazing tube near its top: some of its rays pass the top.
+        let (radius_m, height_m) = (0.05, 2.0);
+        let k = DVec3::new(-(1.0 - 0.0029f64 * 0.0029).sqrt(), 0.0, 0.0029);
+        let phi = (0.005 / k.x.abs()).acos();
+        let hit_p = DVec3::new(
+            radius_m * phi.cos(),
+            radius_m * phi.sin(),
+            height_m - 0.0096,
         );
-        assert!(span.holds_footprint(hit_p, f1, f2, k, radius_m));
-        // 3 cm below the top the footprint (0.1 m along the axis) crosses the end.
-        let near_top = DVec3::new(hit_p.x, hit_p.y, 9.97);
-        assert!(!span.holds_footprint(near_top, f1, f2, k, radius_m));
-        let (full, across_only) = (radiated(9.97, (16, 16)), radiated(9.97, (16, 1)));
-        assert!(distance(full, across_only) / norm(full) > 0.1);
-        // Along the axis itself no span holds a footprint (k̂⊥ = 0).
-        assert!(!span.holds_footprint(hit_p, f1, f2, DVec3::NEG_Z, radius_m));
+        let u0 = k.cross(DVec3::Z).normalize();
+        let v0 = u0.cross(k);
+        let turn = 60f64.to_radians();
+        let edges = (
+            (u0 * turn.cos() + v0 * turn.sin()) * 0.016,
+            (v0 * turn.cos() - u0 * turn.sin()) * 0.016,
+        );
+        assert!(!meets_only_within(radius_m, height_m, hit_p, edges, k));
+        let span = AxialSpan {
+            base: DVec3::ZERO,
+            axis: DVec3::Z,
+            height_m,
+        };
+        assert!(!span.holds_tube(hit_p, edges, k, radius_m));
     }
 }
