@@ -824,6 +824,13 @@ pub fn trace_tube_with(
             }
         }
         let area_perp = edge_u.cross(edge_v).length();
+        // On a cylinder whose straight span holds all the tube's sub-rays, each edge is cut
+        // for its own sag. Elsewhere both edges are cut alike: on a sphere, whose bend is the
+        // same both ways, and where a cylinder's end may cut the tube, so that each sub-ray
+        // past the end is met where it lands, if anywhere.
+        let edges_cut_apart = curvature_m.is_some_and(|(radius_m, span)| {
+            span.is_some_and(|s| s.holds_tube(hit_p, (edge_u, edge_v), k, radius_m))
+        });
         for exit in exits.iter().flatten() {
             // Footprint edges: the tube's edges projected along k onto the facet.
             let f1 = edge_u - k * (n.dot(edge_u) / n_dot_k);
@@ -844,11 +851,7 @@ pub fn trace_tube_with(
                     curved_subdivisions(sag_phase_per_m2 * across_m * across_m)
                 };
                 let (m_u, m_v) = (edge_subdivisions(f1), edge_subdivisions(f2));
-                // On a cylinder whose straight span holds all the tube's sub-rays, each edge
-                // is cut for its own sag. Elsewhere both edges are cut alike: on a sphere,
-                // whose bend is the same both ways, and where a cylinder's end may cut the
-                // tube, so that each sub-ray past the end is met where it lands, if anywhere.
-                if span.is_some_and(|s| s.holds_tube(hit_p, (edge_u, edge_v), k, radius_m)) {
+                if edges_cut_apart {
                     (m_u, m_v)
                 } else {
                     (m_u.max(m_v), m_u.max(m_v))
@@ -1017,13 +1020,10 @@ mod tests {
     /// along the axis though its rays reach past the top.
     #[test]
     fn a_span_holds_a_tube_only_where_all_its_rays_land_on_it() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut draws = 0u64;
         let mut uniform = move || {
-            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-            let mut z = state;
-            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-            (z ^ (z >> 31)) as f64 / u64::MAX as f64
+            draws += 1;
+            crate::rng::unit_f64(crate::rng::splitmix64(draws))
         };
         // The wall from z = 0 to height_m, and the same wall without end.
         let meets_only_within = |radius_m: f64, height_m: f64, hit_p, edges, k| {
