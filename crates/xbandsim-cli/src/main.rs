@@ -17,6 +17,7 @@ macro_rules! say {
 
 mod bench;
 mod dataset;
+mod detect;
 mod figures;
 mod progress;
 mod rcs;
@@ -42,6 +43,9 @@ struct Cli {
 enum Command {
     /// Render one antenna revolution of a scene: ppi.png, ppi_gray.png, polar.npy, truth.json.
     Render(render::RenderArgs),
+    /// Render revolutions of a scene and extract plots with a CFAR detector along range,
+    /// each plot scored against the truth (its object, an artefact, land, or false): plots.json.
+    Detect(detect::DetectArgs),
     /// Make a labelled dataset from a dataset spec: every sample's scene drawn from (spec,
     /// seed, index), rendered and written atomically; run again to resume.
     Dataset(dataset::DatasetArgs),
@@ -159,6 +163,7 @@ fn main() -> ExitCode {
     let cli = command_line();
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
+        Command::Detect(args) => detect::run(&args),
         Command::Schema => {
             let schema = schemars::schema_for!(xbandsim::scene::SceneSpec);
             say!(

@@ -551,6 +551,7 @@ fn readme_lists_every_option() {
             .unwrap();
     for cmd in [
         "render",
+        "detect",
         "figures",
         "rcs",
         "validate",
@@ -676,4 +677,67 @@ fn messages_for_bad_values() {
         "2000",
     ]);
     assert!(ok, "{stderr}");
+}
+
+/// `xbandsim detect` writes the plots of each revolution scored against the truth, with its
+/// settings; bad detector settings are refused naming the field or the option, and nothing
+/// is written.
+#[test]
+fn detect_writes_scored_plots_and_refuses_bad_settings() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("plots.json");
+    let status = xbandsim()
+        .args(["detect", "scenes/paper.toml", "--frames", "2", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        status.status.success(),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(v["settings"]["cfar"], "ca");
+    assert_eq!(v["frames"].as_array().unwrap().len(), 2);
+    let summary = &v["summary"];
+    assert_eq!(summary["objects_in_view"], 10);
+    assert_eq!(summary["objects_detected"], 10);
+    for frame in v["frames"].as_array().unwrap() {
+        for plot in frame["plots"].as_array().unwrap() {
+            let kind = plot["source"]["kind"].as_str().unwrap();
+            assert!(
+                ["object", "artefact", "land", "none"].contains(&kind),
+                "{plot}"
+            );
+            assert!(plot["range_m"].as_f64().unwrap() > 0.0);
+        }
+    }
+    for (args, wanted) in [
+        (vec!["--cfar", "xx"], "invalid --cfar \"xx\""),
+        (vec!["--pfa", "0.7"], "cfar.pfa"),
+        (vec!["--training-cells", "0"], "cfar.training_cells"),
+        (vec!["--cfar", "os", "--rank", "40"], "cfar.rank"),
+        (vec!["--rank", "3"], "--rank is the ordered statistic's"),
+        (vec!["--min-cells", "0"], "plots.min_cells"),
+        (vec!["--scan", "3/2"], "plots.scan_hits"),
+        (vec!["--scan", "two"], "invalid --scan \"two\""),
+        (vec!["--input", "video"], "needs a [receiver] table"),
+        (vec!["--input", "ppi"], "invalid --input \"ppi\""),
+    ] {
+        let bad = dir.path().join("bad.json");
+        let o = xbandsim()
+            .args(["detect", "scenes/paper.toml"])
+            .args(&args)
+            .arg("--out")
+            .arg(&bad)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            !o.status.success() && stderr.contains(wanted),
+            "{args:?}: {stderr}"
+        );
+        assert!(!bad.exists(), "{args:?} wrote {}", bad.display());
+    }
 }

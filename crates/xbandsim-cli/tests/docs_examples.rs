@@ -81,6 +81,7 @@ fn complete(args: &str) -> bool {
                     || words.contains(&"--out")
                     || words[0] == "rcs")
         }
+        Some(&"detect") => words.get(1).is_some_and(|w| !w.starts_with('-')),
         Some(&"validate") | Some(&"schema") => true,
         Some(&"figures") | Some(&"make-vessel") => words.contains(&"--out"),
         _ => false,
@@ -133,6 +134,7 @@ fn the_readme_and_docs_commands_run_as_written() {
     for wanted in [
         "dataset datasets/detection.toml --count 100 --out out/detection/",
         "render scenes/crossing.toml --frames 8",
+        "detect scenes/sea-state-4-rain.toml",
     ] {
         assert!(
             ran.iter().any(|r| r.starts_with(wanted)),

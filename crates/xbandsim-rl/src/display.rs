@@ -6,7 +6,7 @@
 //! least [`DETECTION_MARGIN_DB`] over the threshold, each with its power-weighted centre. Pure
 //! functions with explicit scratch, no allocation per step once the buffers have grown.
 
-use std::f64::consts::TAU;
+use xbandsim::processing::plots::group_cells;
 use xbandsim::receiver::video_chain::{manual_stc_db, quantise};
 
 /// Range inside which the sea clutter control acts, m.
@@ -33,29 +33,14 @@ pub fn gray_level(value_db: f32, floor_db: f32) -> u8 {
 /// A cell is a hit when its processed value is at least this much over the gain's floor, dB.
 pub const DETECTION_MARGIN_DB: f32 = 6.0;
 
-/// A plot: one group of connected hits.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Plot {
-    /// Power-weighted range of its cells, m.
-    pub range_m: f64,
-    /// Power-weighted (circular) azimuth, degrees from north, 0…360.
-    pub azimuth_deg: f64,
-    /// Cells in it.
-    pub cells: usize,
-    /// Its strongest processed value, dB over noise.
-    pub peak_db: f32,
-}
-
-/// Scratch of the plot extractor.
-#[derive(Debug, Default)]
-pub struct PlotScratch {
-    seen: Vec<bool>,
-    stack: Vec<(usize, usize)>,
-}
+pub use xbandsim::processing::plots::{Plot, PlotScratch};
 
 /// Plots among the spokes `rows` (indices into the `spokes × bins` record `processed_db`) of
-/// cells at least `threshold_db`; groups join across neighbouring spokes (wrapping through
-/// north) and neighbouring bins. Appends to `plots`.
+/// cells at least `threshold_db`, grouped by the library's extractor
+/// (`xbandsim::processing::plots::group_cells`): groups join across neighbouring spokes
+/// (wrapping through north) and neighbouring bins, each cell weighted by its linear power over
+/// the threshold. Appends to `plots`.
+#[allow(clippy::too_many_arguments)]
 pub fn extract_plots(
     processed_db: &[f32],
     spokes: usize,
@@ -66,56 +51,18 @@ pub fn extract_plots(
     scratch: &mut PlotScratch,
     plots: &mut Vec<Plot>,
 ) {
-    let seen = &mut scratch.seen;
-    seen.clear();
-    seen.resize(spokes * bins, false);
-    let stack = &mut scratch.stack;
-    let hit = |k: usize, j: usize| rows[k] && processed_db[k * bins + j] >= threshold_db;
-    for k0 in 0..spokes {
-        if !rows[k0] {
-            continue;
-        }
-        for j0 in 0..bins {
-            if seen[k0 * bins + j0] || !hit(k0, j0) {
-                continue;
-            }
-            seen[k0 * bins + j0] = true;
-            stack.clear();
-            stack.push((k0, j0));
-            let (mut w, mut wr, mut wc, mut ws) = (0f64, 0f64, 0f64, 0f64);
-            let (mut cells, mut peak) = (0usize, f32::NEG_INFINITY);
-            while let Some((k, j)) = stack.pop() {
-                let v = processed_db[k * bins + j];
-                // Weight: linear power over the threshold's (≥ 1).
-                let weight = 10f64.powf(0.1 * f64::from(v - threshold_db));
-                let az = TAU * k as f64 / spokes as f64;
-                w += weight;
-                wr += weight * j as f64 * range_bin_m;
-                wc += weight * az.cos();
-                ws += weight * az.sin();
-                cells += 1;
-                peak = peak.max(v);
-                let neighbours = [
-                    ((k + 1) % spokes, j),
-                    ((k + spokes - 1) % spokes, j),
-                    (k, j + 1),
-                    (k, j.wrapping_sub(1)),
-                ];
-                for (kn, jn) in neighbours {
-                    if jn < bins && !seen[kn * bins + jn] && hit(kn, jn) {
-                        seen[kn * bins + jn] = true;
-                        stack.push((kn, jn));
-                    }
-                }
-            }
-            plots.push(Plot {
-                range_m: wr / w,
-                azimuth_deg: ws.atan2(wc).rem_euclid(TAU).to_degrees(),
-                cells,
-                peak_db: peak,
-            });
-        }
-    }
+    let value = |k: usize, j: usize| processed_db[k * bins + j];
+    group_cells(
+        spokes,
+        bins,
+        range_bin_m,
+        |j| j as f64 * range_bin_m,
+        |k, j| rows[k] && value(k, j) >= threshold_db,
+        |k, j| 10f64.powf(0.1 * f64::from(value(k, j) - threshold_db)),
+        value,
+        scratch,
+        plots,
+    );
 }
 
 /// Range gate of a plot-to-target match, m.

@@ -8,6 +8,7 @@
 
 pub mod antenna;
 pub mod combined;
+pub mod detection;
 pub mod doppler;
 pub mod environment;
 pub mod harness;
@@ -142,5 +143,6 @@ pub fn run_all_with(on_check: &mut dyn FnMut(&CheckResult)) -> Vec<CheckResult> 
     combined::checks(&mut out);
     receiver::checks(&mut out);
     land::checks(&mut out);
+    detection::checks(&mut out);
     out.done
 }

@@ -1,14 +1,16 @@
 //! Stage: products. What a render hands to its users: the [`Frame`] (the polar record and the
 //! ground truth), the labels that make the truth ([`labels`]), the PPI image and its pixel
 //! boxes ([`ppi`]), the encoders ([`output`]) and the frame's files written as a set
-//! ([`frame_files`]: polar.npy, ppi.png, ppi_gray.png, truth.json; docs/formats.md). Later
-//! products (range-Doppler cubes, video) belong here too.
+//! ([`frame_files`]: polar.npy, ppi.png, ppi_gray.png, truth.json; docs/formats.md) and plots
+//! scored against the truth ([`plot_truth`]). Later products (range-Doppler cubes, video)
+//! belong here too.
 
 pub mod artefacts;
 pub mod frame_files;
 pub mod labels;
 pub mod land;
 pub mod output;
+pub mod plot_truth;
 pub mod ppi;
 pub mod spokes;
 

@@ -6,6 +6,7 @@ mod common;
 
 mod antenna;
 mod artefacts;
+mod detection;
 mod determinism;
 mod engine;
 mod environment;

@@ -1,0 +1,573 @@
+//! Stage: plot extraction — what a radar's plot extractor makes of a revolution
+//! (docs/physics.md §15). Each spoke is run through a CFAR detector along range
+//! ([`super::cfar`]); the detected cells are grouped into plots, 4-connected across range
+//! and azimuth (wrapping through north); each plot has a power-weighted centroid range and a
+//! circular-mean bearing `atan2(Σw·sin a, Σw·cos a)`, its extent in range and azimuth, its
+//! cell count and its peak power. A scan-to-scan correlator ([`ScanCorrelator`]) keeps,
+//! as an option, only the plots that recur within a gate on enough of the last scans
+//! (binary M-of-N integration; Skolnik, *Radar Handbook*, 3rd ed., §7.4 on scan-to-scan
+//! correlation of marine radar plots).
+//!
+//! The extractor runs on the calibrated record (power over the mean noise,
+//! [`PowerGrid::from_record_db`]) or on the receiver's video ([`PowerGrid::from_video`]),
+//! whose levels map back to the power at each level's lower edge. The design false-alarm
+//! probability holds for the square-law record's exponential noise; on video it is a setting,
+//! and the measured rate is what counts.
+//!
+//! `products::plot_truth` scores plots against a frame's truth.
+//!
+//! The CFAR pass allocates nothing per cell (each worker reuses its scratch); grouping is one
+//! flood fill over the detection mask.
+
+use super::cfar::Cfar;
+use crate::error::{Error, Problem, Result};
+use crate::receiver::video_chain::Video;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::collections::VecDeque;
+use std::f64::consts::TAU;
+
+/// A revolution's cells as linear power over the mean noise, `spokes × cells` row-major.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PowerGrid {
+    /// Spokes (rows); spoke k at azimuth `360°·k/spokes`.
+    pub spokes: usize,
+    /// Cells a spoke (columns).
+    pub cells: usize,
+    /// Range a cell spans, m.
+    pub cell_m: f64,
+    /// Range of cell j is `(j + range_offset_cells)·cell_m`.
+    pub range_offset_cells: f64,
+    /// The powers, row-major.
+    pub power: Vec<f32>,
+}
+
+impl PowerGrid {
+    /// The calibrated record (`polar.npy`: dB over the mean noise, bin j at `j·bin_m`).
+    pub fn from_record_db(db: &[f32], spokes: usize, bins: usize, bin_m: f64) -> PowerGrid {
+        assert_eq!(db.len(), spokes * bins, "spokes × bins values");
+        PowerGrid {
+            spokes,
+            cells: bins,
+            cell_m: bin_m,
+            range_offset_cells: 0.0,
+            power: db.iter().map(|&d| 10f32.powf(0.1 * d)).collect(),
+        }
+    }
+
+    /// The receiver's video: level ℓ ≥ 1 stands for the log video at its lower edge,
+    /// `v = threshold_db + (ℓ − 1)·level_step_db`, and so for the power `10^(v/10) − 1` over
+    /// the noise (the log amplifier inverted, floored at 0); level 0 for power 0. Sample j
+    /// spans `[j, j + 1)·sample_m`, so its range is its centre's.
+    pub fn from_video(video: &Video) -> PowerGrid {
+        let power_of_level: Vec<f32> = (0..=255u32)
+            .map(|level| {
+                if level == 0 {
+                    0.0
+                } else {
+                    let v = video.threshold_db + (level - 1) as f32 * video.level_step_db;
+                    (10f32.powf(0.1 * v) - 1.0).max(0.0)
+                }
+            })
+            .collect();
+        PowerGrid {
+            spokes: video.spokes,
+            cells: video.samples,
+            cell_m: video.sample_m,
+            range_offset_cells: 0.5,
+            power: video
+                .levels
+                .iter()
+                .map(|&l| power_of_level[l as usize])
+                .collect(),
+        }
+    }
+
+    /// Range of cell `j`, m.
+    pub fn range_m(&self, j: usize) -> f64 {
+        (j as f64 + self.range_offset_cells) * self.cell_m
+    }
+}
+
+/// A plot: one group of connected detected cells.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Plot {
+    /// Power-weighted range of its cells, m.
+    pub range_m: f64,
+    /// Power-weighted circular-mean bearing, degrees from north (0 … 360).
+    pub azimuth_deg: f64,
+    /// Range from its nearest to its farthest cell, both whole, m.
+    pub range_extent_m: f64,
+    /// Azimuth from its first to its last spoke, both whole, degrees (at most 360).
+    pub azimuth_extent_deg: f64,
+    /// Cells in it.
+    pub cells: usize,
+    /// Its strongest cell's power over the noise, dB.
+    pub peak_db: f32,
+    /// Its strongest cell: (spoke, cell).
+    pub peak_cell: (usize, usize),
+    /// Its first and last spoke, clockwise (`first > last` when it spans north).
+    pub spokes: (usize, usize),
+    /// Its nearest and farthest cell.
+    pub range_cells: (usize, usize),
+}
+
+impl Plot {
+    /// Its centroid on the radar's plane: (east, north), m.
+    pub fn east_north_m(&self) -> [f64; 2] {
+        let az = self.azimuth_deg.to_radians();
+        [self.range_m * az.sin(), self.range_m * az.cos()]
+    }
+}
+
+/// Reused buffers of the grouping pass.
+#[derive(Debug, Default)]
+pub struct PlotScratch {
+    seen: Vec<bool>,
+    stack: Vec<(usize, usize)>,
+}
+
+/// Groups the cells for which `is_hit(spoke, cell)` holds into plots, 4-connected along
+/// range and azimuth (spoke `spokes − 1` next to spoke 0), in raster order of each plot's
+/// first cell. Each cell weighs `weight(spoke, cell)` in the centroid; `value_db` gives the
+/// peak; `range_m(cell)` the range of a cell and `cell_m` its length. Appends to `plots`.
+#[allow(clippy::too_many_arguments)]
+pub fn group_cells(
+    spokes: usize,
+    cells: usize,
+    cell_m: f64,
+    range_m: impl Fn(usize) -> f64,
+    is_hit: impl Fn(usize, usize) -> bool,
+    weight: impl Fn(usize, usize) -> f64,
+    value_db: impl Fn(usize, usize) -> f32,
+    scratch: &mut PlotScratch,
+    plots: &mut Vec<Plot>,
+) {
+    let seen = &mut scratch.seen;
+    seen.clear();
+    seen.resize(spokes * cells, false);
+    let stack = &mut scratch.stack;
+    let half = spokes as i64 / 2;
+    for k0 in 0..spokes {
+        for j0 in 0..cells {
+            if seen[k0 * cells + j0] || !is_hit(k0, j0) {
+                continue;
+            }
+            seen[k0 * cells + j0] = true;
+            stack.clear();
+            stack.push((k0, j0));
+            let (mut w, mut wr, mut wc, mut ws) = (0f64, 0f64, 0f64, 0f64);
+            let (mut count, mut peak, mut peak_cell) = (0usize, f32::NEG_INFINITY, (k0, j0));
+            let (mut j_lo, mut j_hi) = (j0, j0);
+            // Spokes as offsets from the first, in (−spokes/2, spokes/2].
+            let (mut d_lo, mut d_hi) = (0i64, 0i64);
+            while let Some((k, j)) = stack.pop() {
+                let v = value_db(k, j);
+                let cell_weight = weight(k, j);
+                let az = TAU * k as f64 / spokes as f64;
+                w += cell_weight;
+                wr += cell_weight * range_m(j);
+                wc += cell_weight * az.cos();
+                ws += cell_weight * az.sin();
+                count += 1;
+                if v > peak {
+                    peak = v;
+                    peak_cell = (k, j);
+                }
+                j_lo = j_lo.min(j);
+                j_hi = j_hi.max(j);
+                let offset = (k as i64 - k0 as i64 + spokes as i64 + half - 1)
+                    .rem_euclid(spokes as i64)
+                    - (half - 1);
+                d_lo = d_lo.min(offset);
+                d_hi = d_hi.max(offset);
+                let neighbours = [
+                    ((k + 1) % spokes, j),
+                    ((k + spokes - 1) % spokes, j),
+                    (k, j + 1),
+                    (k, j.wrapping_sub(1)),
+                ];
+                for (kn, jn) in neighbours {
+                    if jn < cells && !seen[kn * cells + jn] && is_hit(kn, jn) {
+                        seen[kn * cells + jn] = true;
+                        stack.push((kn, jn));
+                    }
+                }
+            }
+            let spanned = ((d_hi - d_lo + 1) as usize).min(spokes);
+            let spoke_at = |d: i64| (k0 as i64 + d).rem_euclid(spokes as i64) as usize;
+            let spoke_span = if spanned == spokes {
+                (0, spokes - 1)
+            } else {
+                (spoke_at(d_lo), spoke_at(d_hi))
+            };
+            plots.push(Plot {
+                range_m: wr / w,
+                azimuth_deg: ws.atan2(wc).rem_euclid(TAU).to_degrees(),
+                range_extent_m: (j_hi - j_lo + 1) as f64 * cell_m,
+                azimuth_extent_deg: 360.0 * spanned as f64 / spokes as f64,
+                cells: count,
+                peak_db: peak,
+                peak_cell,
+                spokes: spoke_span,
+                range_cells: (j_lo, j_hi),
+            });
+        }
+    }
+}
+
+/// A plot extractor: a CFAR detector along range and the smallest plot kept.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlotExtractor {
+    cfar: Cfar,
+    min_cells: usize,
+}
+
+impl PlotExtractor {
+    /// An extractor with `cfar` that keeps plots of at least `min_cells` cells (refused,
+    /// naming `plots.min_cells`, below 1).
+    pub fn new(cfar: Cfar, min_cells: usize) -> Result<PlotExtractor> {
+        if min_cells == 0 {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                "plots.min_cells",
+                min_cells,
+                "a plot has at least one cell",
+            ));
+        }
+        Ok(PlotExtractor { cfar, min_cells })
+    }
+
+    /// Its detector.
+    pub fn cfar(&self) -> &Cfar {
+        &self.cfar
+    }
+
+    /// The detection mask of `grid`, spoke by spoke on all cores (same cells as `grid`).
+    pub fn detect(&self, grid: &PowerGrid) -> Vec<bool> {
+        let mut detected = vec![false; grid.power.len()];
+        if grid.cells == 0 {
+            return detected;
+        }
+        grid.power
+            .par_chunks(grid.cells)
+            .zip(detected.par_chunks_mut(grid.cells))
+            .for_each_init(Vec::new, |scratch, (row, flags)| {
+                self.cfar.detect(row, flags, scratch)
+            });
+        detected
+    }
+
+    /// The plots of `grid`: its detections grouped, each weighted by its power.
+    pub fn extract(&self, grid: &PowerGrid, scratch: &mut PlotScratch) -> Vec<Plot> {
+        let detected = self.detect(grid);
+        let mut plots = Vec::new();
+        let at = |k: usize, j: usize| k * grid.cells + j;
+        group_cells(
+            grid.spokes,
+            grid.cells,
+            grid.cell_m,
+            |j| grid.range_m(j),
+            |k, j| detected[at(k, j)],
+            |k, j| f64::from(grid.power[at(k, j)]),
+            |k, j| 10.0 * grid.power[at(k, j)].log10(),
+            scratch,
+            &mut plots,
+        );
+        plots.retain(|p| p.cells >= self.min_cells);
+        plots
+    }
+}
+
+/// Scan-to-scan correlation: a plot is confirmed when plots within `gate_m` of it were seen
+/// on at least `hits − 1` of the previous `scans − 1` scans (binary `hits`-of-`scans`
+/// integration of plots on the radar's plane).
+#[derive(Debug, Clone)]
+pub struct ScanCorrelator {
+    hits: usize,
+    scans: usize,
+    gate_m: f64,
+    history: VecDeque<Vec<[f64; 2]>>,
+}
+
+impl ScanCorrelator {
+    /// Refused, naming the field (`plots.scan_hits`, `plots.scan_window`,
+    /// `plots.scan_gate_m`): hits outside `1 ..= scans`, more than 64 scans, a gate not
+    /// positive and finite.
+    pub fn new(hits: usize, scans: usize, gate_m: f64) -> Result<ScanCorrelator> {
+        if !(1..=64).contains(&scans) {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                "plots.scan_window",
+                scans,
+                "must be between 1 and 64 scans",
+            ));
+        }
+        if !(1..=scans).contains(&hits) {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                "plots.scan_hits",
+                hits,
+                format!("must be between 1 and the window's {scans} scans"),
+            ));
+        }
+        if !(gate_m.is_finite() && gate_m > 0.0) {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                "plots.scan_gate_m",
+                gate_m,
+                "must be a positive distance in metres",
+            ));
+        }
+        Ok(ScanCorrelator {
+            hits,
+            scans,
+            gate_m,
+            history: VecDeque::new(),
+        })
+    }
+
+    /// This scan's confirmed plots; remembers the scan's plots for the next ones.
+    pub fn confirm(&mut self, plots: Vec<Plot>) -> Vec<Plot> {
+        let here: Vec<[f64; 2]> = plots.iter().map(Plot::east_north_m).collect();
+        let gate2 = self.gate_m * self.gate_m;
+        let confirmed = plots
+            .into_iter()
+            .zip(&here)
+            .filter(|(_, p)| {
+                let seen_before = self
+                    .history
+                    .iter()
+                    .filter(|scan| {
+                        scan.iter()
+                            .any(|q| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) <= gate2)
+                    })
+                    .count();
+                seen_before + 1 >= self.hits
+            })
+            .map(|(plot, _)| plot)
+            .collect();
+        if self.scans > 1 {
+            if self.history.len() == self.scans - 1 {
+                self.history.pop_front();
+            }
+            self.history.push_back(here);
+        }
+        confirmed
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::processing::cfar::CfarKind;
+
+    fn grid(spokes: usize, cells: usize, power: Vec<f32>) -> PowerGrid {
+        PowerGrid {
+            spokes,
+            cells,
+            cell_m: 10.0,
+            range_offset_cells: 0.0,
+            power,
+        }
+    }
+
+    /// Every group by a brute-force union of neighbouring hits (repeated relaxation of each
+    /// cell's label to its neighbours' smallest), as sorted cell counts.
+    fn naive_group_sizes(hit: &[bool], spokes: usize, cells: usize) -> Vec<usize> {
+        let mut label: Vec<usize> = (0..hit.len()).collect();
+        loop {
+            let mut changed = false;
+            for k in 0..spokes {
+                for j in 0..cells {
+                    let i = k * cells + j;
+                    if !hit[i] {
+                        continue;
+                    }
+                    let mut neighbours = vec![((k + 1) % spokes) * cells + j];
+                    neighbours.push(((k + spokes - 1) % spokes) * cells + j);
+                    if j + 1 < cells {
+                        neighbours.push(i + 1);
+                    }
+                    if j > 0 {
+                        neighbours.push(i - 1);
+                    }
+                    for n in neighbours {
+                        if hit[n] && label[n] < label[i] {
+                            label[i] = label[n];
+                            changed = true;
+                        }
+                    }
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+        let mut sizes = std::collections::BTreeMap::new();
+        for (i, &h) in hit.iter().enumerate() {
+            if h {
+                *sizes.entry(label[i]).or_insert(0usize) += 1;
+            }
+        }
+        let mut sizes: Vec<usize> = sizes.into_values().collect();
+        sizes.sort_unstable();
+        sizes
+    }
+
+    #[test]
+    fn grouping_matches_a_brute_force_union_of_neighbours() {
+        use rand::Rng;
+        let (spokes, cells) = (37, 23);
+        for seed in 0..20 {
+            let mut rng =
+                crate::rng::RngKey::new(seed, 0, 0, crate::rng::Stream::ReceiverNoise).rng();
+            let hit: Vec<bool> = (0..spokes * cells)
+                .map(|_| rng.random::<f64>() < 0.35)
+                .collect();
+            let mut plots = Vec::new();
+            group_cells(
+                spokes,
+                cells,
+                1.0,
+                |j| j as f64,
+                |k, j| hit[k * cells + j],
+                |_, _| 1.0,
+                |_, _| 0.0,
+                &mut PlotScratch::default(),
+                &mut plots,
+            );
+            let mut sizes: Vec<usize> = plots.iter().map(|p| p.cells).collect();
+            sizes.sort_unstable();
+            assert_eq!(sizes, naive_group_sizes(&hit, spokes, cells), "seed {seed}");
+        }
+    }
+
+    #[test]
+    fn a_plot_has_its_centroid_extent_and_peak() {
+        let (spokes, cells) = (360, 100);
+        let mut power = vec![0f32; spokes * cells];
+        // Across north: spokes 358, 359, 0, 1, 2 at cells 40..=44, peak at (0, 42).
+        for k in [358, 359, 0, 1, 2] {
+            for j in 40..=44 {
+                power[k * cells + j] = 100.0;
+            }
+        }
+        power[42] = 1000.0;
+        let hit: Vec<bool> = power.iter().map(|&p| p > 0.0).collect();
+        let mut plots = Vec::new();
+        let g = grid(spokes, cells, power);
+        group_cells(
+            spokes,
+            cells,
+            g.cell_m,
+            |j| g.range_m(j),
+            |k, j| hit[k * cells + j],
+            |k, j| f64::from(g.power[k * cells + j]),
+            |k, j| 10.0 * g.power[k * cells + j].log10(),
+            &mut PlotScratch::default(),
+            &mut plots,
+        );
+        assert_eq!(plots.len(), 1);
+        let p = plots[0];
+        assert_eq!(p.cells, 25);
+        // Symmetric about spoke 0 and cell 42.
+        assert!((p.range_m - 420.0).abs() < 1e-9, "{p:?}");
+        assert!(p.azimuth_deg.min(360.0 - p.azimuth_deg) < 1e-9, "{p:?}");
+        assert_eq!(p.range_extent_m, 50.0);
+        assert_eq!(p.azimuth_extent_deg, 5.0);
+        assert_eq!((p.peak_db, p.peak_cell), (30.0, (0, 42)));
+        assert_eq!((p.spokes, p.range_cells), ((358, 2), (40, 44)));
+    }
+
+    #[test]
+    fn the_extractor_finds_targets_and_drops_small_plots() {
+        let (spokes, cells) = (64, 400);
+        let mut power = vec![1f32; spokes * cells];
+        // A 3-spoke target at cell 200 and a lone bright cell at spoke 40, cell 300.
+        for k in 10..13 {
+            power[k * cells + 200] = 1e4;
+        }
+        power[40 * cells + 300] = 1e4;
+        let cfar = Cfar::new(CfarKind::CellAveraging, 2, 16, 1e-6).unwrap();
+        let g = grid(spokes, cells, power);
+        let plots = PlotExtractor::new(cfar, 1)
+            .unwrap()
+            .extract(&g, &mut PlotScratch::default());
+        assert_eq!(plots.len(), 2);
+        assert!((plots[0].azimuth_deg - 360.0 * 11.0 / 64.0).abs() < 1e-9);
+        assert_eq!(plots[0].range_m, 2000.0);
+        let big = PlotExtractor::new(cfar, 2)
+            .unwrap()
+            .extract(&g, &mut PlotScratch::default());
+        assert_eq!(big.len(), 1);
+        assert_eq!(big[0].cells, 3);
+        assert_eq!(
+            PlotExtractor::new(cfar, 0).unwrap_err().field(),
+            Some("plots.min_cells")
+        );
+    }
+
+    #[test]
+    fn video_levels_map_back_to_power() {
+        let video = Video {
+            spokes: 1,
+            samples: 3,
+            bits: 4,
+            sample_m: 8.0,
+            threshold_db: 6.0,
+            level_step_db: 2.0,
+            levels: vec![0, 1, 3],
+        };
+        let g = PowerGrid::from_video(&video);
+        assert_eq!(g.power[0], 0.0);
+        assert!((g.power[1] - (10f32.powf(0.6) - 1.0)).abs() < 1e-5);
+        assert!((g.power[2] - (10f32.powf(1.0) - 1.0)).abs() < 1e-5);
+        assert_eq!(g.range_m(1), 12.0);
+    }
+
+    fn plot_at(east: f64, north: f64) -> Plot {
+        Plot {
+            range_m: east.hypot(north),
+            azimuth_deg: east.atan2(north).rem_euclid(TAU).to_degrees(),
+            range_extent_m: 1.0,
+            azimuth_extent_deg: 1.0,
+            cells: 1,
+            peak_db: 20.0,
+            peak_cell: (0, 0),
+            spokes: (0, 0),
+            range_cells: (0, 0),
+        }
+    }
+
+    #[test]
+    fn scan_correlation_keeps_plots_that_recur() {
+        // 2 of 3: a plot is confirmed when one of the two scans before had one within 50 m.
+        let mut c = ScanCorrelator::new(2, 3, 50.0).unwrap();
+        assert!(c.confirm(vec![plot_at(1000.0, 0.0)]).is_empty());
+        let second = c.confirm(vec![plot_at(1030.0, 0.0), plot_at(0.0, 2000.0)]);
+        assert_eq!(second.len(), 1);
+        assert!((second[0].range_m - 1030.0).abs() < 1e-9);
+        // The first scan is still in the window; a plot 60 m from everything is not.
+        assert_eq!(c.confirm(vec![plot_at(1000.0, 40.0)]).len(), 1);
+        assert!(c.confirm(vec![plot_at(1000.0, 200.0)]).is_empty());
+        // Once a scan leaves the window it no longer counts: only the last two are held.
+        assert!(c.confirm(vec![plot_at(0.0, 2000.0)]).is_empty());
+        // 1 of 1 keeps everything.
+        let mut all = ScanCorrelator::new(1, 1, 10.0).unwrap();
+        assert_eq!(all.confirm(vec![plot_at(5.0, 5.0)]).len(), 1);
+        let field = |r: Result<ScanCorrelator>| r.unwrap_err().field().map(str::to_string);
+        assert_eq!(
+            field(ScanCorrelator::new(4, 3, 50.0)).as_deref(),
+            Some("plots.scan_hits")
+        );
+        assert_eq!(
+            field(ScanCorrelator::new(1, 0, 50.0)).as_deref(),
+            Some("plots.scan_window")
+        );
+        assert_eq!(
+            field(ScanCorrelator::new(1, 2, f64::NAN)).as_deref(),
+            Some("plots.scan_gate_m")
+        );
+    }
+}

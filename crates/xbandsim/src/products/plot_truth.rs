@@ -1,0 +1,187 @@
+//! Stage: products — plots scored against the truth (docs/physics.md §15, "Scoring"): what
+//! each plot of the extractor (`processing::plots`) is the echo of — a labelled object, an
+//! artefact, land — or that it is a false plot.
+
+use super::labels::PolarBox;
+use super::Frame;
+use crate::processing::plots::{Plot, PowerGrid};
+use serde::Serialize;
+
+/// What a plot is the echo of, by the truth of its frame.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum PlotSource {
+    /// A labelled object: its centroid's cell is inside the object's `polar_box`.
+    Object {
+        /// The object's id in the truth.
+        id: u32,
+        /// Its name.
+        name: String,
+    },
+    /// An artefact (sidelobe echo, second-trace echo, interference) in the truth's list.
+    Artefact {
+        /// Its index in the frame's artefacts.
+        index: usize,
+    },
+    /// Land or a structure on it: its centroid's cell is land's in the land truth.
+    Land,
+    /// Nothing the truth knows: a false plot (noise, or sea clutter and rain).
+    None,
+}
+
+/// A plot's cells taken to the record of `frame`: its box there (spokes may wrap).
+fn record_box(p: &Plot, grid: &PowerGrid, frame: &Frame) -> PolarBox {
+    let spoke = |k: usize| {
+        (k as f64 * frame.spokes as f64 / grid.spokes as f64).round() as usize % frame.spokes
+    };
+    let bin = |j: usize, edge: f64| {
+        (((j as f64 + edge) * grid.cell_m / frame.range_bin_m).round() as usize)
+            .min(frame.range_bins.saturating_sub(1))
+    };
+    // A video sample spans [j, j + 1)·sample_m; a record bin is a point at j·bin_m.
+    let far_edge = if grid.range_offset_cells > 0.0 {
+        1.0
+    } else {
+        0.0
+    };
+    PolarBox {
+        spoke_min: spoke(p.spokes.0),
+        spoke_max: spoke(p.spokes.1),
+        bin_min: bin(p.range_cells.0, 0.0),
+        bin_max: bin(p.range_cells.1, far_edge),
+    }
+}
+
+/// Whether two polar boxes share a cell.
+fn boxes_overlap(a: &PolarBox, b: &PolarBox, spokes: usize) -> bool {
+    if a.bin_max < b.bin_min || b.bin_max < a.bin_min {
+        return false;
+    }
+    let span = |x: &PolarBox| (x.spoke_max + spokes - x.spoke_min) % spokes;
+    // a's first spoke inside b, or b's first inside a (circular intervals).
+    let starts_in =
+        |x: &PolarBox, y: &PolarBox| (x.spoke_min + spokes - y.spoke_min) % spokes <= span(y);
+    starts_in(a, b) || starts_in(b, a)
+}
+
+/// The source of each plot of `grid` (extracted from `frame`'s record or video), by the
+/// frame's truth: the object whose `polar_box` shares a cell with the plot's box (the
+/// nearest in range to the plot when several do), else an artefact's box, else land (a land
+/// or structure cell in the plot's box), else [`PlotSource::None`].
+pub fn plot_sources(plots: &[Plot], grid: &PowerGrid, frame: &Frame) -> Vec<PlotSource> {
+    plots
+        .iter()
+        .map(|p| {
+            let here = record_box(p, grid, frame);
+            let object = frame
+                .truth
+                .iter()
+                .filter(|o| {
+                    o.polar_box
+                        .is_some_and(|b| boxes_overlap(&b, &here, frame.spokes))
+                })
+                .min_by(|a, b| {
+                    (a.range_m - p.range_m)
+                        .abs()
+                        .total_cmp(&(b.range_m - p.range_m).abs())
+                });
+            if let Some(o) = object {
+                return PlotSource::Object {
+                    id: o.id,
+                    name: o.name.clone(),
+                };
+            }
+            if let Some(index) = frame.artefacts.iter().position(|a| {
+                a.polar_boxes
+                    .iter()
+                    .any(|b| boxes_overlap(b, &here, frame.spokes))
+            }) {
+                return PlotSource::Artefact { index };
+            }
+            if let Some(land) = &frame.land {
+                let spoke_count =
+                    (here.spoke_max + frame.spokes - here.spoke_min) % frame.spokes + 1;
+                let on_land = (0..spoke_count).any(|d| {
+                    let k = (here.spoke_min + d) % frame.spokes;
+                    (here.bin_min..=here.bin_max.min(land.range_bins - 1)).any(|j| {
+                        let cell = k * land.range_bins + j;
+                        land.polygon[cell] >= 0 || land.structure[cell] >= 0
+                    })
+                });
+                if on_land {
+                    return PlotSource::Land;
+                }
+            }
+            PlotSource::None
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn boxes_overlap_on_the_circle_of_spokes() {
+        assert!(boxes_overlap(
+            &PolarBox {
+                spoke_min: 358,
+                spoke_max: 2,
+                bin_min: 40,
+                bin_max: 44
+            },
+            &PolarBox {
+                spoke_min: 1,
+                spoke_max: 5,
+                bin_min: 44,
+                bin_max: 50
+            },
+            360
+        ));
+        assert!(boxes_overlap(
+            &PolarBox {
+                spoke_min: 1,
+                spoke_max: 5,
+                bin_min: 44,
+                bin_max: 50
+            },
+            &PolarBox {
+                spoke_min: 350,
+                spoke_max: 1,
+                bin_min: 0,
+                bin_max: 44
+            },
+            360
+        ));
+        assert!(!boxes_overlap(
+            &PolarBox {
+                spoke_min: 358,
+                spoke_max: 2,
+                bin_min: 40,
+                bin_max: 44
+            },
+            &PolarBox {
+                spoke_min: 3,
+                spoke_max: 357,
+                bin_min: 0,
+                bin_max: 100
+            },
+            360
+        ));
+        assert!(!boxes_overlap(
+            &PolarBox {
+                spoke_min: 358,
+                spoke_max: 2,
+                bin_min: 40,
+                bin_max: 44
+            },
+            &PolarBox {
+                spoke_min: 0,
+                spoke_max: 0,
+                bin_min: 45,
+                bin_max: 100
+            },
+            360
+        ));
+    }
+}
