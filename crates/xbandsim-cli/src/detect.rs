@@ -27,6 +27,23 @@ pub struct DetectArgs {
     /// Revolutions to render and extract, one after another (everything moving).
     #[arg(long, default_value_t = 1, value_parser = crate::whole_number)]
     pub frames: u64,
+    #[command(flatten)]
+    pub detector: DetectorArgs,
+    /// Scan-to-scan correlation M/N: keep a plot only when plots within --scan-gate-m of it
+    /// were seen on M of the last N scans, this one included (e.g. 2/3).
+    #[arg(long, value_name = "M/N")]
+    pub scan: Option<String>,
+    /// Gate of the scan-to-scan correlation, m.
+    #[arg(long, default_value_t = 100.0)]
+    pub scan_gate_m: f64,
+    /// Override any scene field: FIELD=VALUE (repeatable), as for render.
+    #[arg(long, value_name = "FIELD=VALUE")]
+    pub set: Vec<String>,
+}
+
+/// The plot extractor's options (shared by `detect` and `track`).
+#[derive(Args, Debug, Clone)]
+pub struct DetectorArgs {
     /// What the extractor reads: "record" (the calibrated matched-filter power, polar.npy)
     /// or "video" (the receiver's video; needs a [receiver] table).
     #[arg(long, default_value = "record")]
@@ -50,16 +67,45 @@ pub struct DetectArgs {
     /// Smallest plot kept, cells.
     #[arg(long, default_value_t = 1, value_parser = crate::whole_number)]
     pub min_cells: u64,
-    /// Scan-to-scan correlation M/N: keep a plot only when plots within --scan-gate-m of it
-    /// were seen on M of the last N scans, this one included (e.g. 2/3).
-    #[arg(long, value_name = "M/N")]
-    pub scan: Option<String>,
-    /// Gate of the scan-to-scan correlation, m.
-    #[arg(long, default_value_t = 100.0)]
-    pub scan_gate_m: f64,
-    /// Override any scene field: FIELD=VALUE (repeatable), as for render.
-    #[arg(long, value_name = "FIELD=VALUE")]
-    pub set: Vec<String>,
+}
+
+impl DetectorArgs {
+    /// The extractor these options make, and whether it reads the video.
+    pub fn extractor(&self) -> Result<(PlotExtractor, bool)> {
+        let use_video = match self.input.as_str() {
+            "record" => false,
+            "video" => true,
+            other => bail!("invalid --input {other:?}: must be \"record\" or \"video\""),
+        };
+        let training = self.training_cells as usize;
+        let kind = cfar_kind(&self.cfar, self.rank, training)?;
+        let cfar = Cfar::new(kind, self.guard_cells as usize, training, self.pfa)?;
+        Ok((
+            PlotExtractor::new(cfar, self.min_cells as usize)?,
+            use_video,
+        ))
+    }
+
+    /// Refuses video input for a scene without a `[receiver]` table.
+    pub fn check_scene(&self, scene: &xbandsim::Scene) -> Result<()> {
+        if self.input == "video" && scene.receiver().is_none() {
+            bail!("--input video reads the receiver's video: the scene needs a [receiver] table (docs/formats.md, \"[receiver]\"), e.g. --set receiver.gain_db=0");
+        }
+        Ok(())
+    }
+}
+
+/// The power grid the extractor reads from `frame`: its video or its calibrated record.
+pub fn grid_of(frame: &xbandsim::Frame, use_video: bool) -> PowerGrid {
+    match (&frame.video, use_video) {
+        (Some(video), true) => PowerGrid::from_video(video),
+        _ => PowerGrid::from_record_db(
+            &frame.polar_db,
+            frame.spokes,
+            frame.range_bins,
+            frame.range_bin_m,
+        ),
+    }
 }
 
 /// The settings, as written into the output.
@@ -164,15 +210,8 @@ pub fn run(a: &DetectArgs) -> Result<()> {
     if a.frames == 0 {
         bail!("invalid --frames 0: must be 1 or more");
     }
-    let use_video = match a.input.as_str() {
-        "record" => false,
-        "video" => true,
-        other => bail!("invalid --input {other:?}: must be \"record\" or \"video\""),
-    };
-    let training = a.training_cells as usize;
-    let kind = cfar_kind(&a.cfar, a.rank, training)?;
-    let cfar = Cfar::new(kind, a.guard_cells as usize, training, a.pfa)?;
-    let extractor = PlotExtractor::new(cfar, a.min_cells as usize)?;
+    let d = &a.detector;
+    let (extractor, use_video) = d.extractor()?;
     let mut correlator = match &a.scan {
         Some(text) => {
             let (m, n) = scan_window(text)?;
@@ -182,9 +221,7 @@ pub fn run(a: &DetectArgs) -> Result<()> {
     };
     let spec = crate::render::load_spec(&a.scene, &a.set)?;
     let scene = spec.build()?;
-    if use_video && scene.receiver().is_none() {
-        bail!("--input video reads the receiver's video: the scene needs a [receiver] table (docs/formats.md, \"[receiver]\"), e.g. --set receiver.gain_db=0");
-    }
+    d.check_scene(&scene)?;
     let sim = Simulation::new(scene);
     let progress = crate::progress::bar(a.frames, "detect: frames");
     let echo_history = std::sync::Mutex::new(EchoHistory::default());
@@ -192,15 +229,7 @@ pub fn run(a: &DetectArgs) -> Result<()> {
     let mut frames = Vec::new();
     for k in 0..a.frames {
         let frame = sim.run(&Request::new(a.seed).frame(k).echo_history(&echo_history))?;
-        let grid = match (&frame.video, use_video) {
-            (Some(video), true) => PowerGrid::from_video(video),
-            _ => PowerGrid::from_record_db(
-                &frame.polar_db,
-                frame.spokes,
-                frame.range_bins,
-                frame.range_bin_m,
-            ),
-        };
+        let grid = grid_of(&frame, use_video);
         let mut plots = extractor.extract(&grid, &mut scratch);
         if let Some(c) = correlator.as_mut() {
             plots = c.confirm(plots);
@@ -226,7 +255,7 @@ pub fn run(a: &DetectArgs) -> Result<()> {
                     .any(|s| matches!(s, PlotSource::Object { id, .. } if *id == o.id)),
             })
             .collect();
-        let reach = a.guard_cells as usize + training;
+        let reach = d.guard_cells as usize + d.training_cells as usize;
         frames.push(FrameOut {
             frame: k,
             start_time_s: frame.start_time_s,
@@ -260,17 +289,17 @@ pub fn run(a: &DetectArgs) -> Result<()> {
             .sum(),
     };
     let settings = Settings {
-        input: a.input.clone(),
-        cfar: a.cfar.clone(),
-        guard_cells: a.guard_cells as usize,
-        training_cells: training,
-        rank: match kind {
+        input: d.input.clone(),
+        cfar: d.cfar.clone(),
+        guard_cells: d.guard_cells as usize,
+        training_cells: d.training_cells as usize,
+        rank: match extractor.cfar().kind() {
             CfarKind::OrderedStatistic { rank } => Some(rank),
             _ => None,
         },
-        pfa: a.pfa,
+        pfa: d.pfa,
         threshold_multiplier: extractor.cfar().alpha(),
-        min_cells: a.min_cells as usize,
+        min_cells: d.min_cells as usize,
         scan: a.scan.clone(),
         scan_gate_m: a.scan.as_ref().map(|_| a.scan_gate_m),
     };

@@ -22,6 +22,7 @@ mod figures;
 mod progress;
 mod rcs;
 mod render;
+mod track;
 mod validate;
 
 use clap::{Parser, Subcommand};
@@ -46,6 +47,10 @@ enum Command {
     /// Render revolutions of a scene and extract plots with a CFAR detector along range,
     /// each plot scored against the truth (its object, an artefact, land, or false): plots.json.
     Detect(detect::DetectArgs),
+    /// Render revolutions of a scene, extract their plots and track them with the ARPA-class
+    /// tracker (IMM of constant-velocity and turn models, M-of-N initiation, global nearest
+    /// neighbour), each confirmed track scored against the truth: tracks.json.
+    Track(track::TrackArgs),
     /// Make a labelled dataset from a dataset spec: every sample's scene drawn from (spec,
     /// seed, index), rendered and written atomically; run again to resume.
     Dataset(dataset::DatasetArgs),
@@ -164,6 +169,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
         Command::Detect(args) => detect::run(&args),
+        Command::Track(args) => track::run(&args),
         Command::Schema => {
             let schema = schemars::schema_for!(xbandsim::scene::SceneSpec);
             say!(

@@ -552,6 +552,7 @@ fn readme_lists_every_option() {
     for cmd in [
         "render",
         "detect",
+        "track",
         "figures",
         "rcs",
         "validate",
@@ -728,6 +729,76 @@ fn detect_writes_scored_plots_and_refuses_bad_settings() {
         let bad = dir.path().join("bad.json");
         let o = xbandsim()
             .args(["detect", "scenes/paper.toml"])
+            .args(&args)
+            .arg("--out")
+            .arg(&bad)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            !o.status.success() && stderr.contains(wanted),
+            "{args:?}: {stderr}"
+        );
+        assert!(!bad.exists(), "{args:?} wrote {}", bad.display());
+    }
+}
+
+/// `xbandsim track` follows the crossing scene's vessels: after 16 scans the crossing ship's
+/// track has its course within 5° and its speed within 1.5 kn of the truth, the moored buoy's
+/// track stands still; bad tracker settings are refused naming the field.
+#[test]
+fn track_follows_vessels_and_refuses_bad_settings() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("tracks.json");
+    let status = xbandsim()
+        .args(["track", "scenes/crossing.toml", "--frames", "16", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        status.status.success(),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let last = &v["scans"].as_array().unwrap()[15];
+    let track_of = |name: &str| {
+        last["tracks"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|t| t["truth"]["name"] == name)
+            .unwrap_or_else(|| panic!("no track on {name}: {last}"))
+            .clone()
+    };
+    let ship = track_of("crossing-ship");
+    assert!(
+        ship["truth"]["course_error_deg"].as_f64().unwrap().abs() < 5.0,
+        "{ship}"
+    );
+    assert!(
+        ship["truth"]["speed_error_kn"].as_f64().unwrap().abs() < 1.5,
+        "{ship}"
+    );
+    assert!(ship["tcpa_s"].is_number() && ship["cpa_m"].is_number());
+    let buoy = track_of("buoy");
+    assert!(buoy["speed_kn"].as_f64().unwrap() < 1.0, "{buoy}");
+    for (args, wanted) in [
+        (vec!["--initiation", "5/4"], "tracker.initiation_hits"),
+        (vec!["--initiation", "x"], "invalid --initiation \"x\""),
+        (vec!["--gate", "-1"], "tracker.gate"),
+        (
+            vec!["--sigma-bearing-deg", "0"],
+            "tracker.sigma_bearing_deg",
+        ),
+        (vec!["--lost-after", "0"], "tracker.lost_after_misses"),
+        (vec!["--truth-gate-m", "nan"], "invalid --truth-gate-m"),
+        (vec!["--pfa", "2"], "cfar.pfa"),
+    ] {
+        let bad = dir.path().join("bad.json");
+        let o = xbandsim()
+            .args(["track", "scenes/paper.toml"])
             .args(&args)
             .arg("--out")
             .arg(&bad)

@@ -81,7 +81,7 @@ fn complete(args: &str) -> bool {
                     || words.contains(&"--out")
                     || words[0] == "rcs")
         }
-        Some(&"detect") => words.get(1).is_some_and(|w| !w.starts_with('-')),
+        Some(&"detect") | Some(&"track") => words.get(1).is_some_and(|w| !w.starts_with('-')),
         Some(&"validate") | Some(&"schema") => true,
         Some(&"figures") | Some(&"make-vessel") => words.contains(&"--out"),
         _ => false,
@@ -135,6 +135,7 @@ fn the_readme_and_docs_commands_run_as_written() {
         "dataset datasets/detection.toml --count 100 --out out/detection/",
         "render scenes/crossing.toml --frames 8",
         "detect scenes/sea-state-4-rain.toml",
+        "track scenes/crossing.toml",
     ] {
         assert!(
             ran.iter().any(|r| r.starts_with(wanted)),

@@ -95,6 +95,11 @@ impl Cfar {
         })
     }
 
+    /// Its kind.
+    pub fn kind(&self) -> CfarKind {
+        self.kind
+    }
+
     /// The threshold multiplier α on `Z`.
     pub fn alpha(&self) -> f64 {
         self.alpha

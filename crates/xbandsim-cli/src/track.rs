@@ -1,0 +1,333 @@
+//! `xbandsim track`: renders revolutions of a scene, extracts their plots and tracks them
+//! with the ARPA-class tracker (`xbandsim_track`), each confirmed track scored against the
+//! truth.
+
+use crate::detect::{grid_of, DetectorArgs};
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use serde::Serialize;
+use std::path::PathBuf;
+use std::time::Instant;
+use xbandsim::engine::{Request, Simulation};
+use xbandsim::processing::plots::PlotScratch;
+use xbandsim::products::output::write_json;
+use xbandsim::receiver::video_chain::EchoHistory;
+use xbandsim_track::tracker::MPS_PER_KNOT;
+use xbandsim_track::{Scan, TrackEnd, TrackReport, TrackStatus, Tracker, TrackerSettings};
+
+/// Arguments of `xbandsim track`.
+#[derive(Args, Debug, Clone)]
+pub struct TrackArgs {
+    /// Scene file (TOML).
+    pub scene: PathBuf,
+    /// Output file: every scan's tracks, scored against the truth (JSON).
+    #[arg(long, default_value = "tracks.json")]
+    pub out: PathBuf,
+    /// Random seed: the same seed gives the same tracks.
+    #[arg(long, default_value_t = 0, value_parser = crate::whole_number)]
+    pub seed: u64,
+    /// Revolutions (scans) to render and track.
+    #[arg(long, default_value_t = 40, value_parser = crate::whole_number)]
+    pub frames: u64,
+    #[command(flatten)]
+    pub detector: DetectorArgs,
+    /// Track initiation M/N: a track is confirmed when M of its first N scans had a plot.
+    #[arg(long, default_value = "3/4", value_name = "M/N")]
+    pub initiation: String,
+    /// Scans in a row without a plot after which a confirmed track is lost.
+    #[arg(long, default_value_t = 6, value_parser = crate::whole_number)]
+    pub lost_after: u64,
+    /// Association gate on the squared Mahalanobis distance (13.82: 99.9 % of true plots).
+    #[arg(long, default_value_t = 13.82)]
+    pub gate: f64,
+    /// Standard deviation of a plot's range, m.
+    #[arg(long, default_value_t = 5.0)]
+    pub sigma_range_m: f64,
+    /// Standard deviation of a plot's bearing, degrees.
+    #[arg(long, default_value_t = 0.5)]
+    pub sigma_bearing_deg: f64,
+    /// Turn rate of the IMM's coordinated-turn models, deg/s.
+    #[arg(long, default_value_t = 2.0)]
+    pub turn_rate_deg_s: f64,
+    /// Distance within which a confirmed track is scored against a truth object, m.
+    #[arg(long, default_value_t = 100.0)]
+    pub truth_gate_m: f64,
+    /// Override any scene field: FIELD=VALUE (repeatable), as for render.
+    #[arg(long, value_name = "FIELD=VALUE")]
+    pub set: Vec<String>,
+}
+
+#[derive(Serialize)]
+struct TruthMatch {
+    object_id: u32,
+    name: String,
+    position_error_m: f64,
+    course_error_deg: Option<f64>,
+    speed_error_kn: f64,
+}
+
+#[derive(Serialize)]
+struct TrackOut {
+    #[serde(flatten)]
+    track: TrackReport,
+    truth: Option<TruthMatch>,
+}
+
+#[derive(Serialize)]
+struct ObjectOut {
+    id: u32,
+    name: String,
+    class: String,
+    position_m: [f64; 2],
+    course_deg: Option<f64>,
+    speed_kn: f64,
+    has_echo: bool,
+    track_id: Option<u32>,
+}
+
+#[derive(Serialize)]
+struct ScanOut {
+    frame: u64,
+    start_time_s: f64,
+    plots: usize,
+    tracks: Vec<TrackOut>,
+    ended: Vec<(u32, TrackEnd)>,
+    objects: Vec<ObjectOut>,
+}
+
+#[derive(Serialize)]
+struct Summary {
+    scans: u64,
+    object_echoes: usize,
+    object_echoes_tracked: usize,
+    confirmed_tracks: usize,
+    false_track_scans: usize,
+    track_switches: usize,
+    mean_position_error_m: Option<f64>,
+}
+
+#[derive(Serialize)]
+struct Output {
+    scene: String,
+    seed: u64,
+    tracker: serde_json::Value,
+    summary: Summary,
+    scans: Vec<ScanOut>,
+}
+
+/// The angle from `b` to `a`, degrees in (−180, 180].
+fn angle_difference_deg(a: f64, b: f64) -> f64 {
+    let d = (a - b).rem_euclid(360.0);
+    if d > 180.0 {
+        d - 360.0
+    } else {
+        d
+    }
+}
+
+/// Runs `xbandsim track`.
+pub fn run(a: &TrackArgs) -> Result<()> {
+    let t0 = Instant::now();
+    if a.frames == 0 {
+        bail!("invalid --frames 0: must be 1 or more");
+    }
+    let (extractor, use_video) = a.detector.extractor()?;
+    let Some((m, n)) = a.initiation.split_once('/').and_then(|(m, n)| {
+        Some((
+            m.trim().parse::<usize>().ok()?,
+            n.trim().parse::<usize>().ok()?,
+        ))
+    }) else {
+        bail!(
+            "invalid --initiation {:?}: must be M/N, e.g. 3/4",
+            a.initiation
+        );
+    };
+    if !(a.truth_gate_m.is_finite() && a.truth_gate_m > 0.0) {
+        bail!(
+            "invalid --truth-gate-m {}: must be a positive distance",
+            a.truth_gate_m
+        );
+    }
+    let settings = TrackerSettings {
+        initiation_hits: m,
+        initiation_scans: n,
+        lost_after_misses: a.lost_after as usize,
+        gate: a.gate,
+        sigma_range_m: a.sigma_range_m,
+        sigma_bearing_deg: a.sigma_bearing_deg,
+        turn_rate_deg_s: a.turn_rate_deg_s,
+        ..TrackerSettings::default()
+    };
+    let mut tracker = Tracker::new(settings.clone())?;
+    let spec = crate::render::load_spec(&a.scene, &a.set)?;
+    let scene = spec.build()?;
+    a.detector.check_scene(&scene)?;
+    let sim = Simulation::new(scene);
+    let radar = sim.scene().radar();
+    let period_s = radar.scan().period_s();
+    let progress = crate::progress::bar(a.frames, "track: scans");
+    let echo_history = std::sync::Mutex::new(EchoHistory::default());
+    let mut scratch = PlotScratch::default();
+    let mut scans = Vec::new();
+    let mut last_track_of: std::collections::HashMap<u32, u32> = Default::default();
+    let (mut switches, mut echoes, mut tracked, mut false_tracks) = (0, 0, 0, 0);
+    let mut confirmed_ids = std::collections::BTreeSet::new();
+    let (mut error_sum, mut error_count) = (0.0, 0usize);
+    for k in 0..a.frames {
+        let frame = sim.run(&Request::new(a.seed).frame(k).echo_history(&echo_history))?;
+        let plots = extractor.extract(&grid_of(&frame, use_video), &mut scratch);
+        let (antenna, velocity) = match frame.own_ship {
+            Some(s) => (s.antenna_position_m, [s.velocity_mps.x, s.velocity_mps.y]),
+            None => (radar.position_m(), [0.0, 0.0]),
+        };
+        let report = tracker.step(&Scan {
+            start_time_s: frame.start_time_s,
+            period_s,
+            antenna_position_m: [antenna.x, antenna.y, antenna.z],
+            antenna_velocity_mps: velocity,
+            plots: &plots,
+        });
+        // Confirmed tracks to truth objects, nearest pairs first, one to one.
+        let confirmed: Vec<&TrackReport> = report
+            .tracks
+            .iter()
+            .filter(|t| t.status == TrackStatus::Confirmed)
+            .collect();
+        let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
+        for (ti, t) in confirmed.iter().enumerate() {
+            for (oi, o) in frame.truth.iter().enumerate() {
+                let d =
+                    (t.position_m[0] - o.position_m[0]).hypot(t.position_m[1] - o.position_m[1]);
+                if d <= a.truth_gate_m {
+                    pairs.push((d, ti, oi));
+                }
+            }
+        }
+        pairs.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let mut object_of = vec![None; confirmed.len()];
+        let mut track_of = vec![None; frame.truth.len()];
+        for (d, ti, oi) in pairs {
+            if object_of[ti].is_none() && track_of[oi].is_none() {
+                object_of[ti] = Some((oi, d));
+                track_of[oi] = Some(confirmed[ti].id);
+            }
+        }
+        let tracks: Vec<TrackOut> = confirmed
+            .iter()
+            .zip(&object_of)
+            .map(|(t, matched)| TrackOut {
+                track: (*t).clone(),
+                truth: matched.map(|(oi, d)| {
+                    let o = &frame.truth[oi];
+                    TruthMatch {
+                        object_id: o.id,
+                        name: o.name.clone(),
+                        position_error_m: d,
+                        course_error_deg: match (t.course_deg, o.course_deg) {
+                            (Some(tc), Some(oc)) => Some(angle_difference_deg(tc, oc)),
+                            _ => None,
+                        },
+                        speed_error_kn: t.speed_kn - o.speed_kn,
+                    }
+                }),
+            })
+            .collect();
+        for t in &tracks {
+            confirmed_ids.insert(t.track.id);
+            match &t.truth {
+                Some(m) => {
+                    error_sum += m.position_error_m;
+                    error_count += 1;
+                }
+                None => false_tracks += 1,
+            }
+        }
+        let objects: Vec<ObjectOut> = frame
+            .truth
+            .iter()
+            .zip(&track_of)
+            .map(|(o, &track_id)| {
+                let has_echo = o.visibility.has_echo();
+                echoes += usize::from(has_echo);
+                if let Some(id) = track_id {
+                    tracked += usize::from(has_echo);
+                    if let Some(previous) = last_track_of.insert(o.id, id) {
+                        switches += usize::from(previous != id);
+                    }
+                }
+                ObjectOut {
+                    id: o.id,
+                    name: o.name.clone(),
+                    class: o.class.clone(),
+                    position_m: [o.position_m[0], o.position_m[1]],
+                    course_deg: o.course_deg,
+                    speed_kn: o.speed_kn,
+                    has_echo,
+                    track_id,
+                }
+            })
+            .collect();
+        scans.push(ScanOut {
+            frame: k,
+            start_time_s: frame.start_time_s,
+            plots: plots.len(),
+            tracks,
+            ended: report.ended,
+            objects,
+        });
+        progress.inc(1);
+    }
+    progress.finish_and_clear();
+    let summary = Summary {
+        scans: a.frames,
+        object_echoes: echoes,
+        object_echoes_tracked: tracked,
+        confirmed_tracks: confirmed_ids.len(),
+        false_track_scans: false_tracks,
+        track_switches: switches,
+        mean_position_error_m: (error_count > 0).then(|| error_sum / error_count as f64),
+    };
+    crate::say!(
+        "track {}: {} scans, {} confirmed tracks; {} of {} object echoes in a track, {} track switches, {} false-track scans, mean position error {}, {:.2} s -> {}",
+        a.scene.display(),
+        a.frames,
+        summary.confirmed_tracks,
+        summary.object_echoes_tracked,
+        summary.object_echoes,
+        summary.track_switches,
+        summary.false_track_scans,
+        summary
+            .mean_position_error_m
+            .map_or("none".to_string(), |e| format!("{e:.1} m")),
+        t0.elapsed().as_secs_f64(),
+        a.out.display()
+    );
+    let s = &settings;
+    let tracker_json = serde_json::json!({
+        "initiation": format!("{}/{}", s.initiation_hits, s.initiation_scans),
+        "lost_after_misses": s.lost_after_misses,
+        "gate": s.gate,
+        "sigma_range_m": s.sigma_range_m,
+        "sigma_bearing_deg": s.sigma_bearing_deg,
+        "max_speed_kn": s.max_speed_kn,
+        "sigma_a_cv_mps2": s.sigma_a_cv_mps2,
+        "sigma_a_turn_mps2": s.sigma_a_turn_mps2,
+        "turn_rate_deg_s": s.turn_rate_deg_s,
+        "model_stay_probability": s.model_stay_probability,
+        "merge_distance_m": s.merge_distance_m,
+        "merge_speed_mps": s.merge_speed_mps,
+        "merge_scans": s.merge_scans,
+        "truth_gate_m": a.truth_gate_m,
+        "knot_mps": MPS_PER_KNOT,
+    });
+    let output = Output {
+        scene: a.scene.display().to_string(),
+        seed: a.seed,
+        tracker: tracker_json,
+        summary,
+        scans,
+    };
+    write_json(&a.out, &output).with_context(|| format!("writing {}", a.out.display()))?;
+    Ok(())
+}
