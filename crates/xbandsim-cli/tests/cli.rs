@@ -726,20 +726,7 @@ fn detect_writes_scored_plots_and_refuses_bad_settings() {
         (vec!["--input", "video"], "needs a [receiver] table"),
         (vec!["--input", "ppi"], "invalid --input \"ppi\""),
     ] {
-        let bad = dir.path().join("bad.json");
-        let o = xbandsim()
-            .args(["detect", "scenes/paper.toml"])
-            .args(&args)
-            .arg("--out")
-            .arg(&bad)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&o.stderr);
-        assert!(
-            !o.status.success() && stderr.contains(wanted),
-            "{args:?}: {stderr}"
-        );
-        assert!(!bad.exists(), "{args:?} wrote {}", bad.display());
+        assert_refused_writing_nothing("detect", &args, wanted);
     }
 }
 
@@ -796,19 +783,25 @@ fn track_follows_vessels_and_refuses_bad_settings() {
         (vec!["--truth-gate-m", "nan"], "invalid --truth-gate-m"),
         (vec!["--pfa", "2"], "cfar.pfa"),
     ] {
-        let bad = dir.path().join("bad.json");
-        let o = xbandsim()
-            .args(["track", "scenes/paper.toml"])
-            .args(&args)
-            .arg("--out")
-            .arg(&bad)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&o.stderr);
-        assert!(
-            !o.status.success() && stderr.contains(wanted),
-            "{args:?}: {stderr}"
-        );
-        assert!(!bad.exists(), "{args:?} wrote {}", bad.display());
+        assert_refused_writing_nothing("track", &args, wanted);
     }
+}
+
+/// `xbandsim CMD scenes/paper.toml ARGS --out FILE` fails saying `wanted` and writes nothing.
+fn assert_refused_writing_nothing(cmd: &str, args: &[&str], wanted: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.json");
+    let o = xbandsim()
+        .args([cmd, "scenes/paper.toml"])
+        .args(args)
+        .arg("--out")
+        .arg(&bad)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && stderr.contains(wanted),
+        "{cmd} {args:?}: {stderr}"
+    );
+    assert!(!bad.exists(), "{cmd} {args:?} wrote {}", bad.display());
 }
