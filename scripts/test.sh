@@ -28,6 +28,10 @@ target/release/xbandsim dataset datasets/detection.toml --out target/check-shard
 target/release/xbandsim dataset schema > target/dataset-spec.schema.json
 "$venv/bin/python" scripts/check_schema.py target/dataset-spec.schema.json datasets/*.toml
 
+echo "== the baseline tracker scored with py-motmetrics and TrackEval (scripts/score_tracks.py)"
+target/release/xbandsim track scenes/crossing.toml --frames 40 --pfa 1e-8 --min-cells 3 --out target/check-tracks.json
+"$venv/bin/python" scripts/score_tracks.py target/check-tracks.json
+
 echo "== the Python package (pip install ./crates/xbandsim-py, then pytest)"
 # Optional extras with wheels for fewer platforms and Pythons than the rest: Ray (for
 # xbandsim.distributed) and Stable-Baselines3 with torch (the environments through SB3,
