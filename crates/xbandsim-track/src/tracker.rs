@@ -270,7 +270,8 @@ pub struct TrackReport {
     pub speed_kn: f64,
     /// Closest point of approach to the own ship at present courses and speeds, m.
     pub cpa_m: f64,
-    /// Time to it, s (negative once it is past); null when neither moves relative to the other.
+    /// Time to it from the track's `time_s`, s (negative once it is past); null when neither
+    /// moves relative to the other.
     pub tcpa_s: Option<f64>,
     /// The IMM's model probabilities: constant velocity, turn to port, turn to starboard.
     pub model_probabilities: Vec<f64>,
@@ -290,8 +291,6 @@ pub struct TrackReport {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum TrackEnd {
-    /// A tentative track that could not reach M plots in N scans.
-    NotConfirmed,
     /// A confirmed track without a plot for `lost_after_misses` scans (ARPA's lost target).
     Lost,
     /// Merged into the track of this id.
@@ -319,6 +318,11 @@ pub struct Tracker {
     own_velocity_mps: [f64; 2],
     own_position_m: [f64; 2],
     own_time_s: f64,
+}
+
+/// `time_s` moved by whole periods to within half a period of `near_s`.
+fn nearest_turn(time_s: f64, near_s: f64, period_s: f64) -> f64 {
+    time_s + ((near_s - time_s) / period_s).round() * period_s
 }
 
 /// The closest point of approach of a target at relative position `p` moving at relative
@@ -366,9 +370,15 @@ impl Tracker {
             ],
         };
         let n = self.models.motions.len();
+        // One plot confirms a track under 1-of-N initiation.
+        let status = if self.settings.initiation_hits == 1 {
+            TrackStatus::Confirmed
+        } else {
+            TrackStatus::Tentative
+        };
         self.tracks.push(Track {
             id: self.next_id,
-            status: TrackStatus::Tentative,
+            status,
             state: ImmState {
                 estimates: vec![estimate; n],
                 probabilities: vec![1.0 / n as f64; n],
@@ -445,9 +455,13 @@ impl Tracker {
             match plot_of[i] {
                 Some(j) => {
                     let m = &measurements[j];
-                    let at_plot = self.models.predict(&track.state, m.time_s - track.time_s);
+                    // The plot's time taken within half a turn of the track's: a target that
+                    // runs ahead of the beam across north is painted a turn later than its
+                    // bearing's time in this revolution (and the other way round).
+                    let t = nearest_turn(m.time_s, *when, scan.period_s).max(track.time_s);
+                    let at_plot = self.models.predict(&track.state, t - track.time_s);
                     track.state = self.models.update(&at_plot, m.position_m, &m.covariance);
-                    track.time_s = m.time_s.max(track.time_s);
+                    track.time_s = t;
                     track.hits += 1;
                     track.misses_in_row = 0;
                     track.recent |= 1;
@@ -467,6 +481,11 @@ impl Tracker {
         let mut ended = Vec::new();
         let (m_hits, n_scans) = (s.initiation_hits, s.initiation_scans);
         let lost_after = s.lost_after_misses;
+        for t in &mut self.tracks {
+            if t.status == TrackStatus::Tentative && t.hits >= m_hits {
+                t.status = TrackStatus::Confirmed;
+            }
+        }
         self.tracks.retain(|t| match t.status {
             TrackStatus::Tentative => t.scans - t.hits <= n_scans - m_hits,
             TrackStatus::Confirmed => {
@@ -478,11 +497,6 @@ impl Tracker {
                 }
             }
         });
-        for t in &mut self.tracks {
-            if t.status == TrackStatus::Tentative && t.hits >= m_hits {
-                t.status = TrackStatus::Confirmed;
-            }
-        }
         self.merge(&mut ended);
         let unassociated: Vec<usize> = (0..measurements.len()).filter(|&j| !taken[j]).collect();
         for &j in &unassociated {
@@ -508,7 +522,7 @@ impl Tracker {
         let s = &self.settings;
         let n = self.tracks.len();
         let states: Vec<Estimate> = self.tracks.iter().map(|t| t.state.combined()).collect();
-        let mut drop: Vec<(usize, u32)> = Vec::new();
+        let mut drop: Vec<(usize, usize)> = Vec::new();
         for i in 0..n {
             if self.tracks[i].status != TrackStatus::Confirmed {
                 continue;
@@ -542,13 +556,22 @@ impl Tracker {
                     } else {
                         (j, i)
                     };
-                    drop.push((lose, self.tracks[keep].id));
+                    drop.push((lose, keep));
                 }
             }
         }
-        drop.sort_unstable();
-        drop.dedup_by_key(|d| d.0);
-        for &(lose, into) in drop.iter().rev() {
+        // Greedily, in the order found: a pair whose track was already merged away this scan
+        // is left for the next one, so every merge names a track that lives on.
+        let mut gone = vec![false; n];
+        let mut merged: Vec<(usize, u32)> = Vec::new();
+        for (lose, keep) in drop {
+            if !gone[lose] && !gone[keep] {
+                gone[lose] = true;
+                merged.push((lose, self.tracks[keep].id));
+            }
+        }
+        merged.sort_unstable();
+        for &(lose, into) in merged.iter().rev() {
             ended.push((self.tracks[lose].id, TrackEnd::MergedInto(into)));
             self.tracks.remove(lose);
         }
@@ -753,6 +776,73 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A boat at 15 m/s eastward 1 km north crosses north ahead of the beam: plots are made
+    /// at the beam's crossing as the pipeline makes them (the revolution's end when the boat
+    /// runs ahead of the beam across north, so a plot at a bearing just past 0° can be a turn
+    /// later than its bearing's time: here at scan 7). One track holds it throughout at its
+    /// speed.
+    #[test]
+    fn a_target_crossing_north_keeps_one_track() {
+        let (period, v) = (2.5, 15.0);
+        let position = |t: f64| [-290.0 + v * t, 1000.0];
+        let bearing = |t: f64| {
+            let p = position(t);
+            p[0].atan2(p[1]).to_degrees().rem_euclid(360.0)
+        };
+        let mut tracker = Tracker::new(TrackerSettings::default()).unwrap();
+        let mut id = None;
+        for k in 0..24 {
+            let start = period * k as f64;
+            // The first time in the revolution the beam (from 0° at the start) meets it.
+            let crossing = (0..=25_000)
+                .map(|i| start + period * i as f64 / 25_000.0)
+                .find(|&t| {
+                    let beam = 360.0 * (t - start) / period;
+                    let d = (bearing(t) - beam).rem_euclid(360.0);
+                    !(0.02..=359.98).contains(&d)
+                })
+                .unwrap_or(start + period);
+            let p = position(crossing);
+            let r = tracker.step(&scan(k, &[plot_at(p[0], p[1])]));
+            let confirmed: Vec<&TrackReport> = r
+                .tracks
+                .iter()
+                .filter(|t| t.status == TrackStatus::Confirmed)
+                .collect();
+            if k >= 3 {
+                assert_eq!(confirmed.len(), 1, "scan {k}: {:?}", r.tracks);
+                assert_eq!(
+                    *id.get_or_insert(confirmed[0].id),
+                    confirmed[0].id,
+                    "scan {k}"
+                );
+            }
+            // Without the plot's time taken to the right turn the speed jumps to 16.0 m/s
+            // at the crossing (scan 7).
+            if k >= 5 {
+                let speed = confirmed[0].speed_kn * MPS_PER_KNOT;
+                assert!((speed - v).abs() < 0.3, "scan {k}: {:?}", confirmed[0]);
+            }
+        }
+    }
+
+    #[test]
+    fn one_of_one_confirms_on_the_first_plot() {
+        let settings = TrackerSettings {
+            initiation_hits: 1,
+            initiation_scans: 1,
+            ..TrackerSettings::default()
+        };
+        let mut tracker = Tracker::new(settings).unwrap();
+        let r = tracker.step(&scan(0, &[plot_at(0.0, 1000.0)]));
+        assert_eq!(r.tracks[0].status, TrackStatus::Confirmed);
+        // A lone plot that is never seen again is still a confirmed track, lost in time.
+        for k in 1..6 {
+            assert_eq!(tracker.step(&scan(k, &[])).tracks.len(), 1, "scan {k}");
+        }
+        assert_eq!(tracker.step(&scan(6, &[])).ended, vec![(0, TrackEnd::Lost)]);
     }
 
     /// A ship at 10 m/s north, 3 km east of the radar, turns to starboard at 1.5°/s through

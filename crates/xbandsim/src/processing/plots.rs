@@ -125,6 +125,31 @@ impl Plot {
 pub struct PlotScratch {
     seen: Vec<bool>,
     stack: Vec<(usize, usize)>,
+    /// Whether the plot being grown has a cell on each spoke, and those spokes.
+    on_spoke: Vec<bool>,
+    spokes_hit: Vec<usize>,
+}
+
+/// The clockwise span `(first, last, count)` of the sorted distinct spokes `hit` on a circle
+/// of `spokes`: everything but the largest run of spokes without a cell.
+fn spoke_span(hit: &[usize], spokes: usize) -> (usize, usize, usize) {
+    if hit.len() == spokes {
+        return (0, spokes - 1, spokes);
+    }
+    // The gap after hit[i] runs to hit[i + 1] (circularly); the largest one is left out.
+    let (mut widest, mut after) = (0, 0);
+    for i in 0..hit.len() {
+        let next = hit[(i + 1) % hit.len()];
+        let gap = (next + spokes - hit[i]) % spokes;
+        let gap = if gap == 0 { spokes } else { gap };
+        if gap > widest {
+            widest = gap;
+            after = i;
+        }
+    }
+    let first = hit[(after + 1) % hit.len()];
+    let last = hit[after];
+    (first, last, spokes - widest + 1)
 }
 
 /// Groups the cells for which `is_hit(spoke, cell)` holds into plots, 4-connected along
@@ -147,7 +172,8 @@ pub fn group_cells(
     seen.clear();
     seen.resize(spokes * cells, false);
     let stack = &mut scratch.stack;
-    let half = spokes as i64 / 2;
+    scratch.on_spoke.clear();
+    scratch.on_spoke.resize(spokes, false);
     for k0 in 0..spokes {
         for j0 in 0..cells {
             if seen[k0 * cells + j0] || !is_hit(k0, j0) {
@@ -159,8 +185,7 @@ pub fn group_cells(
             let (mut w, mut wr, mut wc, mut ws) = (0f64, 0f64, 0f64, 0f64);
             let (mut count, mut peak, mut peak_cell) = (0usize, f32::NEG_INFINITY, (k0, j0));
             let (mut j_lo, mut j_hi) = (j0, j0);
-            // Spokes as offsets from the first, in (−spokes/2, spokes/2].
-            let (mut d_lo, mut d_hi) = (0i64, 0i64);
+            scratch.spokes_hit.clear();
             while let Some((k, j)) = stack.pop() {
                 let v = value_db(k, j);
                 let cell_weight = weight(k, j);
@@ -176,11 +201,10 @@ pub fn group_cells(
                 }
                 j_lo = j_lo.min(j);
                 j_hi = j_hi.max(j);
-                let offset = (k as i64 - k0 as i64 + spokes as i64 + half - 1)
-                    .rem_euclid(spokes as i64)
-                    - (half - 1);
-                d_lo = d_lo.min(offset);
-                d_hi = d_hi.max(offset);
+                if !scratch.on_spoke[k] {
+                    scratch.on_spoke[k] = true;
+                    scratch.spokes_hit.push(k);
+                }
                 let neighbours = [
                     ((k + 1) % spokes, j),
                     ((k + spokes - 1) % spokes, j),
@@ -194,13 +218,11 @@ pub fn group_cells(
                     }
                 }
             }
-            let spanned = ((d_hi - d_lo + 1) as usize).min(spokes);
-            let spoke_at = |d: i64| (k0 as i64 + d).rem_euclid(spokes as i64) as usize;
-            let spoke_span = if spanned == spokes {
-                (0, spokes - 1)
-            } else {
-                (spoke_at(d_lo), spoke_at(d_hi))
-            };
+            scratch.spokes_hit.sort_unstable();
+            for &k in &scratch.spokes_hit {
+                scratch.on_spoke[k] = false;
+            }
+            let (first, last, spanned) = spoke_span(&scratch.spokes_hit, spokes);
             plots.push(Plot {
                 range_m: wr / w,
                 azimuth_deg: ws.atan2(wc).rem_euclid(TAU).to_degrees(),
@@ -209,7 +231,7 @@ pub fn group_cells(
                 cells: count,
                 peak_db: peak,
                 peak_cell,
-                spokes: spoke_span,
+                spokes: (first, last),
                 range_cells: (j_lo, j_hi),
             });
         }
@@ -478,6 +500,39 @@ mod tests {
         assert_eq!(p.azimuth_extent_deg, 5.0);
         assert_eq!((p.peak_db, p.peak_cell), (30.0, (0, 42)));
         assert_eq!((p.spokes, p.range_cells), ((358, 2), (40, 44)));
+    }
+
+    /// Plots wider than half a turn, across north, and a whole ring keep their true spans.
+    #[test]
+    fn wide_plots_keep_their_spans() {
+        let (spokes, cells) = (360, 5);
+        let span_of = |ks: &[usize]| {
+            let mut hit = vec![false; spokes * cells];
+            for &k in ks {
+                hit[k * cells + 2] = true;
+            }
+            let mut plots = Vec::new();
+            group_cells(
+                spokes,
+                cells,
+                1.0,
+                |j| j as f64,
+                |k, j| hit[k * cells + j],
+                |_, _| 1.0,
+                |_, _| 0.0,
+                &mut PlotScratch::default(),
+                &mut plots,
+            );
+            assert_eq!(plots.len(), 1);
+            (plots[0].spokes, plots[0].azimuth_extent_deg)
+        };
+        let wide: Vec<usize> = (10..=200).collect();
+        assert_eq!(span_of(&wide), ((10, 200), 191.0));
+        let across: Vec<usize> = (300..360).chain(0..=100).collect();
+        assert_eq!(span_of(&across), ((300, 100), 161.0));
+        let ring: Vec<usize> = (0..360).collect();
+        assert_eq!(span_of(&ring), ((0, 359), 360.0));
+        assert_eq!(span_of(&[7]), ((7, 7), 1.0));
     }
 
     #[test]

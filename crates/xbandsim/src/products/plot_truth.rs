@@ -11,7 +11,7 @@ use serde::Serialize;
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum PlotSource {
-    /// A labelled object: its centroid's cell is inside the object's `polar_box`.
+    /// A labelled object: the plot's box shares a cell with the object's `polar_box`.
     Object {
         /// The object's id in the truth.
         id: u32,
@@ -23,16 +23,27 @@ pub enum PlotSource {
         /// Its index in the frame's artefacts.
         index: usize,
     },
-    /// Land or a structure on it: its centroid's cell is land's in the land truth.
+    /// Land or a structure on it: a cell of the plot's box is land's in the land truth.
     Land,
     /// Nothing the truth knows: a false plot (noise, or sea clutter and rain).
     None,
 }
 
-/// A plot's cells taken to the record of `frame`: its box there (spokes may wrap).
+/// A plot's cells taken to the record of `frame`: its box there (spokes may wrap). A grid
+/// spoke k lies at azimuth `k·360°/K`; the box runs from the record spoke at or before its
+/// first spoke to the one at or after its last (the record spokes either side of a video
+/// spoke between them).
 fn record_box(p: &Plot, grid: &PowerGrid, frame: &Frame) -> PolarBox {
-    let spoke = |k: usize| {
-        (k as f64 * frame.spokes as f64 / grid.spokes as f64).round() as usize % frame.spokes
+    let record_spokes = frame.spokes;
+    let scale = record_spokes as f64 / grid.spokes as f64;
+    let (first, last) = p.spokes;
+    let covered = (last + grid.spokes - first) % grid.spokes + 1;
+    let (spoke_min, spoke_max) = if covered >= grid.spokes {
+        (0, record_spokes - 1)
+    } else {
+        let lo = (first as f64 * scale).floor() as usize % record_spokes;
+        let hi = (last as f64 * scale).ceil() as usize % record_spokes;
+        (lo, hi)
     };
     let bin = |j: usize, edge: f64| {
         (((j as f64 + edge) * grid.cell_m / frame.range_bin_m).round() as usize)
@@ -45,8 +56,8 @@ fn record_box(p: &Plot, grid: &PowerGrid, frame: &Frame) -> PolarBox {
         0.0
     };
     PolarBox {
-        spoke_min: spoke(p.spokes.0),
-        spoke_max: spoke(p.spokes.1),
+        spoke_min,
+        spoke_max,
         bin_min: bin(p.range_cells.0, 0.0),
         bin_max: bin(p.range_cells.1, far_edge),
     }
@@ -120,6 +131,73 @@ pub fn plot_sources(plots: &[Plot], grid: &PowerGrid, frame: &Frame) -> Vec<Plot
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn plot_on(spokes: (usize, usize)) -> Plot {
+        Plot {
+            range_m: 100.0,
+            azimuth_deg: 0.0,
+            range_extent_m: 10.0,
+            azimuth_extent_deg: 1.0,
+            cells: 1,
+            peak_db: 20.0,
+            peak_cell: (spokes.0, 10),
+            spokes,
+            range_cells: (10, 12),
+        }
+    }
+
+    /// Plots of a 2048-spoke video taken to a 360-spoke record: a whole ring stays whole, a
+    /// spoke between two record spokes takes both, a record plot keeps its own spokes.
+    #[test]
+    fn plot_boxes_in_the_record() {
+        let frame = Frame {
+            frame: 0,
+            start_time_s: 0.0,
+            own_ship: None,
+            spokes: 360,
+            range_bins: 1000,
+            range_bin_m: 1.5,
+            polar_db: Vec::new(),
+            doppler_cube: None,
+            iq: None,
+            radial_velocity: None,
+            video: None,
+            artefacts: Vec::new(),
+            truth: Vec::new(),
+            land: None,
+            stats: Default::default(),
+        };
+        let video = PowerGrid {
+            spokes: 2048,
+            cells: 512,
+            cell_m: 3.0,
+            range_offset_cells: 0.5,
+            power: Vec::new(),
+        };
+        let ring = record_box(&plot_on((0, 2047)), &video, &frame);
+        assert_eq!((ring.spoke_min, ring.spoke_max), (0, 359));
+        // Video spoke 1000 at 175.78°: record spokes 175 and 176; samples 10–12 span
+        // 30–39 m, record bins 20–26.
+        let one = record_box(&plot_on((1000, 1000)), &video, &frame);
+        assert_eq!(
+            (one.spoke_min, one.spoke_max, one.bin_min, one.bin_max),
+            (175, 176, 20, 26)
+        );
+        let across = record_box(&plot_on((2040, 5)), &video, &frame);
+        assert_eq!((across.spoke_min, across.spoke_max), (358, 1));
+        let record = PowerGrid {
+            spokes: 360,
+            cells: 1000,
+            cell_m: 1.5,
+            range_offset_cells: 0.0,
+            power: Vec::new(),
+        };
+        let own = record_box(&plot_on((359, 2)), &record, &frame);
+        assert_eq!(
+            (own.spoke_min, own.spoke_max, own.bin_min, own.bin_max),
+            (359, 2, 10, 12)
+        );
+    }
 
     #[test]
     fn boxes_overlap_on_the_circle_of_spokes() {
