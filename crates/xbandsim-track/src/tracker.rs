@@ -9,7 +9,8 @@
 //! 4. **association**, global nearest neighbour: the least total `νᵀS⁻¹ν` over one-to-one
 //!    pairings ([`crate::assign`]), confirmed tracks first, then tentative ones;
 //! 5. **update** of associated tracks, coasting of the others;
-//! 6. **management**: a plot that no track takes starts a tentative track; a tentative track
+//! 6. **management**: a plot that no track takes starts a track, tentative (confirmed at once
+//!    under 1-of-N initiation); a tentative track
 //!    is confirmed when `M` of its first `N` scans had a plot, dropped as soon as it cannot be;
 //!    a confirmed track is lost after `lost_after_misses` scans in a row without a plot; of
 //!    two confirmed tracks closer than `merge_distance_m` with velocities within
@@ -203,7 +204,11 @@ impl Scan<'_> {
     /// `h` high: `√(r² − h²)`) along its bearing from the antenna at the time the beam
     /// crossed it, with `R = J·diag(σr², σθ²)·Jᵀ`, J the Jacobian of `(r sin θ, r cos θ)`.
     pub fn measurement(&self, p: &Plot, settings: &TrackerSettings) -> Measurement {
-        let time_s = self.time_at(p.azimuth_deg);
+        self.measurement_at(p, settings, self.time_at(p.azimuth_deg))
+    }
+
+    /// Plot `p` as a measurement made at `time_s` (the antenna where it was then).
+    pub fn measurement_at(&self, p: &Plot, settings: &TrackerSettings, time_s: f64) -> Measurement {
         let h = self.antenna_position_m[2];
         let ground = (p.range_m * p.range_m - h * h).max(0.0).sqrt();
         let theta = p.azimuth_deg.to_radians();
@@ -320,10 +325,10 @@ pub struct Tracker {
     own_time_s: f64,
 }
 
-/// `time_s` moved by whole periods to within half a period of `near_s`.
-fn nearest_turn(time_s: f64, near_s: f64, period_s: f64) -> f64 {
-    time_s + ((near_s - time_s) / period_s).round() * period_s
-}
+/// Bearings past north, degrees, under which a plot may be a target that ran ahead of the beam
+/// across north: the beam paints it at the revolution's end (docs/physics.md §9), a turn after
+/// its bearing's time.
+const NORTH_WRAP_DEG: f64 = 10.0;
 
 /// The closest point of approach of a target at relative position `p` moving at relative
 /// velocity `v`: (CPA m, TCPA s), `t* = −p·v/|v|²`, `CPA = |p + v·t*|`; with no relative
@@ -410,16 +415,21 @@ impl Tracker {
                 (when, self.models.predict(&t.state, when - t.time_s))
             })
             .collect();
-        // Gated costs, confirmed tracks first.
+        // Gated costs, confirmed tracks first. A plot just past north may have been painted at
+        // its bearing's time or at the revolution's end: each track takes the time that fits
+        // its prediction best.
+        let end_s = scan.start_time_s + scan.period_s;
         let mut taken = vec![false; measurements.len()];
-        let mut plot_of: Vec<Option<usize>> = vec![None; self.tracks.len()];
+        let mut plot_of: Vec<Option<(usize, Measurement)>> = vec![None; self.tracks.len()];
         for stage in [TrackStatus::Confirmed, TrackStatus::Tentative] {
             let rows: Vec<usize> = (0..self.tracks.len())
                 .filter(|&i| self.tracks[i].status == stage)
                 .collect();
             let cols: Vec<usize> = (0..measurements.len()).filter(|&j| !taken[j]).collect();
             let mut pairs: Vec<(usize, usize, f64)> = Vec::new();
+            let mut paired: Vec<Measurement> = Vec::new();
             for (ri, &i) in rows.iter().enumerate() {
+                let track = &self.tracks[i];
                 let predicted = predictions[i].1.combined();
                 for (ci, &j) in cols.iter().enumerate() {
                     let m = &measurements[j];
@@ -434,16 +444,36 @@ impl Tracker {
                     if dx * dx + dy * dy > reach {
                         continue;
                     }
-                    let d2 = predicted
-                        .innovation(m.position_m, &m.covariance)
-                        .distance2();
-                    if d2 <= s.gate {
-                        pairs.push((ri, ci, d2));
+                    let plot = &scan.plots[j];
+                    let wrapped = (plot.azimuth_deg.rem_euclid(360.0) < NORTH_WRAP_DEG)
+                        .then(|| scan.measurement_at(plot, s, end_s));
+                    let best = std::iter::once(*m)
+                        .chain(wrapped)
+                        .map(|candidate| {
+                            let at = self
+                                .models
+                                .predict(&track.state, (candidate.time_s - track.time_s).max(0.0))
+                                .combined();
+                            let d2 = at
+                                .innovation(candidate.position_m, &candidate.covariance)
+                                .distance2();
+                            (d2, candidate)
+                        })
+                        .min_by(|a, b| a.0.total_cmp(&b.0));
+                    if let Some((d2, candidate)) = best {
+                        if d2 <= s.gate {
+                            pairs.push((ri, ci, d2));
+                            paired.push(candidate);
+                        }
                     }
                 }
             }
             for (ri, ci) in associate(&pairs, rows.len(), cols.len(), s.gate / 2.0) {
-                plot_of[rows[ri]] = Some(cols[ci]);
+                let k = pairs
+                    .iter()
+                    .position(|&(r, c, _)| r == ri && c == ci)
+                    .expect("an assigned pair is a gated pair");
+                plot_of[rows[ri]] = Some((cols[ci], paired[k]));
                 taken[cols[ci]] = true;
             }
         }
@@ -453,12 +483,8 @@ impl Tracker {
             track.scans += 1;
             track.recent <<= 1;
             match plot_of[i] {
-                Some(j) => {
-                    let m = &measurements[j];
-                    // The plot's time taken within half a turn of the track's: a target that
-                    // runs ahead of the beam across north is painted a turn later than its
-                    // bearing's time in this revolution (and the other way round).
-                    let t = nearest_turn(m.time_s, *when, scan.period_s).max(track.time_s);
+                Some((_, m)) => {
+                    let t = m.time_s.max(track.time_s);
                     let at_plot = self.models.predict(&track.state, t - track.time_s);
                     track.state = self.models.update(&at_plot, m.position_m, &m.covariance);
                     track.time_s = t;
@@ -499,8 +525,17 @@ impl Tracker {
         });
         self.merge(&mut ended);
         let unassociated: Vec<usize> = (0..measurements.len()).filter(|&j| !taken[j]).collect();
+        let mut updated = updated;
         for &j in &unassociated {
             self.start_track(&measurements[j]);
+            // A track confirmed by its first plot (1-of-N) had a plot this scan.
+            if let Some(t) = self
+                .tracks
+                .last()
+                .filter(|t| t.status == TrackStatus::Confirmed)
+            {
+                updated.push(t.id);
+            }
         }
         self.own_time_s = scan.start_time_s;
         self.own_position_m = scan.antenna_at(scan.start_time_s);
@@ -517,7 +552,8 @@ impl Tracker {
         }
     }
 
-    /// Drops the younger of two confirmed tracks that stayed together for `merge_scans`.
+    /// Of two confirmed tracks that stayed together for `merge_scans`, drops the one with
+    /// fewer plots (the earlier one stays on a tie).
     fn merge(&mut self, ended: &mut Vec<(u32, TrackEnd)>) {
         let s = &self.settings;
         let n = self.tracks.len();
@@ -563,10 +599,13 @@ impl Tracker {
         // Greedily, in the order found: a pair whose track was already merged away this scan
         // is left for the next one, so every merge names a track that lives on.
         let mut gone = vec![false; n];
+        let mut kept = vec![false; n];
         let mut merged: Vec<(usize, u32)> = Vec::new();
         for (lose, keep) in drop {
-            if !gone[lose] && !gone[keep] {
+            // A track others were merged into stays, and one merged away takes no others.
+            if !gone[lose] && !gone[keep] && !kept[lose] {
                 gone[lose] = true;
+                kept[keep] = true;
                 merged.push((lose, self.tracks[keep].id));
             }
         }
@@ -778,15 +817,22 @@ mod tests {
         }
     }
 
-    /// A boat at 15 m/s eastward 1 km north crosses north ahead of the beam: plots are made
-    /// at the beam's crossing as the pipeline makes them (the revolution's end when the boat
-    /// runs ahead of the beam across north, so a plot at a bearing just past 0° can be a turn
-    /// later than its bearing's time: here at scan 7). One track holds it throughout at its
-    /// speed.
+    /// A boat at 15 m/s 1 km north crosses north, eastward ahead of the beam and westward
+    /// against it: plots are made at the beam's crossing as the pipeline makes them (the
+    /// revolution's end when the boat runs ahead of the beam across north, so a plot at a
+    /// bearing just past 0° can be a turn later than its bearing's time: eastward at scan 7).
+    /// One track holds it from the sixth scan on at its speed.
     #[test]
     fn a_target_crossing_north_keeps_one_track() {
-        let (period, v) = (2.5, 15.0);
-        let position = |t: f64| [-290.0 + v * t, 1000.0];
+        // Eastward (it runs ahead of the beam at scan 7) and westward (against the beam).
+        for (x0, v) in [(-290.0, 15.0), (290.0, -15.0)] {
+            crossing_north(x0, v);
+        }
+    }
+
+    fn crossing_north(x0: f64, v: f64) {
+        let period = 2.5;
+        let position = |t: f64| [x0 + v * t, 1000.0];
         let bearing = |t: f64| {
             let p = position(t);
             p[0].atan2(p[1]).to_degrees().rem_euclid(360.0)
@@ -819,11 +865,15 @@ mod tests {
                     "scan {k}"
                 );
             }
-            // Without the plot's time taken to the right turn the speed jumps to 16.0 m/s
+            // Eastward, with the plot timed by its bearing alone the speed jumps to 16.0 m/s
             // at the crossing (scan 7).
             if k >= 5 {
                 let speed = confirmed[0].speed_kn * MPS_PER_KNOT;
-                assert!((speed - v).abs() < 0.3, "scan {k}: {:?}", confirmed[0]);
+                assert!(
+                    (speed - v.abs()).abs() < 0.3,
+                    "v {v}, scan {k}: {:?}",
+                    confirmed[0]
+                );
             }
         }
     }

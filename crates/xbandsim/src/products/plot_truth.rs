@@ -38,12 +38,13 @@ fn record_box(p: &Plot, grid: &PowerGrid, frame: &Frame) -> PolarBox {
     let scale = record_spokes as f64 / grid.spokes as f64;
     let (first, last) = p.spokes;
     let covered = (last + grid.spokes - first) % grid.spokes + 1;
-    let (spoke_min, spoke_max) = if covered >= grid.spokes {
+    // Its last spoke counted on from its first (past the record's end when it wraps).
+    let lo = (first as f64 * scale).floor() as usize;
+    let hi = ((first + covered - 1) as f64 * scale).ceil() as usize;
+    let (spoke_min, spoke_max) = if hi - lo + 1 >= record_spokes {
         (0, record_spokes - 1)
     } else {
-        let lo = (first as f64 * scale).floor() as usize % record_spokes;
-        let hi = (last as f64 * scale).ceil() as usize % record_spokes;
-        (lo, hi)
+        (lo % record_spokes, hi % record_spokes)
     };
     let bin = |j: usize, edge: f64| {
         (((j as f64 + edge) * grid.cell_m / frame.range_bin_m).round() as usize)
@@ -174,8 +175,11 @@ mod tests {
             range_offset_cells: 0.5,
             power: Vec::new(),
         };
-        let ring = record_box(&plot_on((0, 2047)), &video, &frame);
-        assert_eq!((ring.spoke_min, ring.spoke_max), (0, 359));
+        // A whole ring, and rings but for a gap narrower than a record spoke.
+        for spokes in [(0, 2047), (0, 2045), (2, 0), (3, 1), (100, 95)] {
+            let ring = record_box(&plot_on(spokes), &video, &frame);
+            assert_eq!((ring.spoke_min, ring.spoke_max), (0, 359), "{spokes:?}");
+        }
         // Video spoke 1000 at 175.78°: record spokes 175 and 176; samples 10–12 span
         // 30–39 m, record bins 20–26.
         let one = record_box(&plot_on((1000, 1000)), &video, &frame);
