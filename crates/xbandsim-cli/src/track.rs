@@ -9,10 +9,10 @@ use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
 use xbandsim::engine::{Request, Simulation};
+use xbandsim::model::motion::KNOT_M_PER_S;
 use xbandsim::processing::plots::PlotScratch;
 use xbandsim::products::output::write_json;
 use xbandsim::receiver::video_chain::EchoHistory;
-use xbandsim_track::tracker::MPS_PER_KNOT;
 use xbandsim_track::{Scan, TrackEnd, TrackReport, TrackStatus, Tracker, TrackerSettings};
 
 /// Arguments of `xbandsim track`.
@@ -319,7 +319,7 @@ pub fn run(a: &TrackArgs) -> Result<()> {
         "merge_speed_mps": s.merge_speed_mps,
         "merge_scans": s.merge_scans,
         "truth_gate_m": a.truth_gate_m,
-        "knot_mps": MPS_PER_KNOT,
+        "knot_mps": KNOT_M_PER_S,
     });
     let output = Output {
         scene: a.scene.display().to_string(),

@@ -22,10 +22,8 @@ use crate::filter::{Estimate, Mat2, Motion};
 use crate::imm::{ImmModels, ImmState};
 use serde::Serialize;
 use xbandsim::error::{Error, Problem, Result};
+use xbandsim::model::motion::KNOT_M_PER_S;
 use xbandsim::processing::plots::Plot;
-
-/// Metres a second in a knot.
-pub const MPS_PER_KNOT: f64 = 1852.0 / 3600.0;
 
 /// The tracker's settings (docs/tracking.md lists each with its default and reason).
 #[derive(Debug, Clone, PartialEq)]
@@ -363,7 +361,7 @@ impl Tracker {
     }
 
     fn start_track(&mut self, m: &Measurement) {
-        let sv = self.settings.max_speed_kn * MPS_PER_KNOT / 2.0;
+        let sv = self.settings.max_speed_kn * KNOT_M_PER_S / 2.0;
         let r = m.covariance;
         let estimate = Estimate {
             x: [m.position_m[0], m.position_m[1], 0.0, 0.0],
@@ -621,7 +619,7 @@ impl Tracker {
         let v = [e.x[2], e.x[3]];
         let speed = v[0].hypot(v[1]);
         let course =
-            (speed >= 0.1 * MPS_PER_KNOT).then(|| v[0].atan2(v[1]).to_degrees().rem_euclid(360.0));
+            (speed >= 0.1 * KNOT_M_PER_S).then(|| v[0].atan2(v[1]).to_degrees().rem_euclid(360.0));
         // The own ship (its antenna) at the time of the track's estimate.
         let dt = t.time_s - self.own_time_s;
         let own_then = [
@@ -642,7 +640,7 @@ impl Tracker {
             position_m: [e.x[0], e.x[1]],
             velocity_mps: v,
             course_deg: course,
-            speed_kn: speed / MPS_PER_KNOT,
+            speed_kn: speed / KNOT_M_PER_S,
             cpa_m: cpa,
             tcpa_s: tcpa,
             model_probabilities: t.state.probabilities.clone(),
@@ -810,7 +808,7 @@ mod tests {
                 assert_eq!(*ids.get_or_insert(east), east, "scan {k}");
                 for t in &confirmed {
                     if k > 10 {
-                        assert!((t.speed_kn - 8.0 / MPS_PER_KNOT).abs() < 1.0, "{t:?}");
+                        assert!((t.speed_kn - 8.0 / KNOT_M_PER_S).abs() < 1.0, "{t:?}");
                     }
                 }
             }
@@ -868,7 +866,7 @@ mod tests {
             // Eastward, with the plot timed by its bearing alone the speed jumps to 16.0 m/s
             // at the crossing (scan 7).
             if k >= 5 {
-                let speed = confirmed[0].speed_kn * MPS_PER_KNOT;
+                let speed = confirmed[0].speed_kn * KNOT_M_PER_S;
                 assert!(
                     (speed - v.abs()).abs() < 0.3,
                     "v {v}, scan {k}: {:?}",

@@ -437,6 +437,23 @@ mod tests {
         sizes
     }
 
+    /// The plots of a mask of hits, each cell weighing alike (1 m cells).
+    fn group_mask(hit: &[bool], spokes: usize, cells: usize) -> Vec<Plot> {
+        let mut plots = Vec::new();
+        group_cells(
+            spokes,
+            cells,
+            1.0,
+            |j| j as f64,
+            |k, j| hit[k * cells + j],
+            |_, _| 1.0,
+            |_, _| 0.0,
+            &mut PlotScratch::default(),
+            &mut plots,
+        );
+        plots
+    }
+
     #[test]
     fn grouping_matches_a_brute_force_union_of_neighbours() {
         use rand::Rng;
@@ -447,18 +464,7 @@ mod tests {
             let hit: Vec<bool> = (0..spokes * cells)
                 .map(|_| rng.random::<f64>() < 0.35)
                 .collect();
-            let mut plots = Vec::new();
-            group_cells(
-                spokes,
-                cells,
-                1.0,
-                |j| j as f64,
-                |k, j| hit[k * cells + j],
-                |_, _| 1.0,
-                |_, _| 0.0,
-                &mut PlotScratch::default(),
-                &mut plots,
-            );
+            let plots = group_mask(&hit, spokes, cells);
             let mut sizes: Vec<usize> = plots.iter().map(|p| p.cells).collect();
             sizes.sort_unstable();
             assert_eq!(sizes, naive_group_sizes(&hit, spokes, cells), "seed {seed}");
@@ -511,18 +517,7 @@ mod tests {
             for &k in ks {
                 hit[k * cells + 2] = true;
             }
-            let mut plots = Vec::new();
-            group_cells(
-                spokes,
-                cells,
-                1.0,
-                |j| j as f64,
-                |k, j| hit[k * cells + j],
-                |_, _| 1.0,
-                |_, _| 0.0,
-                &mut PlotScratch::default(),
-                &mut plots,
-            );
+            let plots = group_mask(&hit, spokes, cells);
             assert_eq!(plots.len(), 1);
             (plots[0].spokes, plots[0].azimuth_extent_deg)
         };

@@ -69,10 +69,10 @@ fn boxes_overlap(a: &PolarBox, b: &PolarBox, spokes: usize) -> bool {
     if a.bin_max < b.bin_min || b.bin_max < a.bin_min {
         return false;
     }
-    let span = |x: &PolarBox| (x.spoke_max + spokes - x.spoke_min) % spokes;
     // a's first spoke inside b, or b's first inside a (circular intervals).
-    let starts_in =
-        |x: &PolarBox, y: &PolarBox| (x.spoke_min + spokes - y.spoke_min) % spokes <= span(y);
+    let starts_in = |x: &PolarBox, y: &PolarBox| {
+        (x.spoke_min + spokes - y.spoke_min) % spokes < y.spoke_count(spokes)
+    };
     starts_in(a, b) || starts_in(b, a)
 }
 
@@ -111,10 +111,7 @@ pub fn plot_sources(plots: &[Plot], grid: &PowerGrid, frame: &Frame) -> Vec<Plot
                 return PlotSource::Artefact { index };
             }
             if let Some(land) = &frame.land {
-                let spoke_count =
-                    (here.spoke_max + frame.spokes - here.spoke_min) % frame.spokes + 1;
-                let on_land = (0..spoke_count).any(|d| {
-                    let k = (here.spoke_min + d) % frame.spokes;
+                let on_land = here.spoke_indices(frame.spokes).any(|k| {
                     (here.bin_min..=here.bin_max.min(land.range_bins - 1)).any(|j| {
                         let cell = k * land.range_bins + j;
                         land.polygon[cell] >= 0 || land.structure[cell] >= 0
