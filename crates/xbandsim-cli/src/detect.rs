@@ -8,7 +8,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 use xbandsim::engine::{Request, Simulation};
 use xbandsim::processing::cfar::{Cfar, CfarKind};
-use xbandsim::processing::plots::{Plot, PlotExtractor, PlotScratch, PowerGrid, ScanCorrelator};
+use xbandsim::processing::plots::{
+    Plot, PlotExtractor, PlotScratch, PowerGrid, ScanCorrelator, SidelobeEditor,
+};
 use xbandsim::products::output::write_json;
 use xbandsim::products::plot_truth::{plot_sources, PlotSource};
 use xbandsim::receiver::video_chain::EchoHistory;
@@ -61,17 +63,57 @@ pub struct DetectorArgs {
     /// them, rounded up).
     #[arg(long, value_parser = crate::whole_number)]
     pub rank: Option<u64>,
-    /// Design false-alarm probability per cell, in exponential noise.
-    #[arg(long, default_value_t = 1e-6)]
+    /// Design false-alarm probability per cell, in exponential noise [default: 1e-6 for
+    /// detect, 1e-8 for track].
+    #[arg(long)]
+    pub pfa: Option<f64>,
+    /// Smallest plot kept, cells [default: 1 for detect, 3 for track].
+    #[arg(long, value_parser = crate::whole_number)]
+    pub min_cells: Option<u64>,
+    /// Sidelobe editing: a plot is removed as a stronger plot's echo through the antenna's
+    /// sidelobes when it overlaps it in range and its peak is at most this many dB over the
+    /// level the pattern gives at their bearing difference; "off" keeps every plot.
+    #[arg(long, default_value = "6", value_name = "DB|off")]
+    pub sidelobe_margin_db: String,
+}
+
+/// The defaults of the options that `detect` and `track` set differently: a tracker fed
+/// with a plot per cell of noise would start a track on each, so `track` asks for fewer false
+/// plots (docs/tracking.md, "Defaults").
+#[derive(Debug, Clone, Copy)]
+pub struct DetectorDefaults {
+    /// Design false-alarm probability per cell.
     pub pfa: f64,
     /// Smallest plot kept, cells.
-    #[arg(long, default_value_t = 1, value_parser = crate::whole_number)]
     pub min_cells: u64,
 }
 
+/// `xbandsim detect`'s defaults.
+pub const DETECT_DEFAULTS: DetectorDefaults = DetectorDefaults {
+    pfa: 1e-6,
+    min_cells: 1,
+};
+
+/// `xbandsim track`'s defaults.
+pub const TRACK_DEFAULTS: DetectorDefaults = DetectorDefaults {
+    pfa: 1e-8,
+    min_cells: 3,
+};
+
 impl DetectorArgs {
-    /// The extractor these options make, and whether it reads the video.
-    pub fn extractor(&self) -> Result<(PlotExtractor, bool)> {
+    /// The design false-alarm probability: the option's, or the command's default.
+    pub fn pfa(&self, defaults: DetectorDefaults) -> f64 {
+        self.pfa.unwrap_or(defaults.pfa)
+    }
+
+    /// The smallest plot kept: the option's, or the command's default.
+    pub fn min_cells(&self, defaults: DetectorDefaults) -> u64 {
+        self.min_cells.unwrap_or(defaults.min_cells)
+    }
+
+    /// The extractor these options make (with the command's `defaults`), and whether it reads
+    /// the video.
+    pub fn extractor(&self, defaults: DetectorDefaults) -> Result<(PlotExtractor, bool)> {
         let use_video = match self.input.as_str() {
             "record" => false,
             "video" => true,
@@ -79,11 +121,46 @@ impl DetectorArgs {
         };
         let training = self.training_cells as usize;
         let kind = cfar_kind(&self.cfar, self.rank, training)?;
-        let cfar = Cfar::new(kind, self.guard_cells as usize, training, self.pfa)?;
+        let cfar = Cfar::new(
+            kind,
+            self.guard_cells as usize,
+            training,
+            self.pfa(defaults),
+        )?;
+        self.sidelobe_margin()?;
         Ok((
-            PlotExtractor::new(cfar, self.min_cells as usize)?,
+            PlotExtractor::new(cfar, self.min_cells(defaults) as usize)?,
             use_video,
         ))
+    }
+
+    /// The sidelobe editor's margin, dB, or `None` when editing is off.
+    pub fn sidelobe_margin(&self) -> Result<Option<f64>> {
+        let text = self.sidelobe_margin_db.trim();
+        if text == "off" {
+            return Ok(None);
+        }
+        match text.parse::<f64>() {
+            Ok(db) if db.is_finite() && db >= 0.0 => Ok(Some(db)),
+            _ => bail!(
+                "invalid --sidelobe-margin-db {text:?}: must be a number of dB, 0 or more, or \"off\""
+            ),
+        }
+    }
+
+    /// `extractor` with the sidelobe editing of `scene`'s azimuth pattern, when it is on.
+    pub fn for_scene(
+        &self,
+        extractor: PlotExtractor,
+        scene: &xbandsim::Scene,
+    ) -> Result<PlotExtractor> {
+        Ok(match self.sidelobe_margin()? {
+            Some(db) => extractor.with_sidelobe_editing(SidelobeEditor::new(
+                &scene.radar().antenna().azimuth(),
+                db,
+            )?),
+            None => extractor,
+        })
     }
 
     /// Refuses video input for a scene without a `[receiver]` table.
@@ -119,6 +196,7 @@ struct Settings {
     pfa: f64,
     threshold_multiplier: f64,
     min_cells: usize,
+    sidelobe_margin_db: Option<f64>,
     scan: Option<String>,
     scan_gate_m: Option<f64>,
 }
@@ -211,7 +289,7 @@ pub fn run(a: &DetectArgs) -> Result<()> {
         bail!("invalid --frames 0: must be 1 or more");
     }
     let d = &a.detector;
-    let (extractor, use_video) = d.extractor()?;
+    let (extractor, use_video) = d.extractor(DETECT_DEFAULTS)?;
     let mut correlator = match &a.scan {
         Some(text) => {
             let (m, n) = scan_window(text)?;
@@ -222,6 +300,7 @@ pub fn run(a: &DetectArgs) -> Result<()> {
     let spec = crate::render::load_spec(&a.scene, &a.set)?;
     let scene = spec.build()?;
     d.check_scene(&scene)?;
+    let extractor = d.for_scene(extractor, &scene)?;
     let sim = Simulation::new(scene);
     let progress = crate::progress::bar(a.frames, "detect: frames");
     let echo_history = std::sync::Mutex::new(EchoHistory::default());
@@ -297,9 +376,10 @@ pub fn run(a: &DetectArgs) -> Result<()> {
             CfarKind::OrderedStatistic { rank } => Some(rank),
             _ => None,
         },
-        pfa: d.pfa,
+        pfa: d.pfa(DETECT_DEFAULTS),
         threshold_multiplier: extractor.cfar().alpha(),
-        min_cells: d.min_cells as usize,
+        min_cells: d.min_cells(DETECT_DEFAULTS) as usize,
+        sidelobe_margin_db: d.sidelobe_margin()?,
         scan: a.scan.clone(),
         scan_gate_m: a.scan.as_ref().map(|_| a.scan_gate_m),
     };

@@ -14,12 +14,23 @@
 //! probability holds for the square-law record's exponential noise; on video it is a setting,
 //! and the measured rate is what counts.
 //!
+//! Sidelobe editing ([`SidelobeEditor`], an option): a strong echo reaches the spokes off its
+//! bearing through the antenna's sidelobes at `Gn(Δaz)²` of its peak (docs/physics.md §3), and
+//! the CFAR detects it there as plots at the strong echo's range. A plot is removed as such an
+//! echo when a stronger plot overlaps it in range and its peak is no more than a margin over
+//! the stronger peak plus `20·log10` of the pattern's envelope at their bearing difference
+//! (the plot editing of Skolnik, *Radar Handbook*, 3rd ed., §7.4; the envelope is the
+//! pattern's largest value within half a first-null width on the same side beyond the first
+//! null, so that a plot between two of the pattern's nulls is judged by the sidelobe it sits
+//! on and never by the main lobe).
+//!
 //! `products::plot_truth` scores plots against a frame's truth.
 //!
 //! The CFAR pass allocates nothing per cell (each worker reuses its scratch); grouping is one
 //! flood fill over the detection mask.
 
 use super::cfar::Cfar;
+use crate::antenna::Pattern;
 use crate::error::{Error, Problem, Result};
 use crate::receiver::video_chain::Video;
 use rayon::prelude::*;
@@ -238,11 +249,13 @@ pub fn group_cells(
     }
 }
 
-/// A plot extractor: a CFAR detector along range and the smallest plot kept.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A plot extractor: a CFAR detector along range, the smallest plot kept and, as an option,
+/// sidelobe editing.
+#[derive(Debug, Clone, PartialEq)]
 pub struct PlotExtractor {
     cfar: Cfar,
     min_cells: usize,
+    sidelobes: Option<SidelobeEditor>,
 }
 
 impl PlotExtractor {
@@ -257,7 +270,24 @@ impl PlotExtractor {
                 "a plot has at least one cell",
             ));
         }
-        Ok(PlotExtractor { cfar, min_cells })
+        Ok(PlotExtractor {
+            cfar,
+            min_cells,
+            sidelobes: None,
+        })
+    }
+
+    /// The same extractor, removing the plots `editor` finds to be sidelobe echoes.
+    pub fn with_sidelobe_editing(self, editor: SidelobeEditor) -> PlotExtractor {
+        PlotExtractor {
+            sidelobes: Some(editor),
+            ..self
+        }
+    }
+
+    /// Its sidelobe editor, if it has one.
+    pub fn sidelobe_editor(&self) -> Option<&SidelobeEditor> {
+        self.sidelobes.as_ref()
     }
 
     /// Its detector.
@@ -297,7 +327,131 @@ impl PlotExtractor {
             &mut plots,
         );
         plots.retain(|p| p.cells >= self.min_cells);
+        if let Some(editor) = &self.sidelobes {
+            editor.edit(&mut plots);
+        }
         plots
+    }
+}
+
+/// Sidelobe editing: removes the plots that a stronger plot at their range explains as its
+/// echo through the antenna's azimuth sidelobes (the module's docs give the rule).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SidelobeEditor {
+    /// `20·log10` of the pattern's envelope, dB, every [`SIDELOBE_TABLE_STEP_DEG`] from −180°
+    /// to 180° off the axis.
+    envelope_db: Vec<f32>,
+    /// Bearing differences under this are inside the main lobe and never edited, degrees.
+    first_null_deg: f64,
+    margin_db: f64,
+}
+
+/// Step of the sidelobe editor's envelope table, degrees.
+pub const SIDELOBE_TABLE_STEP_DEG: f64 = 0.05;
+
+impl SidelobeEditor {
+    /// The editor of the one-way azimuth power pattern `pattern`, allowing a sidelobe echo
+    /// `margin_db` over its expected level (refused, naming `plots.sidelobe_margin_db`, when
+    /// it is not a finite number of dB at least 0).
+    pub fn new(pattern: &Pattern, margin_db: f64) -> Result<SidelobeEditor> {
+        if !(margin_db.is_finite() && margin_db >= 0.0) {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                "plots.sidelobe_margin_db",
+                margin_db,
+                "must be a finite number of dB, 0 or more",
+            ));
+        }
+        // Every step from −180° to 180°: a measured cut need not be symmetric.
+        let per_side = (180.0 / SIDELOBE_TABLE_STEP_DEG).round() as usize;
+        let n = 2 * per_side + 1;
+        let angle_deg = |i: usize| (i as f64 - per_side as f64) * SIDELOBE_TABLE_STEP_DEG;
+        let two_way_db: Vec<f64> = (0..n)
+            .map(|i| 20.0 * pattern.value(angle_deg(i).to_radians()).max(1e-30).log10())
+            .collect();
+        let first_null_deg = pattern.first_null_rad().to_degrees();
+        let half = ((first_null_deg / 2.0) / SIDELOBE_TABLE_STEP_DEG).ceil() as usize;
+        let null_steps = ((first_null_deg / SIDELOBE_TABLE_STEP_DEG).ceil() as usize).min(per_side);
+        // The window stays on its side of the main lobe: beyond the first null.
+        let envelope_db = (0..n)
+            .map(|i| {
+                let (mut lo, mut hi) = (i.saturating_sub(half), (i + half).min(n - 1));
+                if i >= per_side {
+                    lo = lo.max(per_side + null_steps);
+                } else {
+                    hi = hi.min(per_side - null_steps);
+                }
+                if lo > hi {
+                    return two_way_db[i] as f32;
+                }
+                two_way_db[lo..=hi].iter().copied().fold(f64::MIN, f64::max) as f32
+            })
+            .collect();
+        Ok(SidelobeEditor {
+            envelope_db,
+            first_null_deg,
+            margin_db,
+        })
+    }
+
+    /// The margin over the expected sidelobe level, dB.
+    pub fn margin_db(&self) -> f64 {
+        self.margin_db
+    }
+
+    /// The two-way envelope for a target `off_axis_deg` from the beam's axis (positive
+    /// clockwise, wrapped into (−180°, 180°]), dB.
+    pub fn envelope_db(&self, off_axis_deg: f64) -> f64 {
+        let off = off_axis_deg.rem_euclid(360.0);
+        let off = if off > 180.0 { off - 360.0 } else { off };
+        let per_side = (self.envelope_db.len() - 1) / 2;
+        let i = (off / SIDELOBE_TABLE_STEP_DEG).round() as i64 + per_side as i64;
+        f64::from(self.envelope_db[i.clamp(0, self.envelope_db.len() as i64 - 1) as usize])
+    }
+
+    /// Whether `weak` may be `strong`'s echo through the sidelobes: they overlap in range
+    /// (within a cell), `weak` lies beyond the main lobe's first null, and its peak is at most
+    /// the margin over `strong`'s peak plus the envelope at their bearing difference.
+    pub fn explains(&self, strong: &Plot, weak: &Plot) -> bool {
+        let overlap = weak.range_cells.0 <= strong.range_cells.1 + 1
+            && strong.range_cells.0 <= weak.range_cells.1 + 1;
+        if !overlap || weak.peak_db > strong.peak_db {
+            return false;
+        }
+        // The beam on `weak`'s bearing sees `strong` this far off its axis.
+        let off = (strong.azimuth_deg - weak.azimuth_deg).rem_euclid(360.0);
+        let off = if off > 180.0 { off - 360.0 } else { off };
+        off.abs() >= self.first_null_deg
+            && f64::from(weak.peak_db)
+                <= f64::from(strong.peak_db) + self.envelope_db(off) + self.margin_db
+    }
+
+    /// Removes from `plots` every plot a stronger kept plot explains; returns how many went.
+    /// The strongest are judged first, so a removed plot explains no others.
+    pub fn edit(&self, plots: &mut Vec<Plot>) -> usize {
+        let mut order: Vec<usize> = (0..plots.len()).collect();
+        order.sort_by(|&a, &b| {
+            plots[b]
+                .peak_db
+                .total_cmp(&plots[a].peak_db)
+                .then(a.cmp(&b))
+        });
+        let mut kept: Vec<usize> = Vec::new();
+        let mut removed = vec![false; plots.len()];
+        for &i in &order {
+            if kept.iter().any(|&k| self.explains(&plots[k], &plots[i])) {
+                removed[i] = true;
+            } else {
+                kept.push(i);
+            }
+        }
+        let before = plots.len();
+        let mut index = 0;
+        plots.retain(|_| {
+            index += 1;
+            !removed[index - 1]
+        });
+        before - plots.len()
     }
 }
 
@@ -618,6 +772,74 @@ mod tests {
         assert_eq!(
             field(ScanCorrelator::new(1, 2, f64::NAN)).as_deref(),
             Some("plots.scan_gate_m")
+        );
+    }
+
+    fn plot_in(azimuth_deg: f64, range_cells: (usize, usize), peak_db: f32) -> Plot {
+        Plot {
+            range_m: range_cells.0 as f64 * 10.0,
+            azimuth_deg,
+            range_extent_m: 10.0,
+            azimuth_extent_deg: 1.0,
+            cells: 4,
+            peak_db,
+            peak_cell: (0, range_cells.0),
+            spokes: (0, 0),
+            range_cells,
+        }
+    }
+
+    /// The envelope table against a brute-force maximum of the pattern over the window, and
+    /// the rule at its edges: a plot at the expected sidelobe level plus the margin goes, one
+    /// 0.1 dB over it stays, as do plots at another range or inside the main lobe.
+    #[test]
+    fn sidelobe_editing_removes_what_the_pattern_explains_and_nothing_else() {
+        let pattern = Pattern::sinc2(1.8_f64.to_radians());
+        let editor = SidelobeEditor::new(&pattern, 6.0).unwrap();
+        let null_deg = pattern.first_null_rad().to_degrees();
+        for off in [1.1 * null_deg, 3.0, 7.3, 12.0, 25.0, 90.0] {
+            // The window: half a first-null width either side, beyond the first null.
+            let brute = (-2000..=2000)
+                .map(|i| off + f64::from(i) * null_deg / 2.0 / 2000.0)
+                .filter(|&a| a >= null_deg)
+                .map(|a| 20.0 * pattern.value(a.to_radians()).max(1e-30).log10())
+                .fold(f64::MIN, f64::max);
+            let table = editor.envelope_db(off);
+            assert!(
+                (table - brute).abs() < 0.05,
+                "{off}°: {table} against {brute}"
+            );
+            assert_eq!(editor.envelope_db(-off), table);
+        }
+        let strong = plot_in(100.0, (50, 52), 70.0);
+        let off = 12.0;
+        let expected = 70.0 + editor.envelope_db(off) as f32 + 6.0;
+        let mut plots = vec![
+            strong,
+            plot_in(100.0 + off, (51, 51), expected - 0.01),
+            plot_in(100.0 - off, (52, 53), expected + 0.1),
+            plot_in(100.0 + off, (60, 61), 20.0),
+            plot_in(100.0 + 0.5 * null_deg, (51, 51), 20.0),
+        ];
+        assert!(
+            expected > 20.0,
+            "the test's far plots must be under the envelope"
+        );
+        assert_eq!(editor.edit(&mut plots), 1);
+        assert_eq!(plots.len(), 4);
+        assert!(plots.iter().all(|p| p.peak_db != expected - 0.01));
+        // Just past the first null the envelope is the first sidelobe's (sinc²: −26.5 dB
+        // two-way), not the main lobe's: two boats at one range 1.1 nulls apart and 10 dB
+        // apart are both kept.
+        let first_sidelobe = editor.envelope_db(1.1 * null_deg);
+        assert!((first_sidelobe + 26.5).abs() < 0.2, "{first_sidelobe}");
+        let mut boats = vec![strong, plot_in(100.0 + 1.1 * null_deg, (51, 51), 60.0)];
+        assert_eq!(editor.edit(&mut boats), 0);
+        assert_eq!(
+            SidelobeEditor::new(&pattern, -1.0)
+                .err()
+                .map(|e| e.to_string().contains("plots.sidelobe_margin_db")),
+            Some(true)
         );
     }
 }
