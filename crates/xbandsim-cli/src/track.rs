@@ -2,7 +2,7 @@
 //! with the ARPA-class tracker (`xbandsim_track`), each confirmed track scored against the
 //! truth.
 
-use crate::detect::{grid_of, DetectorArgs};
+use crate::detect::{grid_of, DetectorArgs, TRACK_DEFAULTS};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use serde::Serialize;
@@ -13,7 +13,10 @@ use xbandsim::model::motion::KNOT_M_PER_S;
 use xbandsim::processing::plots::PlotScratch;
 use xbandsim::products::output::write_json;
 use xbandsim::receiver::video_chain::EchoHistory;
-use xbandsim_track::{Scan, TrackEnd, TrackReport, TrackStatus, Tracker, TrackerSettings};
+use xbandsim_track::{
+    AccuracySample, AccuracyTally, RowResult, Scan, TrackEnd, TrackReport, TrackStatus, Tracker,
+    TrackerSettings,
+};
 
 /// Arguments of `xbandsim track`.
 #[derive(Args, Debug, Clone)]
@@ -49,6 +52,15 @@ pub struct TrackArgs {
     /// Turn rate of the IMM's coordinated-turn models, deg/s.
     #[arg(long, default_value_t = 2.0)]
     pub turn_rate_deg_s: f64,
+    /// Probability that a target gives a plot on a scan, as the track score assumes it.
+    #[arg(long, default_value_t = 0.8)]
+    pub detection_probability: f64,
+    /// Probability of confirming a track made of false plots (the track score's threshold).
+    #[arg(long, default_value_t = 1e-4)]
+    pub false_track_probability: f64,
+    /// Confirm tracks by M-of-N alone, without the track score.
+    #[arg(long)]
+    pub no_track_score: bool,
     /// Distance within which a confirmed track is scored against a truth object, m.
     #[arg(long, default_value_t = 100.0)]
     pub truth_gate_m: f64,
@@ -85,11 +97,26 @@ struct ObjectOut {
     track_id: Option<u32>,
 }
 
+/// A plot as the tracker measured it (what a peer tracker is fed).
+#[derive(Serialize)]
+struct MeasurementOut {
+    time_s: f64,
+    position_m: [f64; 2],
+    covariance_m2: [[f64; 2]; 2],
+    range_m: f64,
+    azimuth_deg: f64,
+    peak_db: f32,
+}
+
 #[derive(Serialize)]
 struct ScanOut {
     frame: u64,
     start_time_s: f64,
+    period_s: f64,
+    antenna_position_m: [f64; 3],
+    antenna_velocity_mps: [f64; 2],
     plots: usize,
+    measurements: Vec<MeasurementOut>,
     tracks: Vec<TrackOut>,
     ended: Vec<(u32, TrackEnd)>,
     objects: Vec<ObjectOut>,
@@ -104,6 +131,7 @@ struct Summary {
     false_track_scans: usize,
     track_switches: usize,
     mean_position_error_m: Option<f64>,
+    accuracy: Vec<RowResult>,
 }
 
 #[derive(Serialize)]
@@ -114,6 +142,10 @@ struct Output {
     summary: Summary,
     scans: Vec<ScanOut>,
 }
+
+/// A change of an object's velocity from one scan to the next over which it is manoeuvring,
+/// m/s (the IMO table is for targets that hold course and speed).
+const STEADY_VELOCITY_CHANGE_MPS: f64 = 0.05;
 
 /// The angle from `b` to `a`, degrees in (−180, 180].
 fn angle_difference_deg(a: f64, b: f64) -> f64 {
@@ -131,7 +163,7 @@ pub fn run(a: &TrackArgs) -> Result<()> {
     if a.frames == 0 {
         bail!("invalid --frames 0: must be 1 or more");
     }
-    let (extractor, use_video) = a.detector.extractor()?;
+    let (extractor, use_video) = a.detector.extractor(TRACK_DEFAULTS)?;
     let Some((m, n)) = a.initiation.split_once('/').and_then(|(m, n)| {
         Some((
             m.trim().parse::<usize>().ok()?,
@@ -157,23 +189,33 @@ pub fn run(a: &TrackArgs) -> Result<()> {
         sigma_range_m: a.sigma_range_m,
         sigma_bearing_deg: a.sigma_bearing_deg,
         turn_rate_deg_s: a.turn_rate_deg_s,
+        detection_probability: a.detection_probability,
+        false_track_probability: a.false_track_probability,
+        track_score: !a.no_track_score,
         ..TrackerSettings::default()
     };
     let mut tracker = Tracker::new(settings.clone())?;
     let spec = crate::render::load_spec(&a.scene, &a.set)?;
     let scene = spec.build()?;
     a.detector.check_scene(&scene)?;
+    let extractor = a.detector.for_scene(extractor, &scene)?;
     let sim = Simulation::new(scene);
     let radar = sim.scene().radar();
     let period_s = radar.scan().period_s();
     let progress = crate::progress::bar(a.frames, "track: scans");
     let echo_history = std::sync::Mutex::new(EchoHistory::default());
     let mut scratch = PlotScratch::default();
+    let mut tracker_s = 0.0;
     let mut scans = Vec::new();
     let mut last_track_of: std::collections::HashMap<u32, u32> = Default::default();
     let (mut switches, mut echoes, mut tracked, mut false_tracks) = (0, 0, 0, 0);
     let mut confirmed_ids = std::collections::BTreeSet::new();
     let (mut error_sum, mut error_count) = (0.0, 0usize);
+    // For the IMO accuracy table: when each track was first confirmed, and since when each
+    // object has held its course and speed (its velocity as of the last scan).
+    let mut confirmed_since: std::collections::HashMap<u32, f64> = Default::default();
+    let mut steady_since: std::collections::HashMap<u32, (f64, [f64; 2])> = Default::default();
+    let mut accuracy = AccuracyTally::new();
     for k in 0..a.frames {
         let frame = sim.run(&Request::new(a.seed).frame(k).echo_history(&echo_history))?;
         let plots = extractor.extract(&grid_of(&frame, use_video), &mut scratch);
@@ -181,13 +223,30 @@ pub fn run(a: &TrackArgs) -> Result<()> {
             Some(s) => (s.antenna_position_m, [s.velocity_mps.x, s.velocity_mps.y]),
             None => (radar.position_m(), [0.0, 0.0]),
         };
-        let report = tracker.step(&Scan {
+        let scan = Scan {
             start_time_s: frame.start_time_s,
             period_s,
             antenna_position_m: [antenna.x, antenna.y, antenna.z],
             antenna_velocity_mps: velocity,
             plots: &plots,
-        });
+        };
+        let t_step = Instant::now();
+        let report = tracker.step(&scan);
+        tracker_s += t_step.elapsed().as_secs_f64();
+        let measurements = plots
+            .iter()
+            .map(|p| {
+                let m = scan.measurement(p, tracker.settings());
+                MeasurementOut {
+                    time_s: m.time_s,
+                    position_m: m.position_m,
+                    covariance_m2: m.covariance,
+                    range_m: p.range_m,
+                    azimuth_deg: p.azimuth_deg,
+                    peak_db: p.peak_db,
+                }
+            })
+            .collect();
         // Confirmed tracks to truth objects, nearest pairs first, one to one.
         let confirmed: Vec<&TrackReport> = report
             .tracks
@@ -233,6 +292,42 @@ pub fn run(a: &TrackArgs) -> Result<()> {
                 }),
             })
             .collect();
+        for o in &frame.truth {
+            let v = [o.velocity_mps[0], o.velocity_mps[1]];
+            let entry = steady_since.entry(o.id).or_insert((o.beam_time_s, v));
+            if (v[0] - entry.1[0]).hypot(v[1] - entry.1[1]) > STEADY_VELOCITY_CHANGE_MPS {
+                entry.0 = o.beam_time_s;
+            }
+            entry.1 = v;
+        }
+        let own_at = |time_s: f64| scan.antenna_at(time_s);
+        for t in &tracks {
+            let since = *confirmed_since.entry(t.track.id).or_insert(t.track.time_s);
+            if let Some(m) = &t.truth {
+                let o = frame
+                    .truth
+                    .iter()
+                    .find(|o| o.id == m.object_id)
+                    .expect("a matched object is in the frame");
+                if steady_since[&o.id].0 <= since {
+                    let (own_track, own_true) = (own_at(t.track.time_s), own_at(o.beam_time_s));
+                    accuracy.add(&AccuracySample {
+                        minutes_tracked: (t.track.time_s - since) / 60.0,
+                        track_relative_position_m: [
+                            t.track.position_m[0] - own_track[0],
+                            t.track.position_m[1] - own_track[1],
+                        ],
+                        track_velocity_mps: t.track.velocity_mps,
+                        true_relative_position_m: [
+                            o.position_m[0] - own_true[0],
+                            o.position_m[1] - own_true[1],
+                        ],
+                        true_velocity_mps: [o.velocity_mps[0], o.velocity_mps[1]],
+                        own_velocity_mps: velocity,
+                    });
+                }
+            }
+        }
         for t in &tracks {
             confirmed_ids.insert(t.track.id);
             match &t.truth {
@@ -271,7 +366,11 @@ pub fn run(a: &TrackArgs) -> Result<()> {
         scans.push(ScanOut {
             frame: k,
             start_time_s: frame.start_time_s,
+            period_s,
+            antenna_position_m: [antenna.x, antenna.y, antenna.z],
+            antenna_velocity_mps: velocity,
             plots: plots.len(),
+            measurements,
             tracks,
             ended: report.ended,
             objects,
@@ -287,9 +386,10 @@ pub fn run(a: &TrackArgs) -> Result<()> {
         false_track_scans: false_tracks,
         track_switches: switches,
         mean_position_error_m: (error_count > 0).then(|| error_sum / error_count as f64),
+        accuracy: accuracy.results(),
     };
     crate::say!(
-        "track {}: {} scans, {} confirmed tracks; {} of {} object echoes in a track, {} track switches, {} false-track scans, mean position error {}, {:.2} s -> {}",
+        "track {}: {} scans, {} confirmed tracks; {} of {} object echoes in a track, {} track switches, {} false-track scans, mean position error {}, tracker {:.3} ms, {:.2} s -> {}",
         a.scene.display(),
         a.frames,
         summary.confirmed_tracks,
@@ -300,6 +400,7 @@ pub fn run(a: &TrackArgs) -> Result<()> {
         summary
             .mean_position_error_m
             .map_or("none".to_string(), |e| format!("{e:.1} m")),
+        tracker_s * 1e3,
         t0.elapsed().as_secs_f64(),
         a.out.display()
     );
@@ -318,6 +419,26 @@ pub fn run(a: &TrackArgs) -> Result<()> {
         "merge_distance_m": s.merge_distance_m,
         "merge_speed_mps": s.merge_speed_mps,
         "merge_scans": s.merge_scans,
+        "track_score": s.track_score,
+        "detection_probability": s.detection_probability,
+        "false_track_probability": s.false_track_probability,
+        "true_track_rejection_probability": s.true_track_rejection_probability,
+        "confirmation_score": s.confirmation_score(),
+        "deletion_score": s.deletion_score(),
+        "clutter_cell_m": s.clutter_cell_m,
+        "clutter_sector_deg": s.clutter_sector_deg,
+        "clutter_memory_scans": s.clutter_memory_scans,
+        "clutter_floor_per_km2": s.clutter_floor_per_km2,
+        "detector": {
+            "input": a.detector.input,
+            "cfar": a.detector.cfar,
+            "rank": a.detector.rank,
+            "guard_cells": a.detector.guard_cells,
+            "training_cells": a.detector.training_cells,
+            "pfa": a.detector.pfa(TRACK_DEFAULTS),
+            "min_cells": a.detector.min_cells(TRACK_DEFAULTS),
+            "sidelobe_margin_db": a.detector.sidelobe_margin()?,
+        },
         "truth_gate_m": a.truth_gate_m,
         "knot_mps": KNOT_M_PER_S,
     });

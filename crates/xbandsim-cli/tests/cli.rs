@@ -738,7 +738,7 @@ fn track_follows_vessels_and_refuses_bad_settings() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("tracks.json");
     let status = xbandsim()
-        .args(["track", "scenes/crossing.toml", "--frames", "16", "--out"])
+        .args(["track", "scenes/crossing.toml", "--frames", "40", "--out"])
         .arg(&out)
         .output()
         .unwrap();
@@ -749,7 +749,7 @@ fn track_follows_vessels_and_refuses_bad_settings() {
     );
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
-    let last = &v["scans"].as_array().unwrap()[15];
+    let last = &v["scans"].as_array().unwrap()[39];
     let track_of = |name: &str| {
         last["tracks"]
             .as_array()
@@ -771,6 +771,20 @@ fn track_follows_vessels_and_refuses_bad_settings() {
     assert!(ship["tcpa_s"].is_number() && ship["cpa_m"].is_number());
     let buoy = track_of("buoy");
     assert!(buoy["speed_kn"].as_f64().unwrap() < 1.0, "{buoy}");
+    // The IMO table's 1-minute row (MSC.192(79) §5.25.4.7.1) is met on the steady targets.
+    let one_minute = &v["summary"]["accuracy"][0];
+    for figure in ["relative_course_deg", "relative_speed_kn", "cpa_m"] {
+        assert!(
+            one_minute[figure]["samples"].as_u64().unwrap() >= 20
+                && one_minute[figure]["meets_standard"] == true,
+            "{figure}: {one_minute}"
+        );
+    }
+    // Every plot the tracker saw, as it measured it (what a peer tracker is fed).
+    assert_eq!(
+        last["measurements"].as_array().unwrap().len() as u64,
+        last["plots"].as_u64().unwrap()
+    );
     for (args, wanted) in [
         (vec!["--initiation", "5/4"], "tracker.initiation_hits"),
         (vec!["--initiation", "x"], "invalid --initiation \"x\""),
@@ -782,6 +796,22 @@ fn track_follows_vessels_and_refuses_bad_settings() {
         (vec!["--lost-after", "0"], "tracker.lost_after_misses"),
         (vec!["--truth-gate-m", "nan"], "invalid --truth-gate-m"),
         (vec!["--pfa", "2"], "cfar.pfa"),
+        (
+            vec!["--false-track-probability", "1"],
+            "tracker.false_track_probability",
+        ),
+        (
+            vec!["--false-track-probability", "0.99"],
+            "tracker.false_track_probability",
+        ),
+        (
+            vec!["--detection-probability", "0"],
+            "tracker.detection_probability",
+        ),
+        (
+            vec!["--sidelobe-margin-db", "-3"],
+            "invalid --sidelobe-margin-db \"-3\"",
+        ),
     ] {
         assert_refused_writing_nothing("track", &args, wanted);
     }

@@ -10,12 +10,29 @@
 //!    pairings ([`crate::assign`]), confirmed tracks first, then tentative ones;
 //! 5. **update** of associated tracks, coasting of the others;
 //! 6. **management**: a plot that no track takes starts a track, tentative (confirmed at once
-//!    under 1-of-N initiation); a tentative track
-//!    is confirmed when `M` of its first `N` scans had a plot, dropped as soon as it cannot be;
+//!    under 1-of-N initiation); a tentative track is confirmed when `M` of its first `N` scans
+//!    had a plot and its track score has reached the confirmation threshold, and dropped as
+//!    soon as it cannot meet M-of-N or its score falls to the deletion threshold;
 //!    a confirmed track is lost after `lost_after_misses` scans in a row without a plot; of
 //!    two confirmed tracks closer than `merge_distance_m` with velocities within
 //!    `merge_speed_mps` for `merge_scans` scans in a row, the one with fewer plots is dropped
 //!    (merged into the other).
+//!
+//! **Track score.** Each track carries the log-likelihood ratio of "a target" against "false
+//! plots" (Sittler's sequential test as Blackman & Popoli, *Design and Analysis of Modern
+//! Tracking Systems*, 1999, §6.2, give it): a scan with a plot adds
+//! `ln(P_D·N(ν; 0, S)/β)`, a scan without one `ln(1 − P_D)`, with `β` the density of false
+//! plots per m² where the plot lies. Wald's thresholds for a false-track probability `α` and
+//! a true-track rejection probability `β_T`: confirmation at `ln((1 − β_T)/α)`, deletion at
+//! `ln(β_T/(1 − α))`. In clean water `β` is small and M-of-N decides; in clutter a tentative
+//! track must earn its plots with innovations small against the local plot density.
+//!
+//! **Clutter map.** `β` comes from a polar map around the antenna (rings of
+//! `clutter_cell_m`, sectors of `clutter_sector_deg`): the plots no confirmed track took,
+//! counted per cell and averaged over the last `clutter_memory_scans` scans (an exponential
+//! mean), over the cell's area, never under `clutter_floor_per_km2`. A tentative track's own
+//! plots count there too, so a target alone in its cell may need a plot more than M-of-N
+//! before its score confirms it (docs/tracking.md, "Track score").
 
 use crate::assign::assign;
 use crate::filter::{Estimate, Mat2, Motion};
@@ -56,6 +73,22 @@ pub struct TrackerSettings {
     pub merge_speed_mps: f64,
     /// Scans in a row two tracks must be that close to merge.
     pub merge_scans: usize,
+    /// Probability that a target gives a plot on a scan (the track score's `P_D`).
+    pub detection_probability: f64,
+    /// Probability of confirming a track made of false plots (the score's `α`).
+    pub false_track_probability: f64,
+    /// Probability of deleting a target's tentative track (the score's `β_T`).
+    pub true_track_rejection_probability: f64,
+    /// Ring width of the clutter map, m.
+    pub clutter_cell_m: f64,
+    /// Sector width of the clutter map, degrees.
+    pub clutter_sector_deg: f64,
+    /// Scans the clutter map averages over.
+    pub clutter_memory_scans: usize,
+    /// Least density of false plots the map gives, per km² per scan.
+    pub clutter_floor_per_km2: f64,
+    /// Whether confirmation needs the track score too (off: M-of-N alone).
+    pub track_score: bool,
 }
 
 impl Default for TrackerSettings {
@@ -75,6 +108,14 @@ impl Default for TrackerSettings {
             merge_distance_m: 50.0,
             merge_speed_mps: 2.0,
             merge_scans: 3,
+            detection_probability: 0.8,
+            false_track_probability: 1e-4,
+            true_track_rejection_probability: 0.05,
+            clutter_cell_m: 200.0,
+            clutter_sector_deg: 30.0,
+            clutter_memory_scans: 10,
+            clutter_floor_per_km2: 0.01,
+            track_score: true,
         }
     }
 }
@@ -110,6 +151,50 @@ impl TrackerSettings {
         if self.merge_scans == 0 {
             return bad("merge_scans", "0".into(), "must be 1 or more scans");
         }
+        if self.clutter_memory_scans == 0 {
+            return bad(
+                "clutter_memory_scans",
+                "0".into(),
+                "must be 1 or more scans",
+            );
+        }
+        for (field, value) in [
+            ("detection_probability", self.detection_probability),
+            ("false_track_probability", self.false_track_probability),
+            (
+                "true_track_rejection_probability",
+                self.true_track_rejection_probability,
+            ),
+        ] {
+            if !(value > 0.0 && value < 1.0) {
+                return bad(
+                    field,
+                    value.to_string(),
+                    "must be a probability above 0 and below 1",
+                );
+            }
+        }
+        if self.false_track_probability + self.true_track_rejection_probability >= 1.0 {
+            return bad(
+                "false_track_probability",
+                self.false_track_probability.to_string(),
+                "must be under 1 − true_track_rejection_probability (the deletion threshold would lie over the confirmation one)",
+            );
+        }
+        if !(0.1..=360.0).contains(&self.clutter_sector_deg) {
+            return bad(
+                "clutter_sector_deg",
+                self.clutter_sector_deg.to_string(),
+                "must be between 0.1 and 360 degrees",
+            );
+        }
+        if !(self.clutter_cell_m >= 1.0 && self.clutter_cell_m.is_finite()) {
+            return bad(
+                "clutter_cell_m",
+                self.clutter_cell_m.to_string(),
+                "must be a finite distance of 1 m or more",
+            );
+        }
         for (field, value) in [
             ("gate", self.gate),
             ("sigma_range_m", self.sigma_range_m),
@@ -120,6 +205,9 @@ impl TrackerSettings {
             ("turn_rate_deg_s", self.turn_rate_deg_s),
             ("merge_distance_m", self.merge_distance_m),
             ("merge_speed_mps", self.merge_speed_mps),
+            ("clutter_cell_m", self.clutter_cell_m),
+            ("clutter_sector_deg", self.clutter_sector_deg),
+            ("clutter_floor_per_km2", self.clutter_floor_per_km2),
         ] {
             if !(value.is_finite() && value > 0.0) {
                 return bad(field, value.to_string(), "must be a positive finite number");
@@ -134,6 +222,16 @@ impl TrackerSettings {
             );
         }
         Ok(())
+    }
+
+    /// The track score at which a tentative track may be confirmed, `ln((1 − β_T)/α)`.
+    pub fn confirmation_score(&self) -> f64 {
+        ((1.0 - self.true_track_rejection_probability) / self.false_track_probability).ln()
+    }
+
+    /// The track score at which a tentative track is deleted, `ln(β_T/(1 − α))`.
+    pub fn deletion_score(&self) -> f64 {
+        (self.true_track_rejection_probability / (1.0 - self.false_track_probability)).ln()
     }
 
     /// The IMM's models: constant velocity, a turn to port and a turn to starboard.
@@ -252,6 +350,7 @@ pub struct Track {
     misses_in_row: usize,
     recent: u32,
     close_scans: Vec<(u32, usize)>,
+    score: f64,
 }
 
 /// What the tracker reports of a track after a scan.
@@ -286,6 +385,8 @@ pub struct TrackReport {
     pub scans: usize,
     /// Plots in its last 8 scans (its quality, 0–8).
     pub recent_hits: u32,
+    /// Its track score: the log-likelihood ratio of a target against false plots.
+    pub score: f64,
     /// Whether a plot went to it this scan.
     pub updated: bool,
 }
@@ -321,6 +422,75 @@ pub struct Tracker {
     own_velocity_mps: [f64; 2],
     own_position_m: [f64; 2],
     own_time_s: f64,
+    clutter: ClutterMap,
+}
+
+/// The density of false plots around the antenna: per ring and sector, the exponential mean
+/// over scans of the plots no confirmed track took, per m² (the module's docs).
+#[derive(Debug, Clone)]
+pub struct ClutterMap {
+    cell_m: f64,
+    sectors: usize,
+    memory_scans: usize,
+    floor_per_m2: f64,
+    scans: usize,
+    /// Per ring, per sector: plots per m² per scan.
+    density: Vec<Vec<f64>>,
+}
+
+impl ClutterMap {
+    /// An empty map of the settings' geometry.
+    pub fn new(settings: &TrackerSettings) -> ClutterMap {
+        ClutterMap {
+            cell_m: settings.clutter_cell_m,
+            sectors: (360.0 / settings.clutter_sector_deg).ceil().max(1.0) as usize,
+            memory_scans: settings.clutter_memory_scans,
+            floor_per_m2: settings.clutter_floor_per_km2 * 1e-6,
+            scans: 0,
+            density: Vec::new(),
+        }
+    }
+
+    fn cell(&self, range_m: f64, bearing_deg: f64) -> (usize, usize) {
+        let ring = (range_m.max(0.0) / self.cell_m) as usize;
+        let sector = ((bearing_deg.rem_euclid(360.0) / 360.0 * self.sectors as f64) as usize)
+            .min(self.sectors - 1);
+        (ring, sector)
+    }
+
+    /// The density of false plots at `range_m` and `bearing_deg` from the antenna, per m².
+    pub fn density_per_m2(&self, range_m: f64, bearing_deg: f64) -> f64 {
+        let (ring, sector) = self.cell(range_m, bearing_deg);
+        self.density
+            .get(ring)
+            .map_or(0.0, |r| r[sector])
+            .max(self.floor_per_m2)
+    }
+
+    /// Adds a scan's false-plot candidates, each at (range m, bearing degrees).
+    pub fn add_scan(&mut self, plots: impl Iterator<Item = (f64, f64)>) {
+        let mut counts: Vec<Vec<f64>> = vec![vec![0.0; self.sectors]; self.density.len()];
+        for (range_m, bearing_deg) in plots {
+            let (ring, sector) = self.cell(range_m, bearing_deg);
+            if ring >= counts.len() {
+                counts.resize(ring + 1, vec![0.0; self.sectors]);
+            }
+            counts[ring][sector] += 1.0;
+        }
+        if self.density.len() < counts.len() {
+            self.density.resize(counts.len(), vec![0.0; self.sectors]);
+        }
+        self.scans += 1;
+        let weight = 1.0 / self.scans.min(self.memory_scans) as f64;
+        let sector_rad = std::f64::consts::TAU / self.sectors as f64;
+        for (ring, (row, count)) in self.density.iter_mut().zip(&counts).enumerate() {
+            let (inner, outer) = (ring as f64 * self.cell_m, (ring + 1) as f64 * self.cell_m);
+            let area_m2 = 0.5 * sector_rad * (outer * outer - inner * inner);
+            for (d, c) in row.iter_mut().zip(count) {
+                *d += (c / area_m2 - *d) * weight;
+            }
+        }
+    }
 }
 
 /// Bearings past north, degrees, under which a plot may be a target that ran ahead of the beam
@@ -346,12 +516,13 @@ impl Tracker {
         settings.validate()?;
         Ok(Tracker {
             models: settings.models(),
-            settings,
             tracks: Vec::new(),
             next_id: 0,
             own_velocity_mps: [0.0; 2],
             own_position_m: [0.0; 2],
             own_time_s: 0.0,
+            clutter: ClutterMap::new(&settings),
+            settings,
         })
     }
 
@@ -392,6 +563,7 @@ impl Tracker {
             misses_in_row: 0,
             recent: 1,
             close_scans: Vec::new(),
+            score: 0.0,
         });
         self.next_id += 1;
     }
@@ -418,14 +590,14 @@ impl Tracker {
         // its prediction best.
         let end_s = scan.start_time_s + scan.period_s;
         let mut taken = vec![false; measurements.len()];
-        let mut plot_of: Vec<Option<(usize, Measurement)>> = vec![None; self.tracks.len()];
+        let mut plot_of: Vec<Option<(usize, Measurement, f64)>> = vec![None; self.tracks.len()];
         for stage in [TrackStatus::Confirmed, TrackStatus::Tentative] {
             let rows: Vec<usize> = (0..self.tracks.len())
                 .filter(|&i| self.tracks[i].status == stage)
                 .collect();
             let cols: Vec<usize> = (0..measurements.len()).filter(|&j| !taken[j]).collect();
             let mut pairs: Vec<(usize, usize, f64)> = Vec::new();
-            let mut paired: Vec<Measurement> = Vec::new();
+            let mut paired: Vec<(Measurement, f64)> = Vec::new();
             for (ri, &i) in rows.iter().enumerate() {
                 let track = &self.tracks[i];
                 let predicted = predictions[i].1.combined();
@@ -452,16 +624,15 @@ impl Tracker {
                                 .models
                                 .predict(&track.state, (candidate.time_s - track.time_s).max(0.0))
                                 .combined();
-                            let d2 = at
-                                .innovation(candidate.position_m, &candidate.covariance)
-                                .distance2();
-                            (d2, candidate)
+                            let innovation =
+                                at.innovation(candidate.position_m, &candidate.covariance);
+                            (innovation.distance2(), innovation.likelihood(), candidate)
                         })
                         .min_by(|a, b| a.0.total_cmp(&b.0));
-                    if let Some((d2, candidate)) = best {
+                    if let Some((d2, likelihood, candidate)) = best {
                         if d2 <= s.gate {
                             pairs.push((ri, ci, d2));
-                            paired.push(candidate);
+                            paired.push((candidate, likelihood));
                         }
                     }
                 }
@@ -471,7 +642,7 @@ impl Tracker {
                     .iter()
                     .position(|&(r, c, _)| r == ri && c == ci)
                     .expect("an assigned pair is a gated pair");
-                plot_of[rows[ri]] = Some((cols[ci], paired[k]));
+                plot_of[rows[ri]] = Some((cols[ci], paired[k].0, paired[k].1));
                 taken[cols[ci]] = true;
             }
         }
@@ -481,7 +652,12 @@ impl Tracker {
             track.scans += 1;
             track.recent <<= 1;
             match plot_of[i] {
-                Some((_, m)) => {
+                Some((j, m, likelihood)) => {
+                    let plot = &scan.plots[j];
+                    let beta = self.clutter.density_per_m2(plot.range_m, plot.azimuth_deg);
+                    track.score += (s.detection_probability * likelihood / beta)
+                        .max(f64::MIN_POSITIVE)
+                        .ln();
                     let t = m.time_s.max(track.time_s);
                     let at_plot = self.models.predict(&track.state, t - track.time_s);
                     track.state = self.models.update(&at_plot, m.position_m, &m.covariance);
@@ -491,6 +667,7 @@ impl Tracker {
                     track.recent |= 1;
                 }
                 None => {
+                    track.score += (1.0 - s.detection_probability).ln();
                     track.state = self.models.coast(prediction);
                     track.time_s = *when;
                     track.misses_in_row += 1;
@@ -501,17 +678,38 @@ impl Tracker {
             .filter(|&i| plot_of[i].is_some())
             .map(|i| self.tracks[i].id)
             .collect();
+        // The clutter map learns from the plots no confirmed track took.
+        let mut confirmed_plot = vec![false; measurements.len()];
+        for (t, p) in self.tracks.iter().zip(&plot_of) {
+            if let (TrackStatus::Confirmed, Some((j, ..))) = (t.status, p) {
+                confirmed_plot[*j] = true;
+            }
+        }
+        self.clutter.add_scan(
+            scan.plots
+                .iter()
+                .zip(&confirmed_plot)
+                .filter(|(_, c)| !**c)
+                .map(|(p, _)| (p.range_m, p.azimuth_deg)),
+        );
         // Management.
         let mut ended = Vec::new();
         let (m_hits, n_scans) = (s.initiation_hits, s.initiation_scans);
         let lost_after = s.lost_after_misses;
+        let (confirm_at, delete_at) = (s.confirmation_score(), s.deletion_score());
         for t in &mut self.tracks {
-            if t.status == TrackStatus::Tentative && t.hits >= m_hits {
+            if t.status == TrackStatus::Tentative
+                && t.hits >= m_hits
+                && (!s.track_score || t.score >= confirm_at)
+            {
                 t.status = TrackStatus::Confirmed;
             }
         }
         self.tracks.retain(|t| match t.status {
-            TrackStatus::Tentative => t.scans - t.hits <= n_scans - m_hits,
+            TrackStatus::Tentative => {
+                (t.hits >= m_hits || t.scans - t.hits <= n_scans - m_hits)
+                    && (!s.track_score || t.score > delete_at)
+            }
             TrackStatus::Confirmed => {
                 if t.misses_in_row >= lost_after {
                     ended.push((t.id, TrackEnd::Lost));
@@ -648,6 +846,7 @@ impl Tracker {
             hits: t.hits,
             scans: t.scans,
             recent_hits: (t.recent & 0xff).count_ones(),
+            score: t.score,
             updated,
         }
     }
@@ -710,7 +909,7 @@ fn associate(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use rand::Rng;
+    use rand::{Rng, SeedableRng};
 
     /// A plot at (east, north) from an antenna at the origin (height 0).
     fn plot_at(east: f64, north: f64) -> Plot {
@@ -754,7 +953,12 @@ mod tests {
 
     #[test]
     fn tracks_are_confirmed_m_of_n_and_lost_after_misses() {
-        let mut tracker = Tracker::new(TrackerSettings::default()).unwrap();
+        // Without the track score: M-of-N decides.
+        let m_of_n = || TrackerSettings {
+            track_score: false,
+            ..TrackerSettings::default()
+        };
+        let mut tracker = Tracker::new(m_of_n()).unwrap();
         // A still target at 2 km north-east: confirmed on its 3rd plot (3 of 4).
         let target = [plot_at(1414.0, 1414.0)];
         for k in 0..2 {
@@ -763,7 +967,12 @@ mod tests {
         }
         let r = tracker.step(&scan(2, &target));
         assert_eq!(r.tracks.len(), 1);
-        assert_eq!(r.tracks[0].status, TrackStatus::Confirmed);
+        assert_eq!(
+            r.tracks[0].status,
+            TrackStatus::Confirmed,
+            "{:?}",
+            r.tracks[0]
+        );
         assert!(r.tracks[0].speed_kn < 1.0, "{:?}", r.tracks[0]);
         // Kept through 5 scans without a plot (IMO MSC.192(79) §5.25.4.3: a target seen on 5
         // of 10 scans stays tracked), lost after the 6th, and said so.
@@ -775,10 +984,99 @@ mod tests {
         assert!(r.tracks.is_empty());
         assert_eq!(r.ended, vec![(0, TrackEnd::Lost)]);
         // A lone plot followed by two misses is dropped as soon as 3 of 4 is out of reach.
-        let mut tracker = Tracker::new(TrackerSettings::default()).unwrap();
+        let mut tracker = Tracker::new(m_of_n()).unwrap();
         tracker.step(&scan(0, &target));
         assert_eq!(tracker.step(&scan(1, &[])).tracks.len(), 1);
         assert!(tracker.step(&scan(2, &[])).tracks.is_empty());
+    }
+
+    /// The clutter map against a known density: 400 plots a scan uniform over the ring
+    /// 200–400 m give `400/(π·(400² − 200²))` per m² in each of its cells, within the
+    /// binomial spread of a cell's count over ten scans (4σ).
+    #[test]
+    fn the_clutter_map_measures_a_known_plot_density() {
+        let mut map = ClutterMap::new(&TrackerSettings::default());
+        let mut rng = rand::rngs::StdRng::seed_from_u64(3);
+        for _ in 0..10 {
+            let plots: Vec<(f64, f64)> = (0..400)
+                .map(|_| {
+                    // Uniform over the annulus: r² uniform.
+                    let r2: f64 = rng.random_range(200.0_f64.powi(2)..400.0_f64.powi(2));
+                    (r2.sqrt(), rng.random_range(0.0..360.0))
+                })
+                .collect();
+            map.add_scan(plots.into_iter());
+        }
+        let expected = 400.0 / (std::f64::consts::PI * (400.0_f64.powi(2) - 200.0_f64.powi(2)));
+        // A 30° cell holds 1/12 of the plots: 33.3 a scan, 333 over the ten.
+        let sigma = expected * (1.0 / 333.3_f64).sqrt();
+        for bearing in (0..12).map(|k| 15.0 + 30.0 * f64::from(k)) {
+            let d = map.density_per_m2(300.0, bearing);
+            assert!(
+                (d - expected).abs() < 4.0 * sigma,
+                "{bearing}°: {d:e} against {expected:e}"
+            );
+        }
+        // Where no plot fell, the floor (0.01 per km²).
+        assert!((map.density_per_m2(900.0, 10.0) - 1e-8).abs() < 1e-20);
+    }
+
+    /// A target moving through dense clutter (60 false plots a scan in a 1 km × 60° sector):
+    /// the track score confirms its track and far fewer clutter tracks than M-of-N alone.
+    #[test]
+    fn the_track_score_rejects_clutter_tracks_that_m_of_n_confirms() {
+        let run = |track_score: bool| {
+            let mut tracker = Tracker::new(TrackerSettings {
+                track_score,
+                ..TrackerSettings::default()
+            })
+            .unwrap();
+            let mut rng = rand::rngs::StdRng::seed_from_u64(11);
+            let (mut false_confirmed, mut target_confirmed_at) = (0usize, None);
+            let mut seen = std::collections::BTreeSet::new();
+            for k in 0..20 {
+                let t = 2.5 * k as f64;
+                let mut plots: Vec<Plot> = (0..60)
+                    .map(|_| {
+                        let r: f64 = rng.random_range(300.0..1300.0);
+                        let a: f64 = rng.random_range(0.0_f64..60.0).to_radians();
+                        plot_at(r * a.sin(), r * a.cos())
+                    })
+                    .collect();
+                // The target: east at 5 m/s from (300, 800), 2 m of noise.
+                let e: f64 = rng.random_range(-2.0..2.0);
+                let n: f64 = rng.random_range(-2.0..2.0);
+                plots.push(plot_at(300.0 + 5.0 * t + e, 800.0 + n));
+                let r = tracker.step(&scan(k, &plots));
+                for tr in r
+                    .tracks
+                    .iter()
+                    .filter(|t| t.status == TrackStatus::Confirmed)
+                {
+                    let truth = [300.0 + 5.0 * tr.time_s, 800.0];
+                    let on_target =
+                        (tr.position_m[0] - truth[0]).hypot(tr.position_m[1] - truth[1]) < 30.0;
+                    if on_target {
+                        target_confirmed_at.get_or_insert(k);
+                    } else if seen.insert(tr.id) {
+                        false_confirmed += 1;
+                    }
+                }
+            }
+            (false_confirmed, target_confirmed_at)
+        };
+        let (with_score, target_at) = run(true);
+        let (m_of_n_only, _) = run(false);
+        println!("false tracks: {with_score} with the score, {m_of_n_only} by M-of-N alone; target confirmed at scan {target_at:?}");
+        // Scans count from 0: by the sixth.
+        assert!(
+            target_at.is_some_and(|k| k <= 5),
+            "target confirmed at {target_at:?}"
+        );
+        assert!(
+            with_score * 5 <= m_of_n_only && m_of_n_only >= 5,
+            "{with_score} false tracks with the score, {m_of_n_only} without"
+        );
     }
 
     #[test]
@@ -1065,6 +1363,27 @@ mod tests {
                 ..d()
             }),
             "tracker.lost_after_misses"
+        );
+        assert_eq!(
+            field(TrackerSettings {
+                false_track_probability: 0.99,
+                ..d()
+            }),
+            "tracker.false_track_probability"
+        );
+        assert_eq!(
+            field(TrackerSettings {
+                clutter_sector_deg: 1e-9,
+                ..d()
+            }),
+            "tracker.clutter_sector_deg"
+        );
+        assert_eq!(
+            field(TrackerSettings {
+                clutter_cell_m: 0.5,
+                ..d()
+            }),
+            "tracker.clutter_cell_m"
         );
     }
 }
