@@ -29,8 +29,10 @@ target/release/xbandsim dataset schema > target/dataset-spec.schema.json
 "$venv/bin/python" scripts/check_schema.py target/dataset-spec.schema.json datasets/*.toml
 
 echo "== the baseline tracker scored with py-motmetrics and TrackEval (scripts/score_tracks.py)"
-target/release/xbandsim track scenes/crossing.toml --frames 40 --pfa 1e-8 --min-cells 3 --out target/check-tracks.json
+target/release/xbandsim track scenes/crossing.toml --frames 40 --out target/check-tracks.json
 "$venv/bin/python" scripts/score_tracks.py target/check-tracks.json
+echo "== the same plots tracked by a Stone Soup peer, scored side by side (scripts/peer_stonesoup.py)"
+"$venv/bin/python" scripts/peer_stonesoup.py --xbandsim target/release/xbandsim --check scenes/crossing.toml
 
 echo "== the Python package (pip install ./crates/xbandsim-py, then pytest)"
 # Optional extras with wheels for fewer platforms and Pythons than the rest: Ray (for
