@@ -479,6 +479,9 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     // 6. A coastal scene of 10^5 and 10^6 triangles: the harbour with 10 or 92 moored
     //    10.8 k-triangle vessels; BVH build, a still revolution and one with a ship under way.
     coastal_rows(a.repeats.min(3), &mut put)?;
+    // 7. Plots and tracks: extraction and tracking of a 2048-spoke revolution with 50 moving
+    //    targets in sea clutter, against the revolution's render (target: under 10 %).
+    tracking_rows(&mut put)?;
     if let Some(mb) = peak_rss_mb() {
         put("peak resident memory (whole bench process)", mb, "MB");
     }
@@ -917,4 +920,113 @@ fn tempfile_dir() -> std::path::PathBuf {
         std::process::id(),
         NEXT.fetch_add(1, Ordering::Relaxed)
     ))
+}
+
+/// The tracking rows' scene: a 2048-spoke revolution out to 3 km at sea state 3, with 50
+/// boats and ships on a ring of courses between 500 m and 2.8 km.
+fn tracking_scene() -> Result<Scene> {
+    let mut text = String::from(
+        "[radar]\npreset = \"drs4d-nxt\"\nspokes = 2048\nmax_range_m = 3000.0\n\
+         rotation_rpm = 24.0\n\n[environment]\nsea_state = 3\nwind_direction_deg = 45.0\n",
+    );
+    for i in 0..TRACKING_TARGETS {
+        let bearing = (i as f64 * 137.5_f64).to_radians();
+        let range = 500.0 + 2300.0 * ((i * 7) % TRACKING_TARGETS) as f64 / TRACKING_TARGETS as f64;
+        let (x, y) = (range * bearing.sin(), range * bearing.cos());
+        let course = (i * 53 % 360) as f64;
+        let speed = 4.0 + (i % 5) as f64 * 3.0;
+        text.push_str(&format!(
+            "\n[[object]]\nname = \"target-{i}\"\nclass = \"boat\"\nshape = \"box\"\n\
+             size_m = [4.0, 12.0, 3.0]\nposition_m = [{x:.1}, {y:.1}, 1.5]\n\
+             speed_kn = {speed}\ncourse_deg = {course}\n"
+        ));
+    }
+    Ok(LoadedSpec::from_toml(&text, "tracking (built in)", Path::new("."))?.build()?)
+}
+
+/// Targets of the tracking rows' scene.
+const TRACKING_TARGETS: usize = 50;
+
+/// Revolutions the tracking rows render and track (the tracker holds its tracks by the
+/// fourth).
+const TRACKING_SCANS: u64 = 8;
+
+/// Tracking rows: a revolution's render, its plot extraction (the `xbandsim track`
+/// extractor: CA-CFAR at 10⁻⁸, plots of 3 cells or more, sidelobe editing) and the tracker's
+/// step on its plots, each the median over the scans after the third, and their share.
+fn tracking_rows(put: &mut dyn FnMut(&str, f64, &str)) -> Result<()> {
+    use xbandsim::processing::cfar::{Cfar, CfarKind};
+    use xbandsim::processing::plots::{PlotExtractor, PlotScratch, SidelobeEditor};
+    use xbandsim_track::{Scan, Tracker, TrackerSettings};
+    let scene = tracking_scene()?;
+    let editor = SidelobeEditor::new(&scene.radar().antenna().azimuth(), 6.0)?;
+    let extractor = PlotExtractor::new(Cfar::new(CfarKind::CellAveraging, 4, 16, 1e-8)?, 3)?
+        .with_sidelobe_editing(editor);
+    let sim = Simulation::new(scene);
+    let radar = sim.scene().radar();
+    let (period_s, antenna) = (radar.scan().period_s(), radar.position_m());
+    let mut tracker = Tracker::new(TrackerSettings::default())?;
+    let mut scratch = PlotScratch::default();
+    let (mut render, mut extract, mut track) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut plots_seen, mut confirmed) = (0usize, 0usize);
+    for k in 0..TRACKING_SCANS {
+        let t0 = Instant::now();
+        let frame = sim.run(&Request::new(0).frame(k))?;
+        let t1 = Instant::now();
+        let plots = extractor.extract(&crate::detect::grid_of(&frame, false), &mut scratch);
+        let t2 = Instant::now();
+        let report = tracker.step(&Scan {
+            start_time_s: frame.start_time_s,
+            period_s,
+            antenna_position_m: [antenna.x, antenna.y, antenna.z],
+            antenna_velocity_mps: [0.0, 0.0],
+            plots: &plots,
+        });
+        let t3 = Instant::now();
+        if k >= 3 {
+            render.push((t1 - t0).as_secs_f64());
+            extract.push((t2 - t1).as_secs_f64());
+            track.push((t3 - t2).as_secs_f64());
+            plots_seen += plots.len();
+            confirmed = report
+                .tracks
+                .iter()
+                .filter(|t| t.status == xbandsim_track::TrackStatus::Confirmed)
+                .count();
+        }
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let (render_s, extract_s, track_s) = (
+        median(&mut render),
+        median(&mut extract),
+        median(&mut track),
+    );
+    let scans = (TRACKING_SCANS - 3) as f64;
+    put(
+        &format!("revolution, 2048 spokes, {TRACKING_TARGETS} moving boats, sea state 3"),
+        render_s * 1e3,
+        "ms",
+    );
+    put(
+        &format!(
+            "plot extraction of it ({:.0} plots a scan)",
+            plots_seen as f64 / scans
+        ),
+        extract_s * 1e3,
+        "ms",
+    );
+    put(
+        &format!("tracking its plots ({confirmed} confirmed tracks)"),
+        track_s * 1e3,
+        "ms",
+    );
+    put(
+        "plot extraction + tracking, share of the revolution's render",
+        100.0 * (extract_s + track_s) / render_s,
+        "%",
+    );
+    Ok(())
 }

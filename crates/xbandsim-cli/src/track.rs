@@ -64,9 +64,83 @@ pub struct TrackArgs {
     /// Distance within which a confirmed track is scored against a truth object, m.
     #[arg(long, default_value_t = 100.0)]
     pub truth_gate_m: f64,
+    /// Also draw the last revolution's PPI with every confirmed track on it (its history,
+    /// its one-minute true vector and its number): a PNG.
+    #[arg(long, value_name = "FILE.png")]
+    pub ppi: Option<PathBuf>,
     /// Override any scene field: FIELD=VALUE (repeatable), as for render.
     #[arg(long, value_name = "FIELD=VALUE")]
     pub set: Vec<String>,
+}
+
+/// Minutes of a track's true vector on the tracked PPI (ARPA's vector time).
+const VECTOR_MINUTES: f64 = 1.0;
+
+/// The last revolution's colour PPI (`display` of the scene) with each confirmed track drawn
+/// over it: its past positions (`history`, ENU, drawn from where the antenna was at the
+/// revolution's start, `antenna_m`), a circle where it is (`tracks`: id, position from the
+/// antenna at the track's time, velocity), its true vector over [`VECTOR_MINUTES`] and its
+/// number. Returns (side px, RGB).
+fn tracked_ppi(
+    display: &xbandsim::products::ppi::PpiSettings,
+    radar: &xbandsim::model::radar::Radar,
+    frame: &xbandsim::Frame,
+    antenna_m: [f64; 2],
+    tracks: &[(u32, [f64; 2], [f64; 2])],
+    history: &std::collections::HashMap<u32, Vec<[f64; 2]>>,
+) -> Result<(u32, Vec<u8>)> {
+    use plotters::prelude::*;
+    use xbandsim::products::ppi::colour_image;
+    let conv = display.frame_scan_converter(radar, frame.own_ship.as_ref());
+    let geometry = conv.geometry();
+    let size = conv.size_px();
+    let mut ppi = vec![0f32; (size * size) as usize];
+    conv.convert(&frame.polar_db, f32::NAN, &mut ppi);
+    let mut rgb = colour_image(
+        &conv,
+        &ppi,
+        display.colormap,
+        display.min_db,
+        display.max_db,
+        display.range_ring_spacing_m,
+    );
+    crate::figures::register_fonts()?;
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (size, size)).into_drawing_area();
+        let err = |e| anyhow::anyhow!("drawing the tracked PPI failed: {e:?}");
+        let rel_px = |p: [f64; 2]| {
+            let (x, y) = geometry.pixel_of(p[0], p[1]);
+            (x.round() as i32, y.round() as i32)
+        };
+        let track_colour = RGBColor(255, 220, 0);
+        for &(id, position, velocity) in tracks {
+            for &p in history.get(&id).into_iter().flatten() {
+                let dot = rel_px([p[0] - antenna_m[0], p[1] - antenna_m[1]]);
+                root.draw(&Circle::new(dot, 1, WHITE.filled()))
+                    .map_err(err)?;
+            }
+            let here = rel_px(position);
+            let ahead = rel_px([
+                position[0] + velocity[0] * 60.0 * VECTOR_MINUTES,
+                position[1] + velocity[1] * 60.0 * VECTOR_MINUTES,
+            ]);
+            root.draw(&Circle::new(here, 7, track_colour.stroke_width(2)))
+                .map_err(err)?;
+            root.draw(&PathElement::new(
+                vec![here, ahead],
+                track_colour.stroke_width(2),
+            ))
+            .map_err(err)?;
+            root.draw(&Text::new(
+                id.to_string(),
+                (here.0 + 9, here.1 - 18),
+                (crate::figures::FONT, 15).into_font().color(&track_colour),
+            ))
+            .map_err(err)?;
+        }
+        root.present().map_err(err)?;
+    }
+    Ok((size, rgb))
 }
 
 #[derive(Serialize)]
@@ -197,6 +271,20 @@ pub fn run(a: &TrackArgs) -> Result<()> {
     let mut tracker = Tracker::new(settings.clone())?;
     let spec = crate::render::load_spec(&a.scene, &a.set)?;
     let scene = spec.build()?;
+    let display = match &a.ppi {
+        Some(path) => {
+            let parent = path.parent().filter(|p| !p.as_os_str().is_empty());
+            if let Some(dir) = parent.filter(|d| !d.is_dir()) {
+                bail!(
+                    "invalid --ppi {}: its folder {} does not exist",
+                    path.display(),
+                    dir.display()
+                );
+            }
+            Some(spec.ppi_settings()?)
+        }
+        None => None,
+    };
     a.detector.check_scene(&scene)?;
     let extractor = a.detector.for_scene(extractor, &scene)?;
     let sim = Simulation::new(scene);
@@ -211,11 +299,18 @@ pub fn run(a: &TrackArgs) -> Result<()> {
     let (mut switches, mut echoes, mut tracked, mut false_tracks) = (0, 0, 0, 0);
     let mut confirmed_ids = std::collections::BTreeSet::new();
     let (mut error_sum, mut error_count) = (0.0, 0usize);
-    // For the IMO accuracy table: when each track was first confirmed, and since when each
-    // object has held its course and speed (its velocity as of the last scan).
-    let mut confirmed_since: std::collections::HashMap<u32, f64> = Default::default();
-    let mut steady_since: std::collections::HashMap<u32, (f64, [f64; 2])> = Default::default();
+    // For the IMO accuracy table: the scan and time each track was acquired (its first
+    // plot), the object each was last matched to, when each (track, object) pairing began,
+    // and the scan since which each object has held its course and speed (with the velocity
+    // it held).
+    let mut acquired: std::collections::HashMap<u32, (u64, f64)> = Default::default();
+    let mut last_object_of: std::collections::HashMap<u32, u32> = Default::default();
+    let mut pair_since: std::collections::HashMap<(u32, u32), (u64, f64)> = Default::default();
+    let mut steady_since: std::collections::HashMap<u32, (u64, [f64; 2])> = Default::default();
     let mut accuracy = AccuracyTally::new();
+    // For the tracked PPI: each confirmed track's positions, and the last revolution.
+    let mut history: std::collections::HashMap<u32, Vec<[f64; 2]>> = Default::default();
+    let mut last = None;
     for k in 0..a.frames {
         let frame = sim.run(&Request::new(a.seed).frame(k).echo_history(&echo_history))?;
         let plots = extractor.extract(&grid_of(&frame, use_video), &mut scratch);
@@ -292,40 +387,54 @@ pub fn run(a: &TrackArgs) -> Result<()> {
                 }),
             })
             .collect();
+        // An object is steady while its velocity stays within the threshold of the velocity
+        // its steady spell began with (a slow turn adds up); the spell restarts at the scan
+        // where it leaves it.
         for o in &frame.truth {
             let v = [o.velocity_mps[0], o.velocity_mps[1]];
-            let entry = steady_since.entry(o.id).or_insert((o.beam_time_s, v));
+            let entry = steady_since.entry(o.id).or_insert((k, v));
             if (v[0] - entry.1[0]).hypot(v[1] - entry.1[1]) > STEADY_VELOCITY_CHANGE_MPS {
-                entry.0 = o.beam_time_s;
+                *entry = (k, v);
             }
-            entry.1 = v;
         }
-        let own_at = |time_s: f64| scan.antenna_at(time_s);
+        for t in &report.tracks {
+            acquired.entry(t.id).or_insert((k, t.time_s));
+        }
         for t in &tracks {
-            let since = *confirmed_since.entry(t.track.id).or_insert(t.track.time_s);
-            if let Some(m) = &t.truth {
-                let o = frame
-                    .truth
-                    .iter()
-                    .find(|o| o.id == m.object_id)
-                    .expect("a matched object is in the frame");
-                if steady_since[&o.id].0 <= since {
-                    let (own_track, own_true) = (own_at(t.track.time_s), own_at(o.beam_time_s));
-                    accuracy.add(&AccuracySample {
-                        minutes_tracked: (t.track.time_s - since) / 60.0,
-                        track_relative_position_m: [
-                            t.track.position_m[0] - own_track[0],
-                            t.track.position_m[1] - own_track[1],
-                        ],
-                        track_velocity_mps: t.track.velocity_mps,
-                        true_relative_position_m: [
-                            o.position_m[0] - own_true[0],
-                            o.position_m[1] - own_true[1],
-                        ],
-                        true_velocity_mps: [o.velocity_mps[0], o.velocity_mps[1]],
-                        own_velocity_mps: velocity,
+            let Some(m) = &t.truth else { continue };
+            // Tracking time counts from acquisition (the track's first plot), or from the
+            // scan its track moved to this object.
+            let moved = last_object_of.insert(t.track.id, m.object_id);
+            let (since_scan, since_s) =
+                *pair_since
+                    .entry((t.track.id, m.object_id))
+                    .or_insert(match moved {
+                        Some(other) if other != m.object_id => (k, t.track.time_s),
+                        _ => acquired[&t.track.id],
                     });
-                }
+            let o = frame
+                .truth
+                .iter()
+                .find(|o| o.id == m.object_id)
+                .expect("a matched object is in the frame");
+            if steady_since[&o.id].0 < since_scan || steady_since[&o.id].0 == 0 {
+                // Both at the track's time: the truth moved on along its velocity.
+                let dt = t.track.time_s - o.beam_time_s;
+                let own = scan.antenna_at(t.track.time_s);
+                accuracy.add(&AccuracySample {
+                    minutes_tracked: (t.track.time_s - since_s) / 60.0,
+                    track_relative_position_m: [
+                        t.track.position_m[0] - own[0],
+                        t.track.position_m[1] - own[1],
+                    ],
+                    track_velocity_mps: t.track.velocity_mps,
+                    true_relative_position_m: [
+                        o.position_m[0] + o.velocity_mps[0] * dt - own[0],
+                        o.position_m[1] + o.velocity_mps[1] * dt - own[1],
+                    ],
+                    true_velocity_mps: [o.velocity_mps[0], o.velocity_mps[1]],
+                    own_velocity_mps: velocity,
+                });
             }
         }
         for t in &tracks {
@@ -363,6 +472,22 @@ pub fn run(a: &TrackArgs) -> Result<()> {
                 }
             })
             .collect();
+        for t in &tracks {
+            history
+                .entry(t.track.id)
+                .or_default()
+                .push(t.track.position_m);
+        }
+        let antenna_now = scan.antenna_at(scan.start_time_s);
+        // Each confirmed track where it is from the antenna at its own time, and its velocity.
+        let confirmed_now: Vec<(u32, [f64; 2], [f64; 2])> = tracks
+            .iter()
+            .map(|t| {
+                let a = scan.antenna_at(t.track.time_s);
+                let p = t.track.position_m;
+                (t.track.id, [p[0] - a[0], p[1] - a[1]], t.track.velocity_mps)
+            })
+            .collect();
         scans.push(ScanOut {
             frame: k,
             start_time_s: frame.start_time_s,
@@ -375,9 +500,21 @@ pub fn run(a: &TrackArgs) -> Result<()> {
             ended: report.ended,
             objects,
         });
+        last = Some((frame, antenna_now, confirmed_now));
         progress.inc(1);
     }
     progress.finish_and_clear();
+    let picture = match (&display, &last) {
+        (Some(display), Some((frame, antenna_now, confirmed_now))) => Some(tracked_ppi(
+            display,
+            radar,
+            frame,
+            *antenna_now,
+            confirmed_now,
+            &history,
+        )?),
+        _ => None,
+    };
     let summary = Summary {
         scans: a.frames,
         object_echoes: echoes,
@@ -449,6 +586,18 @@ pub fn run(a: &TrackArgs) -> Result<()> {
         summary,
         scans,
     };
+    // Both encoded before either is written; each is then replaced whole.
+    let png = match (&a.ppi, picture) {
+        (Some(path), Some((size, rgb))) => Some((
+            path,
+            xbandsim::products::output::png_bytes(path, size, size, 3, &rgb)?,
+        )),
+        _ => None,
+    };
     write_json(&a.out, &output).with_context(|| format!("writing {}", a.out.display()))?;
+    if let Some((path, bytes)) = png {
+        xbandsim::products::output::write_atomic(path, &bytes)
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
     Ok(())
 }

@@ -737,9 +737,12 @@ fn detect_writes_scored_plots_and_refuses_bad_settings() {
 fn track_follows_vessels_and_refuses_bad_settings() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("tracks.json");
+    let picture = dir.path().join("tracked.png");
     let status = xbandsim()
         .args(["track", "scenes/crossing.toml", "--frames", "40", "--out"])
         .arg(&out)
+        .arg("--ppi")
+        .arg(&picture)
         .output()
         .unwrap();
     assert!(
@@ -780,6 +783,10 @@ fn track_follows_vessels_and_refuses_bad_settings() {
             "{figure}: {one_minute}"
         );
     }
+    // The tracked PPI: the scene's 1024-pixel image, its tracks drawn in yellow.
+    let png = std::fs::read(&picture).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    assert_eq!(u32::from_be_bytes(png[16..20].try_into().unwrap()), 1024);
     // Every plot the tracker saw, as it measured it (what a peer tracker is fed).
     assert_eq!(
         last["measurements"].as_array().unwrap().len() as u64,
@@ -807,6 +814,10 @@ fn track_follows_vessels_and_refuses_bad_settings() {
         (
             vec!["--detection-probability", "0"],
             "tracker.detection_probability",
+        ),
+        (
+            vec!["--ppi", "/nonexistent-folder/tracked.png"],
+            "invalid --ppi /nonexistent-folder/tracked.png",
         ),
         (
             vec!["--sidelobe-margin-db", "-3"],

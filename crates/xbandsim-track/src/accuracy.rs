@@ -222,6 +222,8 @@ impl AccuracyTally {
         let speed = |v: [f64; 2]| v[0].hypot(v[1]);
         let (track_cpa, track_tcpa) = closest_approach(s.track_relative_position_m, track_rel);
         let (true_cpa, true_tcpa) = closest_approach(s.true_relative_position_m, true_rel);
+        // TCPA only where the true relative speed defines it.
+        let true_tcpa = true_tcpa.filter(|_| speed(true_rel) >= STILL_MPS);
         for (row, figures) in IMO_ACCURACY.iter().zip(self.rows.iter_mut()) {
             if s.minutes_tracked < row.minutes {
                 continue;

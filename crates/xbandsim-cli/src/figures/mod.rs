@@ -17,8 +17,8 @@ use xbandsim::Scene;
 
 mod plot;
 
-pub use plot::register_fonts;
-use plot::{panel_grid, plot_err, save_rgb, time_panel, FONT};
+use plot::{panel_grid, plot_err, save_rgb, time_panel};
+pub use plot::{register_fonts, FONT};
 
 /// Runs `xbandsim figures`.
 pub fn run(out: &Path, scene_path: &Path, seed: u64) -> Result<()> {

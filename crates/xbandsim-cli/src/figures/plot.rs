@@ -7,7 +7,7 @@ use std::path::Path;
 use xbandsim::products::output::write_png;
 
 /// The font family of every label.
-pub(super) const FONT: &str = "sans-serif";
+pub const FONT: &str = "sans-serif";
 
 pub(super) fn plot_err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
     anyhow!("drawing failed: {e:?}")
