@@ -241,7 +241,40 @@ struct Summary {
     false_plots_per_cell: f64,
     objects_in_view: usize,
     objects_detected: usize,
+    /// The scene's sea state; null with sea clutter off.
+    sea_state: Option<f64>,
+    per_class: std::collections::BTreeMap<String, DetectionScore>,
+    per_range: Vec<RangeScore>,
 }
+
+/// Object echoes and those with a plot: the measured probability of detection.
+#[derive(Serialize, Default)]
+struct DetectionScore {
+    in_view: usize,
+    detected: usize,
+    /// `detected / in_view`; null with none in view.
+    pd: Option<f64>,
+}
+
+impl DetectionScore {
+    fn add(&mut self, detected: bool) {
+        self.in_view += 1;
+        self.detected += usize::from(detected);
+        self.pd = Some(self.detected as f64 / self.in_view as f64);
+    }
+}
+
+/// The detection score of the objects in a band of range.
+#[derive(Serialize)]
+struct RangeScore {
+    from_m: f64,
+    to_m: f64,
+    #[serde(flatten)]
+    score: DetectionScore,
+}
+
+/// Bands of range the summary scores detection in: quarters of the instrumented range.
+const RANGE_BANDS: usize = 4;
 
 #[derive(Serialize)]
 struct Output {
@@ -301,6 +334,8 @@ pub fn run(a: &DetectArgs) -> Result<()> {
     let scene = spec.build()?;
     d.check_scene(&scene)?;
     let extractor = d.for_scene(extractor, &scene)?;
+    let sea_state = scene.environment().clutter().map(|c| c.sea_state());
+    let max_range_m = scene.radar().max_range_m();
     let sim = Simulation::new(scene);
     let progress = crate::progress::bar(a.frames, "detect: frames");
     let echo_history = std::sync::Mutex::new(EchoHistory::default());
@@ -351,6 +386,27 @@ pub fn run(a: &DetectArgs) -> Result<()> {
     }
     progress.finish_and_clear();
     let cells: usize = frames.iter().map(|f| f.cells_tested).sum();
+    let mut per_class: std::collections::BTreeMap<String, DetectionScore> = Default::default();
+    let band_m = max_range_m / RANGE_BANDS as f64;
+    let mut per_range: Vec<RangeScore> = (0..RANGE_BANDS)
+        .map(|b| RangeScore {
+            from_m: b as f64 * band_m,
+            to_m: (b + 1) as f64 * band_m,
+            score: DetectionScore::default(),
+        })
+        .collect();
+    for o in frames
+        .iter()
+        .flat_map(|f| &f.objects)
+        .filter(|o| o.has_echo)
+    {
+        per_class
+            .entry(o.class.clone())
+            .or_default()
+            .add(o.detected);
+        let band = ((o.range_m / band_m) as usize).min(RANGE_BANDS - 1);
+        per_range[band].score.add(o.detected);
+    }
     let false_plots: usize = frames.iter().map(|f| f.false_plots).sum();
     let in_view = |o: &&ObjectOut| o.has_echo;
     let summary = Summary {
@@ -366,6 +422,9 @@ pub fn run(a: &DetectArgs) -> Result<()> {
             .iter()
             .map(|f| f.objects.iter().filter(|o| o.detected).count())
             .sum(),
+        sea_state,
+        per_class,
+        per_range,
     };
     let settings = Settings {
         input: d.input.clone(),

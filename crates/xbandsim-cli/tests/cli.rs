@@ -704,6 +704,18 @@ fn detect_writes_scored_plots_and_refuses_bad_settings() {
     let summary = &v["summary"];
     assert_eq!(summary["objects_in_view"], 10);
     assert_eq!(summary["objects_detected"], 10);
+    // Pd per class and per quarter of the range: every object echo counted once in each.
+    let in_view = |scores: Vec<&serde_json::Value>| {
+        scores
+            .iter()
+            .map(|c| c["in_view"].as_u64().unwrap())
+            .sum::<u64>()
+    };
+    let classes: Vec<_> = summary["per_class"].as_object().unwrap().values().collect();
+    let bands: Vec<_> = summary["per_range"].as_array().unwrap().iter().collect();
+    assert_eq!((in_view(classes), in_view(bands.clone())), (10, 10));
+    assert_eq!(bands.len(), 4);
+    assert!(summary["sea_state"].is_number() || summary["sea_state"].is_null());
     for frame in v["frames"].as_array().unwrap() {
         for plot in frame["plots"].as_array().unwrap() {
             let kind = plot["source"]["kind"].as_str().unwrap();
