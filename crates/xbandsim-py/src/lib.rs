@@ -581,9 +581,28 @@ fn episode_info<'py>(
         d.set_item("observed", t.observed)?;
         d.set_item("detected", t.detected)?;
         d.set_item("in_track", t.in_track)?;
+        d.set_item("position_m", t.position_m)?;
+        d.set_item("track_id", t.track_id)?;
         targets.append(d)?;
     }
     info.set_item("targets", targets)?;
+    let tracks = pyo3::types::PyList::empty(py);
+    for t in &o.tracks {
+        let d = PyDict::new(py);
+        d.set_item("id", t.id)?;
+        d.set_item("time_s", t.time_s)?;
+        d.set_item("position_m", t.position_m)?;
+        d.set_item("velocity_mps", t.velocity_mps)?;
+        d.set_item("course_deg", t.course_deg)?;
+        d.set_item("speed_kn", t.speed_kn)?;
+        d.set_item("cpa_m", t.cpa_m)?;
+        d.set_item("tcpa_s", t.tcpa_s)?;
+        d.set_item("score", t.score)?;
+        d.set_item("recent_hits", t.recent_hits)?;
+        tracks.append(d)?;
+    }
+    info.set_item("tracks", tracks)?;
+    info.set_item("false_tracks", o.false_tracks)?;
     let plots = pyo3::types::PyList::empty(py);
     for p in &o.plots {
         plots.append((p.range_m, p.azimuth_deg, p.cells, p.peak_db))?;
@@ -600,7 +619,8 @@ fn episode_info<'py>(
 #[pymethods]
 impl Env {
     #[new]
-    #[pyo3(signature = (task, level, image_size_px, max_steps, threads, sea_clutter=true))]
+    #[pyo3(signature = (task, level, image_size_px, max_steps, threads, sea_clutter=true, reward="plots"))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
         task: &str,
@@ -609,7 +629,23 @@ impl Env {
         max_steps: usize,
         threads: usize,
         sea_clutter: bool,
+        reward: &str,
     ) -> PyResult<Env> {
+        let reward = match reward {
+            "plots" => xbandsim_rl::Reward::Plots,
+            "tracks" => xbandsim_rl::Reward::Tracks,
+            other => {
+                return Err(library_error(
+                    py,
+                    xbandsim::Error::invalid(
+                        xbandsim::Problem::UnknownChoice,
+                        "reward",
+                        other,
+                        "\"plots\" or \"tracks\"",
+                    ),
+                ))
+            }
+        };
         let task = match task {
             "detection" => xbandsim_rl::Task::Detection,
             "tracking" => xbandsim_rl::Task::Tracking,
@@ -632,6 +668,7 @@ impl Env {
             max_steps,
             threads,
             sea_clutter,
+            reward,
         };
         let episode = xbandsim_rl::Episode::new(config).map_err(|e| library_error(py, e))?;
         Ok(Env { episode })

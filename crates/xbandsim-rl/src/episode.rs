@@ -1,8 +1,9 @@
 //! An episode: the MDP of docs/rl.md. State: the scene (targets moving, the sea's texture
 //! drifting) and the display; action: [`Action`]; transition: one antenna revolution of
 //! scene time (2.5 s at 24 rpm) simulated by the library with the action's pulse and
-//! schedule, then the display chain and the plot extractor ([`crate::display`]); reward:
-//! plots scored against the ground truth ([`Episode::step`]).
+//! schedule, then the display chain and the plot extractor ([`crate::display`]), whose plots
+//! the baseline ARPA tracker (`xbandsim_track`) tracks; reward: plots, or on request the
+//! tracker's confirmed tracks, scored against the ground truth ([`Episode::step`]).
 
 use crate::action::{Action, Scan, FTC_TIME_CONSTANT_US, PULSES_PER_SPOKE, QUADRANTS, STC_LAW};
 use crate::curriculum::{draw_scene, EpisodeScene, Task, LEVELS, MAX_RANGE_M};
@@ -14,10 +15,12 @@ use std::path::Path;
 use xbandsim::constants::SPEED_OF_LIGHT_M_PER_S;
 use xbandsim::engine::Request;
 use xbandsim::engine::{Dwell, Pulse, Schedule};
+use xbandsim::processing::plots::SidelobeEditor;
 use xbandsim::products::ppi::{colour, Colormap, ScanConverter};
 use xbandsim::receiver::stages::Ftc;
 use xbandsim::receiver::video_chain::sweep_log_video;
 use xbandsim::{Error, LoadedSpec, Problem, Result, Simulation};
+use xbandsim_track::{Scan as TrackerScan, TrackReport, TrackStatus, Tracker, TrackerSettings};
 
 /// Reward per target found for the first time (Detection).
 pub const REWARD_NEW_DETECTION: f64 = 1.0;
@@ -30,7 +33,25 @@ pub const REWARD_PER_FALSE_PLOT: f64 = -0.01;
 pub const REWARD_DETECTED: f64 = 1.0;
 /// Tracking: extra share when it was also detected the revolution before (continuity).
 pub const REWARD_CONTINUITY: f64 = 0.5;
+/// Tracking with [`Reward::Tracks`]: share of a target held by a confirmed track (divided by
+/// the targets in range).
+pub const REWARD_TRACKED: f64 = 1.0;
+/// Tracking with [`Reward::Tracks`]: per confirmed track on no target.
+pub const REWARD_PER_FALSE_TRACK: f64 = -0.1;
+/// Sidelobe editing's margin for the tracker's plots, dB (as `xbandsim track`'s default).
+pub const SIDELOBE_MARGIN_DB: f64 = 6.0;
+/// A confirmed track and a target are paired within this distance, m (nearest first).
+pub const TRACK_TRUTH_GATE_M: f64 = 100.0;
 
+/// What the Tracking task pays for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Reward {
+    /// Plots in the targets' gates, with continuity (the default).
+    #[default]
+    Plots,
+    /// The baseline tracker's confirmed tracks: held targets, less false tracks.
+    Tracks,
+}
 /// How an environment is made.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EpisodeConfig {
@@ -46,6 +67,8 @@ pub struct EpisodeConfig {
     pub threads: usize,
     /// Sea clutter on (the default); off leaves noise, rain and the targets.
     pub sea_clutter: bool,
+    /// What the Tracking task pays for (the Detection task pays for plots).
+    pub reward: Reward,
 }
 
 impl EpisodeConfig {
@@ -58,6 +81,7 @@ impl EpisodeConfig {
             max_steps: 0,
             threads: 1,
             sea_clutter: true,
+            reward: Reward::Plots,
         }
     }
 
@@ -76,6 +100,14 @@ impl EpisodeConfig {
                 "image_size_px",
                 self.image_size_px,
                 "must be 16 … 2048",
+            ));
+        }
+        if self.reward == Reward::Tracks && self.task != Task::Tracking {
+            return Err(Error::invalid(
+                Problem::Conflict,
+                "reward",
+                "tracks",
+                "the track reward is the tracking task's",
             ));
         }
         if !(1..=256).contains(&self.threads) {
@@ -113,6 +145,11 @@ pub struct TargetReport {
     pub detected: bool,
     /// Detected in at least 2 of the last 3 revolutions (Tracking's "in track").
     pub in_track: bool,
+    /// Where it was when the beam crossed it, ENU m (the tracks' frame).
+    pub position_m: [f64; 2],
+    /// The baseline tracker's confirmed track paired with it (within
+    /// [`TRACK_TRUTH_GATE_M`], nearest pairs first), if any.
+    pub track_id: Option<u32>,
 }
 
 /// What a step returns.
@@ -132,6 +169,10 @@ pub struct StepOutcome {
     pub targets: Vec<TargetReport>,
     /// Pulses the step transmitted.
     pub pulses: usize,
+    /// The baseline tracker's confirmed tracks after this revolution.
+    pub tracks: Vec<TrackReport>,
+    /// Confirmed tracks paired with no target.
+    pub false_tracks: usize,
 }
 
 /// One environment: an episode's scene, its simulations (one per pulse choice, made on first
@@ -161,6 +202,8 @@ pub struct Episode {
     /// Per target: found in this episode; detection history (newest last, 3 kept).
     found: Vec<bool>,
     history: Vec<[bool; 3]>,
+    /// The baseline tracker, fed each revolution's plots.
+    tracker: Tracker,
 }
 
 impl Episode {
@@ -195,6 +238,7 @@ impl Episode {
             plot_scratch: PlotScratch::default(),
             found: Vec::new(),
             history: Vec::new(),
+            tracker: Tracker::new(TrackerSettings::default())?,
         })
     }
 
@@ -242,6 +286,7 @@ impl Episode {
         self.step = 0;
         self.found = vec![false; self.scene.targets];
         self.history = vec![[false; 3]; self.scene.targets];
+        self.tracker = Tracker::new(TrackerSettings::default())?;
         let sim = self.simulation(Action::default().pulse)?;
         let radar = sim.scene().radar();
         let (spokes, bins, bin_m) = (radar.spokes(), radar.num_range_bins(), radar.range_bin_m());
@@ -298,6 +343,17 @@ impl Episode {
                     }
                 }
                 outcome.terminated = !self.found.is_empty() && self.found.iter().all(|&f| f);
+            }
+            Task::Tracking if self.config.reward == Reward::Tracks => {
+                let held = outcome
+                    .targets
+                    .iter()
+                    .filter(|t| t.observed && t.track_id.is_some())
+                    .count();
+                reward = REWARD_PER_FALSE_TRACK * outcome.false_tracks as f64;
+                if n_observed > 0 {
+                    reward += REWARD_TRACKED * held as f64 / n_observed as f64;
+                }
             }
             Task::Tracking => {
                 for (i, t) in outcome.targets.iter().enumerate() {
@@ -462,6 +518,8 @@ impl Episode {
                     observed: o.range_m <= MAX_RANGE_M && self.refreshed[spoke],
                     detected: false,
                     in_track: false,
+                    position_m: [o.position_m[0], o.position_m[1]],
+                    track_id: None,
                 }
             })
             .collect();
@@ -481,6 +539,47 @@ impl Episode {
                 None => false_plots += 1,
             }
         }
+        // The baseline tracker on this revolution's plots (a quadrant dwell's other spokes
+        // gave none: their tracks coast), its confirmed tracks paired with the targets.
+        let (antenna, velocity) = match frame_out.own_ship {
+            Some(s) => (s.antenna_position_m, [s.velocity_mps.x, s.velocity_mps.y]),
+            None => (radar.position_m(), [0.0, 0.0]),
+        };
+        // The tracker is fed the plots with the antenna's sidelobe echoes edited out, as the
+        // `xbandsim track` extractor does (xbandsim::processing::plots::SidelobeEditor).
+        let mut edited = plots.clone();
+        SidelobeEditor::new(&radar.antenna().azimuth(), SIDELOBE_MARGIN_DB)?.edit(&mut edited);
+        let report = self.tracker.step(&TrackerScan {
+            start_time_s: frame_out.start_time_s,
+            period_s: radar.scan().period_s(),
+            antenna_position_m: [antenna.x, antenna.y, antenna.z],
+            antenna_velocity_mps: velocity,
+            plots: &edited,
+        });
+        let tracks: Vec<TrackReport> = report
+            .tracks
+            .into_iter()
+            .filter(|t| t.status == TrackStatus::Confirmed)
+            .collect();
+        let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
+        for (ti, t) in tracks.iter().enumerate() {
+            for (oi, o) in targets.iter().enumerate() {
+                let d =
+                    (t.position_m[0] - o.position_m[0]).hypot(t.position_m[1] - o.position_m[1]);
+                if d <= TRACK_TRUTH_GATE_M {
+                    pairs.push((d, ti, oi));
+                }
+            }
+        }
+        pairs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+        let mut paired = vec![false; tracks.len()];
+        for (_, ti, oi) in pairs {
+            if !paired[ti] && targets[oi].track_id.is_none() {
+                paired[ti] = true;
+                targets[oi].track_id = Some(tracks[ti].id);
+            }
+        }
+        let false_tracks = paired.iter().filter(|p| !**p).count();
         Ok(StepOutcome {
             reward: 0.0,
             terminated: false,
@@ -489,6 +588,8 @@ impl Episode {
             false_plots,
             targets,
             pulses,
+            tracks,
+            false_tracks,
         })
     }
 

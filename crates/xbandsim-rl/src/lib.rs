@@ -10,7 +10,8 @@
 //! - [`action`] is what the operator sets: scan or quadrant dwell, pulse, gain, sea and rain
 //!   clutter controls, pulses per spoke;
 //! - [`display`] is the display chain (FTC, STC, gain) and the plot extractor;
-//! - [`episode`] runs the revolutions and scores the plots against the ground truth.
+//! - [`episode`] runs the revolutions, tracks the plots with the baseline ARPA tracker
+//!   (`xbandsim-track`) and scores plots or tracks against the ground truth.
 //!
 //! docs/rl.md states the MDP, the rewards and their shaping.
 
@@ -21,4 +22,4 @@ pub mod episode;
 
 pub use action::{Action, PulseChoice, Scan, ACTION_NAMES, ACTION_NVEC};
 pub use curriculum::{Task, LEVELS};
-pub use episode::{Episode, EpisodeConfig, StepOutcome, TargetReport};
+pub use episode::{Episode, EpisodeConfig, Reward, StepOutcome, TargetReport};

@@ -2,7 +2,7 @@
 //! quadrant dwell refreshes, and rewards following docs/rl.md.
 
 use xbandsim_rl::action::{Action, PulseChoice, Scan};
-use xbandsim_rl::{Episode, EpisodeConfig, Task};
+use xbandsim_rl::{Episode, EpisodeConfig, Reward, Task};
 
 fn episode(task: Task, level: usize, size: u32) -> Episode {
     let mut c = EpisodeConfig::new(task, level);
@@ -207,4 +207,67 @@ fn the_sea_and_rain_controls_cut_false_plots_in_heavy_clutter() {
         controlled * 2 < raw,
         "false plots: {raw} with the controls off, {controlled} with STC and FTC"
     );
+}
+
+/// Level 0 with the track reward: whenever the extractor has had the target on three of four
+/// revolutions, the baseline tracker (fed the plots with sidelobe echoes edited out) holds it
+/// within two more (M-of-N 3/4 with its score), paired with it; each revolution pays `+1/n` per target in view held by a confirmed track
+/// less 0.1 per false track; the reward is refused for the detection task, naming the field.
+#[test]
+fn the_track_reward_pays_for_the_baseline_trackers_tracks() {
+    let mut held_somewhere = false;
+    for seed in 0..4 {
+        let mut c = EpisodeConfig::new(Task::Tracking, 0);
+        c.image_size_px = 64;
+        c.reward = Reward::Tracks;
+        let mut e = Episode::new(c).unwrap();
+        e.reset(seed).unwrap();
+        let (mut detections, mut due, mut held_at) = (Vec::new(), None, None);
+        for k in 0..12 {
+            let o = e.step(&Action::default()).unwrap();
+            let observed = o.targets.iter().filter(|t| t.observed).count();
+            let held = o
+                .targets
+                .iter()
+                .filter(|t| t.observed && t.track_id.is_some())
+                .count();
+            let expect = if observed > 0 {
+                held as f64 / observed as f64
+            } else {
+                0.0
+            } - 0.1 * o.false_tracks as f64;
+            assert!(
+                (o.reward - expect).abs() < 1e-12,
+                "{} vs {expect}",
+                o.reward
+            );
+            assert_eq!(
+                o.false_tracks + o.targets.iter().filter(|t| t.track_id.is_some()).count(),
+                o.tracks.len()
+            );
+            detections.push(o.targets[0].detected);
+            let recent = detections.iter().rev().take(4).filter(|d| **d).count();
+            if recent >= 3 && due.is_none() {
+                due = Some(k + 2);
+            }
+            if held > 0 && held_at.is_none() {
+                held_at = Some(k);
+            }
+        }
+        if let Some(due) = due.filter(|&d| d < 12) {
+            assert!(
+                held_at.is_some_and(|k| k <= due),
+                "seed {seed}: held from {held_at:?}, due by {due}; detections {detections:?}"
+            );
+            held_somewhere = true;
+        }
+    }
+    assert!(
+        held_somewhere,
+        "no seed had the target on 3 of 4 revolutions"
+    );
+    let mut c = EpisodeConfig::new(Task::Detection, 0);
+    c.reward = Reward::Tracks;
+    let err = Episode::new(c).err().unwrap().to_string();
+    assert!(err.contains("reward"), "{err}");
 }

@@ -144,6 +144,11 @@ class RadarEnv(gym.Env):
     sea_clutter:
         Sea clutter on (default); ``False`` leaves noise, rain and the targets (an easier
         curriculum step, or an ablation).
+    reward:
+        ``"plots"`` (default: plots in the targets' gates) or, for the tracking task,
+        ``"tracks"``: the baseline ARPA tracker's confirmed tracks on the targets, less false
+        tracks (docs/rl.md, "Reward"). Either way ``info["tracks"]`` lists the tracker's
+        confirmed tracks and ``info["targets"][i]["track_id"]`` the one on target i.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 4}
@@ -158,6 +163,7 @@ class RadarEnv(gym.Env):
         render_mode: str | None = None,
         threads: int = 1,
         sea_clutter: bool = True,
+        reward: str = "plots",
     ) -> None:
         self.task = _args.choice("task", task, ("detection", "tracking"))
         self.level = _args.whole("level", level, 0, LEVELS - 1)
@@ -166,6 +172,12 @@ class RadarEnv(gym.Env):
         self._max_steps = _args.optional(_args.whole, "max_steps", max_steps, 1) or 0
         self._threads = _args.whole("threads", threads, 1, 256)
         self._sea_clutter = _args.flag("sea_clutter", sea_clutter)
+        self._reward = _args.choice("reward", reward, ("plots", "tracks"))
+        if self._reward == "tracks" and self.task != "tracking":
+            raise _args.error(
+                "reward", reward, "the track reward is the tracking task's", "conflict",
+                InvalidArgumentError,
+            )
         self.render_mode = _args.optional(
             _args.choice, "render_mode", render_mode, self.metadata["render_modes"]
         )
@@ -192,7 +204,13 @@ class RadarEnv(gym.Env):
         # The arguments are checked above (InvalidArgumentError naming them); the episode
         # checks its config again (InvalidFieldError), a check that cannot fail from here.
         return _xbandsim.Env(
-            self.task, level, self.image_size, self._max_steps, self._threads, self._sea_clutter
+            self.task,
+            level,
+            self.image_size,
+            self._max_steps,
+            self._threads,
+            self._sea_clutter,
+            self._reward,
         )
 
     def _observation(self, image: np.ndarray, info: dict) -> Any:
