@@ -7,7 +7,9 @@ score the best HOTA against the truth (docs/rl.md, "Tracks").
 
 Each setting (pulse, gain, sea and rain clutter controls, pulses per spoke, held for a whole
 episode) is scored on the same episodes (the same seeds): every revolution's confirmed tracks
-(``info["tracks"]``) against the targets in view (``info["targets"]``, ``observed``), with HOTA
+(``info["tracks"]``) against the targets in view (``info["targets"]``, ``observed``: in range
+and on a refreshed spoke, whether or not they leave an echo, so these scores are not those of
+``xbandsim track``'s tracks.json, which count objects with an echo), with HOTA
 from TrackEval and MOTA from py-motmetrics (``scripts/score_tracks.py``: ``pip install -r
 scripts/requirements-check.txt``), averaged over the episodes. The agent is a coordinate
 ascent: starting from the environment's default setting, it tries every value of one control

@@ -269,3 +269,26 @@ def test_the_tracking_env_reports_the_baseline_trackers_tracks():
     env.close()
     with pytest.raises(xbandsim.InvalidArgumentError, match="reward"):
         gym.make("xbandsim/Detection-v0", reward="tracks")
+
+
+def test_the_track_reward_is_reproducible():
+    """The same seed in a fresh environment gives the same tracks, pairings and rewards."""
+
+    def run():
+        env = gym.make("xbandsim/Tracking-v0", level=1, image_size=64, reward="tracks")
+        env.reset(seed=4)
+        out = []
+        for k in range(6):
+            _, reward, _, _, info = env.step(action_vector(gain=k % 4))
+            out.append(
+                (
+                    reward,
+                    info["false_tracks"],
+                    [(t["id"], t["position_m"], t["velocity_mps"]) for t in info["tracks"]],
+                    [t["track_id"] for t in info["targets"]],
+                )
+            )
+        env.close()
+        return out
+
+    assert run() == run()

@@ -34,7 +34,7 @@ pub const REWARD_DETECTED: f64 = 1.0;
 /// Tracking: extra share when it was also detected the revolution before (continuity).
 pub const REWARD_CONTINUITY: f64 = 0.5;
 /// Tracking with [`Reward::Tracks`]: share of a target held by a confirmed track (divided by
-/// the targets in range).
+/// the targets observed this step).
 pub const REWARD_TRACKED: f64 = 1.0;
 /// Tracking with [`Reward::Tracks`]: per confirmed track on no target.
 pub const REWARD_PER_FALSE_TRACK: f64 = -0.1;
@@ -204,6 +204,8 @@ pub struct Episode {
     history: Vec<[bool; 3]>,
     /// The baseline tracker, fed each revolution's plots.
     tracker: Tracker,
+    /// The sidelobe editing of the tracker's plots (the episode's antenna; made at reset).
+    sidelobes: Option<SidelobeEditor>,
 }
 
 impl Episode {
@@ -239,6 +241,7 @@ impl Episode {
             found: Vec::new(),
             history: Vec::new(),
             tracker: Tracker::new(TrackerSettings::default())?,
+            sidelobes: None,
         })
     }
 
@@ -290,6 +293,9 @@ impl Episode {
         let sim = self.simulation(Action::default().pulse)?;
         let radar = sim.scene().radar();
         let (spokes, bins, bin_m) = (radar.spokes(), radar.num_range_bins(), radar.range_bin_m());
+        // Every pulse choice shares the antenna: one editor serves the episode.
+        let sidelobes = SidelobeEditor::new(&radar.antenna().azimuth(), SIDELOBE_MARGIN_DB)?;
+        self.sidelobes = Some(sidelobes);
         if self.converter.is_none() || (spokes, bins) != (self.spokes, self.bins) {
             self.converter = Some(ScanConverter::new(
                 self.config.image_size_px,
@@ -548,7 +554,9 @@ impl Episode {
         // The tracker is fed the plots with the antenna's sidelobe echoes edited out, as the
         // `xbandsim track` extractor does (xbandsim::processing::plots::SidelobeEditor).
         let mut edited = plots.clone();
-        SidelobeEditor::new(&radar.antenna().azimuth(), SIDELOBE_MARGIN_DB)?.edit(&mut edited);
+        if let Some(editor) = &self.sidelobes {
+            editor.edit(&mut edited);
+        }
         let report = self.tracker.step(&TrackerScan {
             start_time_s: frame_out.start_time_s,
             period_s: radar.scan().period_s(),
