@@ -988,11 +988,7 @@ fn tracking_rows(put: &mut dyn FnMut(&str, f64, &str)) -> Result<()> {
             extract.push((t2 - t1).as_secs_f64());
             track.push((t3 - t2).as_secs_f64());
             plots_seen += plots.len();
-            confirmed = report
-                .tracks
-                .iter()
-                .filter(|t| t.status == xbandsim_track::TrackStatus::Confirmed)
-                .count();
+            confirmed = report.confirmed().count();
         }
     }
     let median = |v: &mut Vec<f64>| {

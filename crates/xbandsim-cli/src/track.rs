@@ -13,9 +13,9 @@ use xbandsim::model::motion::KNOT_M_PER_S;
 use xbandsim::processing::plots::PlotScratch;
 use xbandsim::products::output::write_json;
 use xbandsim::receiver::video_chain::EchoHistory;
+use xbandsim_track::accuracy::angle_difference_deg;
 use xbandsim_track::{
-    AccuracySample, AccuracyTally, RowResult, Scan, TrackEnd, TrackReport, TrackStatus, Tracker,
-    TrackerSettings,
+    AccuracySample, AccuracyTally, RowResult, Scan, TrackEnd, TrackReport, Tracker, TrackerSettings,
 };
 
 /// Arguments of `xbandsim track`.
@@ -221,16 +221,6 @@ struct Output {
 /// m/s (the IMO table is for targets that hold course and speed).
 const STEADY_VELOCITY_CHANGE_MPS: f64 = 0.05;
 
-/// The angle from `b` to `a`, degrees in (−180, 180].
-fn angle_difference_deg(a: f64, b: f64) -> f64 {
-    let d = (a - b).rem_euclid(360.0);
-    if d > 180.0 {
-        d - 360.0
-    } else {
-        d
-    }
-}
-
 /// Runs `xbandsim track`.
 pub fn run(a: &TrackArgs) -> Result<()> {
     let t0 = Instant::now();
@@ -343,11 +333,7 @@ pub fn run(a: &TrackArgs) -> Result<()> {
             })
             .collect();
         // Confirmed tracks to truth objects, nearest pairs first, one to one.
-        let confirmed: Vec<&TrackReport> = report
-            .tracks
-            .iter()
-            .filter(|t| t.status == TrackStatus::Confirmed)
-            .collect();
+        let confirmed: Vec<&TrackReport> = report.confirmed().collect();
         let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
         for (ti, t) in confirmed.iter().enumerate() {
             for (oi, o) in frame.truth.iter().enumerate() {

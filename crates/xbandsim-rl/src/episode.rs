@@ -20,7 +20,7 @@ use xbandsim::products::ppi::{colour, Colormap, ScanConverter};
 use xbandsim::receiver::stages::Ftc;
 use xbandsim::receiver::video_chain::sweep_log_video;
 use xbandsim::{Error, LoadedSpec, Problem, Result, Simulation};
-use xbandsim_track::{Scan as TrackerScan, TrackReport, TrackStatus, Tracker, TrackerSettings};
+use xbandsim_track::{Scan as TrackerScan, TrackReport, Tracker, TrackerSettings};
 
 /// Reward per target found for the first time (Detection).
 pub const REWARD_NEW_DETECTION: f64 = 1.0;
@@ -564,11 +564,7 @@ impl Episode {
             antenna_velocity_mps: velocity,
             plots: &edited,
         });
-        let tracks: Vec<TrackReport> = report
-            .tracks
-            .into_iter()
-            .filter(|t| t.status == TrackStatus::Confirmed)
-            .collect();
+        let tracks: Vec<TrackReport> = report.confirmed().cloned().collect();
         let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
         for (ti, t) in tracks.iter().enumerate() {
             for (oi, o) in targets.iter().enumerate() {

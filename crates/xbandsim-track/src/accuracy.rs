@@ -118,7 +118,7 @@ pub struct AccuracySample {
 }
 
 /// The angle from `b` to `a`, degrees in (−180, 180].
-fn angle_difference_deg(a: f64, b: f64) -> f64 {
+pub fn angle_difference_deg(a: f64, b: f64) -> f64 {
     let d = (a - b).rem_euclid(360.0);
     if d > 180.0 {
         d - 360.0

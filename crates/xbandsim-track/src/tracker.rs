@@ -412,6 +412,15 @@ pub struct ScanReport {
     pub unassociated_plots: usize,
 }
 
+impl ScanReport {
+    /// The confirmed tracks (those a set shows and reports).
+    pub fn confirmed(&self) -> impl Iterator<Item = &TrackReport> {
+        self.tracks
+            .iter()
+            .filter(|t| t.status == TrackStatus::Confirmed)
+    }
+}
+
 /// The tracker: its settings, its models and its tracks.
 #[derive(Debug, Clone)]
 pub struct Tracker {
@@ -1090,11 +1099,7 @@ mod tests {
             let a = plot_at(-800.0 + 8.0 * t, 2000.0);
             let b = plot_at(800.0 - 8.0 * t, 2060.0);
             let r = tracker.step(&scan(k, &[a, b]));
-            let confirmed: Vec<&TrackReport> = r
-                .tracks
-                .iter()
-                .filter(|t| t.status == TrackStatus::Confirmed)
-                .collect();
+            let confirmed: Vec<&TrackReport> = r.confirmed().collect();
             if k >= 3 {
                 assert_eq!(confirmed.len(), 2, "scan {k}: {confirmed:?}");
                 // The track heading east is the same one throughout.
@@ -1148,11 +1153,7 @@ mod tests {
                 .unwrap_or(start + period);
             let p = position(crossing);
             let r = tracker.step(&scan(k, &[plot_at(p[0], p[1])]));
-            let confirmed: Vec<&TrackReport> = r
-                .tracks
-                .iter()
-                .filter(|t| t.status == TrackStatus::Confirmed)
-                .collect();
+            let confirmed: Vec<&TrackReport> = r.confirmed().collect();
             if k >= 3 {
                 assert_eq!(confirmed.len(), 1, "scan {k}: {:?}", r.tracks);
                 assert_eq!(
