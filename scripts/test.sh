@@ -30,7 +30,7 @@ target/release/xbandsim dataset schema > target/dataset-spec.schema.json
 
 echo "== the baseline tracker scored with py-motmetrics and TrackEval (scripts/score_tracks.py)"
 target/release/xbandsim track scenes/crossing.toml --frames 40 --out target/check-tracks.json
-"$venv/bin/python" scripts/score_tracks.py target/check-tracks.json
+"$venv/bin/python" scripts/score_tracks.py --check target/check-tracks.json
 echo "== the same plots tracked by a Stone Soup peer, scored side by side (scripts/peer_stonesoup.py)"
 "$venv/bin/python" scripts/peer_stonesoup.py --xbandsim target/release/xbandsim --check scenes/crossing.toml
 

@@ -15,7 +15,8 @@ use xbandsim::products::output::write_json;
 use xbandsim::receiver::video_chain::EchoHistory;
 use xbandsim_track::accuracy::angle_difference_deg;
 use xbandsim_track::{
-    AccuracySample, AccuracyTally, RowResult, Scan, TrackEnd, TrackReport, Tracker, TrackerSettings,
+    AccuracySample, AccuracyTally, RowResult, Scan, SequenceScorer, TrackEnd, TrackReport, Tracker,
+    TrackerSettings, TrackingFigures, TrackingScore,
 };
 
 /// Arguments of `xbandsim track`.
@@ -206,6 +207,14 @@ struct Summary {
     track_switches: usize,
     mean_position_error_m: Option<f64>,
     accuracy: Vec<RowResult>,
+    /// MOTA, MOTP and HOTA over the scans (`xbandsim_track::score`).
+    scores: Scores,
+}
+
+#[derive(Serialize)]
+struct Scores {
+    figures: TrackingFigures,
+    counts: TrackingScore,
 }
 
 #[derive(Serialize)]
@@ -259,6 +268,7 @@ pub fn run(a: &TrackArgs) -> Result<()> {
         ..TrackerSettings::default()
     };
     let mut tracker = Tracker::new(settings.clone())?;
+    let mut scorer = SequenceScorer::new(a.truth_gate_m).expect("the truth gate is checked");
     let spec = crate::render::load_spec(&a.scene, &a.set)?;
     let scene = spec.build()?;
     let display = match &a.ppi {
@@ -353,6 +363,15 @@ pub fn run(a: &TrackArgs) -> Result<()> {
                 track_of[oi] = Some(confirmed[ti].id);
             }
         }
+        let echoing: Vec<(u32, [f64; 2])> = frame
+            .truth
+            .iter()
+            .filter(|o| o.visibility.has_echo())
+            .map(|o| (o.id, [o.position_m[0], o.position_m[1]]))
+            .collect();
+        let confirmed_positions: Vec<(u32, [f64; 2])> =
+            confirmed.iter().map(|t| (t.id, t.position_m)).collect();
+        scorer.add_frame(&echoing, &confirmed_positions);
         let tracks: Vec<TrackOut> = confirmed
             .iter()
             .zip(&object_of)
@@ -510,6 +529,13 @@ pub fn run(a: &TrackArgs) -> Result<()> {
         track_switches: switches,
         mean_position_error_m: (error_count > 0).then(|| error_sum / error_count as f64),
         accuracy: accuracy.results(),
+        scores: {
+            let counts = scorer.finish();
+            Scores {
+                figures: counts.figures(),
+                counts,
+            }
+        },
     };
     crate::say!(
         "track {}: {} scans, {} confirmed tracks; {} of {} object echoes in a track, {} track switches, {} false-track scans, mean position error {}, tracker {:.3} ms, {:.2} s -> {}",

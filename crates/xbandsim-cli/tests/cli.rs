@@ -858,3 +858,82 @@ fn assert_refused_writing_nothing(cmd: &str, args: &[&str], wanted: &str) {
     );
     assert!(!bad.exists(), "{cmd} {args:?} wrote {}", bad.display());
 }
+
+/// The dataset baseline is `xbandsim track` with its defaults (docs/tracking.md, "Dataset
+/// baseline"): a tracking-spec sample's scene, tracked with the frames and render seed its
+/// scene.toml names, gives baseline.json's confirmed tracks, position for position, and the
+/// same scores.
+#[test]
+fn a_samples_baseline_is_what_track_gives_on_its_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let out = xbandsim()
+        .args([
+            "dataset",
+            "datasets/tracking.toml",
+            "--count",
+            "2",
+            "--seed",
+            "5",
+        ])
+        .arg("--out")
+        .arg(&data)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut compared = 0;
+    for i in 0..2u64 {
+        let sample = data.join(format!("samples/000000/{i:09}"));
+        let scene = std::fs::read_to_string(sample.join("scene.toml")).unwrap();
+        // "#   xbandsim render scene.toml --seed S --frames F"
+        let words: Vec<&str> = scene.lines().nth(1).unwrap().split_whitespace().collect();
+        let after = |flag: &str| words[words.iter().position(|w| *w == flag).unwrap() + 1];
+        let tracks_json = dir.path().join(format!("tracks-{i}.json"));
+        let out = xbandsim()
+            .arg("track")
+            .arg(sample.join("scene.toml"))
+            .args(["--seed", after("--seed"), "--frames", after("--frames")])
+            .arg("--out")
+            .arg(&tracks_json)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let tracked: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(&tracks_json).unwrap()).unwrap();
+        let baseline: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(sample.join("baseline.json")).unwrap()).unwrap();
+        let scans = tracked["scans"].as_array().unwrap();
+        let frames = baseline["frames"].as_array().unwrap();
+        assert_eq!(scans.len(), frames.len());
+        for (scan, frame) in scans.iter().zip(frames) {
+            assert_eq!(scan["plots"], frame["plots"]);
+            let ours: Vec<(u64, String)> = frame["tracks"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|t| (t["id"].as_u64().unwrap(), t["position_m"].to_string()))
+                .collect();
+            let theirs: Vec<(u64, String)> = scan["tracks"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|t| (t["id"].as_u64().unwrap(), t["position_m"].to_string()))
+                .collect();
+            assert_eq!(ours, theirs, "sample {i} frame {}", frame["frame"]);
+            compared += ours.len();
+        }
+        assert_eq!(
+            tracked["summary"]["scores"]["figures"],
+            baseline["tracking"]["figures"]
+        );
+    }
+    assert!(compared > 0, "no confirmed track to compare");
+}

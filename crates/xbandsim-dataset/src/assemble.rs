@@ -17,6 +17,7 @@
 //! The YOLO trees hold hard links to the samples' images (copies where the file system
 //! cannot link), named `<index>.png` or `<index>_<frame>.png`.
 
+use crate::baseline::BaselineTally;
 use crate::error::{at, invalid_data, Result};
 use crate::layout::{
     coco_image_id, frame_of, frame_subdir, is_label_member, parse_member_name, sample_dir,
@@ -49,6 +50,8 @@ pub struct Assembled {
     /// The RCS over the sea (the free-space RCS times the multipath gain) by class over
     /// every row that has one.
     pub rcs_over_sea: BTreeMap<String, RcsDistribution>,
+    /// The classical baseline's results summed over the samples ([`crate::baseline`]).
+    pub baseline: BaselineTally,
 }
 
 /// Bins of an RCS histogram: 0.1 dB wide from [`RCS_LOWEST_DBSM`] (values beyond either end
@@ -252,6 +255,8 @@ struct Writer {
     anns_path: PathBuf,
     anns: std::io::BufWriter<std::fs::File>,
     targets: AtomicFile,
+    /// `baseline.jsonl`: each sample's baseline.json, one line each.
+    baseline: AtomicFile,
     summary: Assembled,
     annotation_id: u64,
     /// The side of the last image added, px (its rows come after it).
@@ -312,6 +317,7 @@ impl Writer {
         for line in rows.split(|&b| b == b'\n').filter(|l| !l.is_empty()) {
             self.summary.targets += 1;
             if let Ok(v) = serde_json::from_slice::<serde_json::Value>(line) {
+                self.summary.baseline.add_row(&v);
                 if let Some(class) = v["class"].as_str() {
                     for (key, table) in [
                         ("rcs_dbsm", &mut self.summary.rcs),
@@ -343,6 +349,17 @@ impl Writer {
         self.targets.write(rows)
     }
 
+    /// One sample's baseline.json (a line of JSON).
+    fn add_baseline(&mut self, path: &Path, bytes: &[u8]) -> Result<()> {
+        let v: serde_json::Value =
+            serde_json::from_slice(bytes).map_err(|e| invalid_data(path, e.to_string()))?;
+        self.summary
+            .baseline
+            .add_sample(&v)
+            .map_err(|e| invalid_data(path, e))?;
+        self.baseline.write(bytes)
+    }
+
     fn finish(mut self) -> Result<Assembled> {
         self.summary.annotations = self.annotation_id;
         at(&self.anns_path, self.anns.flush())?;
@@ -354,6 +371,7 @@ impl Writer {
         self.coco.write(b"]}\n")?;
         self.coco.finish()?;
         self.targets.finish()?;
+        self.baseline.finish()?;
         Ok(self.summary)
     }
 }
@@ -385,6 +403,7 @@ pub fn assemble(
         anns: std::io::BufWriter::new(at(&anns_path, std::fs::File::create(&anns_path))?),
         anns_path,
         targets: AtomicFile::create(&out.join("targets.jsonl"))?,
+        baseline: AtomicFile::create(&out.join("baseline.jsonl"))?,
         summary: Assembled {
             labelled_per_category: categories.iter().map(|c| (c.clone(), 0)).collect(),
             ..Default::default()
@@ -431,6 +450,8 @@ pub fn assemble(
                                 coco_image_id(index, spec.frames, frame),
                                 Some(("shard", shard_name.clone().into())),
                             )
+                        } else if name.ends_with(".baseline.json") {
+                            w.add_baseline(&shard, &bytes)
                         } else {
                             w.add_rows(&bytes)
                         }
@@ -438,6 +459,15 @@ pub fn assemble(
                 )?;
             }
         }
+    }
+    if spec.baseline && w.summary.baseline.samples != count {
+        return Err(invalid_data(
+            out,
+            format!(
+                "{} of {count} samples have no baseline.json though the spec asks for one ([dataset] baseline): made by another version? Make the dataset again into a new folder",
+                count - w.summary.baseline.samples
+            ),
+        ));
     }
     let summary = w.finish()?;
     let mut card = AtomicFile::create(&out.join(CARD))?;
@@ -521,6 +551,11 @@ fn assemble_dirs(
                 let to = dir.join("labels").join(split).join(format!("{stem}.txt"));
                 at(&to, std::fs::copy(&from, &to))?;
             }
+        }
+        let baseline_path = sample_dir(out, i).join("baseline.json");
+        if baseline_path.is_file() {
+            let bytes = at(&baseline_path, std::fs::read(&baseline_path))?;
+            w.add_baseline(&baseline_path, &bytes)?;
         }
     }
     for ((tree, dir), kind) in trees.iter().zip(staging).zip(["detect", "oriented boxes"]) {
@@ -672,6 +707,7 @@ fn dataset_card(
     );
     c.push_str(&resolution_section(s));
     c.push_str(&rcs_section(s));
+    c.push_str(&s.baseline.markdown());
     c.push_str("\n## Spec\n\n```toml\n");
     c.push_str(spec.text.trim_end());
     c.push_str("\n```\n");

@@ -12,6 +12,7 @@
 //! pixel whose cell lies in several objects' polar boxes belongs to the one whose box centre
 //! is nearest (in box half-widths).
 
+use crate::baseline::ObjectBaseline;
 use serde::Serialize;
 use serde_json::{json, Value};
 use xbandsim::products::artefacts::{ArtefactKind, ArtefactTruth};
@@ -388,6 +389,9 @@ pub struct FrameContext<'a> {
     /// Category names; an object's category is its class's position here (YOLO class
     /// index; COCO id = index + 1).
     pub categories: &'a [String],
+    /// The classical baseline's result for each object, in `objects`' order
+    /// ([`crate::baseline`]); `None` leaves the `baseline_` fields null.
+    pub baseline: Option<&'a [ObjectBaseline]>,
 }
 
 /// One frame's labels, encoded.
@@ -481,7 +485,8 @@ pub fn frame_labels(
     };
     let mut rows = String::new();
     let mut labelled = 0;
-    for (o, mask) in objects.iter().zip(masks) {
+    for (k, (o, mask)) in objects.iter().zip(masks).enumerate() {
+        let baseline = ctx.baseline.and_then(|b| b.get(k));
         let category = ctx.categories.iter().position(|c| *c == o.class);
         let area = mask.as_ref().map_or(0, Mask::area);
         // The label's box is its mask's tight box (COCO's convention); the echo box of
@@ -519,6 +524,8 @@ pub fn frame_labels(
             "visibility": o.visibility,
             "flags": VisibilityFlags::of(o.visibility),
             "labelled": detection.is_some(),
+            "baseline_detected": baseline.and_then(|b| b.detected),
+            "baseline_track_id": baseline.and_then(|b| b.track_id),
             "mask_area_px": detection.map(|_| area),
             "polar_box": o.polar_box,
             "ppi_box_px": o.ppi_box_px,

@@ -42,9 +42,10 @@ pub const FRAME_FILES: [&str; 6] = [
 ];
 
 /// The index files of a complete dataset of sample folders.
-pub const INDEX_FILES: [&str; 5] = [
+pub const INDEX_FILES: [&str; 6] = [
     "annotations.json",
     "targets.jsonl",
+    "baseline.jsonl",
     "yolo/data.yaml",
     "yolo_obb/data.yaml",
     CARD,
@@ -52,7 +53,8 @@ pub const INDEX_FILES: [&str; 5] = [
 
 /// The index files of a complete dataset of tar shards (no YOLO trees: each sample's
 /// yolo.txt and yolo_obb.txt are in its shard).
-pub const SHARD_INDEX_FILES: [&str; 3] = ["annotations.json", "targets.jsonl", CARD];
+pub const SHARD_INDEX_FILES: [&str; 4] =
+    ["annotations.json", "targets.jsonl", "baseline.jsonl", CARD];
 
 /// How a dataset's samples are stored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -248,9 +250,12 @@ pub fn parse_member_name(name: &str) -> Option<(u64, String)> {
     Some((index, rel))
 }
 
-/// Whether a member holds labels the assembly reads (a frame's coco.json or targets.jsonl).
+/// Whether a member holds labels the assembly reads (a frame's coco.json or targets.jsonl,
+/// a sample's baseline.json).
 pub fn is_label_member(name: &str) -> bool {
-    name.ends_with(".coco.json") || name.ends_with(".targets.jsonl")
+    name.ends_with(".coco.json")
+        || name.ends_with(".targets.jsonl")
+        || name.ends_with(".baseline.json")
 }
 
 /// Shards of a dataset of `count` samples, `per_shard` to a shard.
@@ -558,6 +563,7 @@ mod tests {
         assert_eq!(parse_member_name("000000001."), None);
         assert!(is_label_member("000000001.frame_0002.coco.json"));
         assert!(!is_label_member("000000001.yolo.txt"));
+        assert!(is_label_member("000000001.baseline.json"));
     }
 
     #[test]

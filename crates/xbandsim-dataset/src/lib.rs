@@ -10,6 +10,7 @@
 //! (docs/architecture.md, "The dataset crate's layers").
 
 pub mod assemble;
+pub mod baseline;
 pub mod check;
 pub mod coast;
 pub mod dist;

@@ -4,6 +4,7 @@
 //! image names ([`Format::image_name`]); [`crate::generate`] writes them into a folder,
 //! [`crate::webdataset`] into a tar shard.
 
+use crate::baseline::SampleBaseline;
 use crate::error::{DatasetError, Result};
 use crate::labels::{
     frame_labels, mask_spokes, object_masks, ArtefactInput, FrameContext, LandInput,
@@ -23,7 +24,8 @@ pub type SampleFiles = Vec<(String, Vec<u8>)>;
 /// Renders sample `index` of the dataset made with `seed` into its files, in the order they
 /// are stored (relative names, `frame_KKKK/` for sequences): per frame the polar record, the
 /// PPI image(s), truth.json and the labels (coco.json, yolo.txt, yolo_obb.txt,
-/// targets.jsonl; [`crate::labels`]); then scene.toml. The labels name the image as
+/// targets.jsonl; [`crate::labels`]); then baseline.json ([`crate::baseline`], unless
+/// `[dataset] baseline = false`) and scene.toml. The labels name the image as
 /// `format` stores it.
 pub fn render_sample(
     spec: &DatasetSpec,
@@ -49,6 +51,10 @@ pub fn render_sample(
     let mut written: Vec<(String, Vec<u8>)> = Vec::new();
     // The receiver's echo averaging runs on through a sequence's frames.
     let echo_history = std::sync::Mutex::new(EchoHistory::default());
+    let mut baseline = spec
+        .baseline
+        .then(|| SampleBaseline::new(sim.scene(), spec.frames, index))
+        .transpose()?;
     for k in 0..spec.frames {
         let frame = sim
             .run(
@@ -58,6 +64,7 @@ pub fn render_sample(
                     .echo_history(&echo_history),
             )
             .map_err(scene_err)?;
+        let baseline_objects = baseline.as_mut().map(|b| b.add_frame(&frame));
         let sub = frame_subdir(spec.frames, k);
         let encoded = encode_frame_files(
             sim.scene().radar(),
@@ -97,6 +104,7 @@ pub fn render_sample(
                 azimuth_beamwidth_rad: sim.scene().radar().antenna().az_beamwidth_rad,
                 range_resolution_m: sim.scene().radar().range_resolution_m(),
                 categories: &categories,
+                baseline: baseline_objects.as_deref(),
             },
             &encoded.objects,
             &masks,
@@ -129,6 +137,13 @@ pub fn render_sample(
             String::new()
         }
     );
+    if let Some(baseline) = baseline {
+        let sea_state = sim.scene().environment().clutter().map(|c| c.sea_state());
+        written.push((
+            "baseline.json".into(),
+            json_line(&baseline.finish(index, sea_state)),
+        ));
+    }
     written.push((
         "scene.toml".into(),
         format!("{header}{}", sample.scene_toml).into_bytes(),

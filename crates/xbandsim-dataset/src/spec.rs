@@ -36,6 +36,9 @@ pub struct DatasetSpec {
     /// Each artefact's boxes are labelled too, under its own category after the targets'
     /// (`[dataset] artefact_labels`, default false): [`ARTEFACT_CATEGORIES`].
     pub artefact_labels: bool,
+    /// Each sample is run through the classical baseline, CFAR plots and ARPA tracks
+    /// (`[dataset] baseline`, default true): [`crate::baseline`].
+    pub baseline: bool,
     /// The scene every sample starts from.
     pub base_scene: toml::Table,
     /// Scene fields drawn per sample, by dotted path, in name order.
@@ -69,13 +72,14 @@ pub const LAND_CATEGORY: &str = "land";
 /// The spec's top-level tables.
 pub const TOP_FIELDS: [&str; 5] = ["dataset", "scene", "vary", "targets", "coast"];
 /// The fields of `[dataset]`.
-pub const DATASET_FIELDS: [&str; 6] = [
+pub const DATASET_FIELDS: [&str; 7] = [
     "frames",
     "datacube",
     "image",
     "val_every",
     "mask_threshold_db",
     "artefact_labels",
+    "baseline",
 ];
 /// The fields of `[targets]`.
 pub const TARGETS_FIELDS: [&str; 5] = [
@@ -302,6 +306,7 @@ impl DatasetSpec {
                 "val_every",
                 "mask_threshold_db",
                 "artefact_labels",
+                "baseline",
             ],
             "dataset.",
         )?;
@@ -344,6 +349,12 @@ impl DatasetSpec {
                     "dataset.artefact_labels",
                     format!("{v}: must be true or false"),
                 )
+            })?,
+        };
+        let baseline = match d.get("baseline") {
+            None => true,
+            Some(v) => v.as_bool().ok_or_else(|| {
+                DatasetError::spec("dataset.baseline", format!("{v}: must be true or false"))
             })?,
         };
         let frames = match d.get("frames") {
@@ -420,6 +431,7 @@ impl DatasetSpec {
             val_every,
             mask_threshold_db,
             artefact_labels,
+            baseline,
             base_scene,
             vary,
             targets,

@@ -2,6 +2,7 @@
 //! expected-SNR histogram, visibility fractions) from its samples' targets tables, and a
 //! contact sheet of random samples with their boxes drawn.
 
+use crate::baseline::BaselineTally;
 use crate::error::{invalid_data, DatasetError, Result};
 use crate::layout::{
     frame_file, manifest_path, member_name, missing_samples, read_record, sample_dir, shard_count,
@@ -39,6 +40,8 @@ pub struct Stats {
     pub snr_null: u64,
     /// Frames with no detection label.
     pub empty_frames: u64,
+    /// The classical baseline's results ([`crate::baseline`]).
+    pub baseline: BaselineTally,
 }
 
 impl Stats {
@@ -82,6 +85,15 @@ impl Stats {
             let _ = writeln!(s, "{label:<14} {n:>10}  {bar}");
         }
         let _ = writeln!(s, "{:<14} {:>10}", "null", self.snr_null);
+        s.push('\n');
+        if self.baseline.samples > 0 && self.baseline.samples < self.samples {
+            let _ = writeln!(
+                s,
+                "(the baseline below covers the {} of the {} samples present that have a baseline.json)",
+                self.baseline.samples, self.samples
+            );
+        }
+        s.push_str(&self.baseline.report());
         s
     }
 }
@@ -127,6 +139,7 @@ impl Stats {
         for line in text.lines().filter(|l| !l.is_empty()) {
             let row: serde_json::Value =
                 serde_json::from_str(line).map_err(|e| invalid_data(path, e.to_string()))?;
+            self.baseline.add_row(&row);
             let labelled = row["labelled"].as_bool().unwrap_or(false);
             any |= labelled;
             let entry = self
@@ -148,6 +161,20 @@ impl Stats {
             }
         }
         Ok(any)
+    }
+}
+
+impl Stats {
+    /// Adds baseline.json lines (one sample's file, or baseline.jsonl's lines).
+    fn add_baselines(&mut self, path: &Path, text: &str) -> Result<()> {
+        for line in text.lines().filter(|l| !l.is_empty()) {
+            let v: serde_json::Value =
+                serde_json::from_str(line).map_err(|e| invalid_data(path, e.to_string()))?;
+            self.baseline
+                .add_sample(&v)
+                .map_err(|e| invalid_data(path, e))?;
+        }
+        Ok(())
     }
 }
 
@@ -188,6 +215,13 @@ pub fn stats(out: &Path) -> Result<Stats> {
                 rows.push_str(line);
                 rows.push('\n');
             }
+            let path = out.join("baseline.jsonl");
+            if path.is_file() {
+                let text =
+                    std::fs::read_to_string(&path).map_err(|e| DatasetError::io(&path, e))?;
+                s.add_baselines(&path, &text)?;
+            }
+            let path = out.join("targets.jsonl");
             s.samples = count;
             for sample in 0..count {
                 for k in 0..frames_per_sample {
@@ -206,10 +240,14 @@ pub fn stats(out: &Path) -> Result<Stats> {
                 s.samples += shard_samples(t, samples_per_shard, count).count() as u64;
                 crate::webdataset::for_each_member(
                     &path,
-                    &|name| name.ends_with("targets.jsonl"),
-                    &mut |_, bytes| {
+                    &|name| name.ends_with(".targets.jsonl") || name.ends_with(".baseline.json"),
+                    &mut |name, bytes| {
                         let text = String::from_utf8_lossy(&bytes);
-                        add_frame(&mut s, &path, &text)
+                        if name.ends_with(".baseline.json") {
+                            s.add_baselines(&path, &text)
+                        } else {
+                            add_frame(&mut s, &path, &text)
+                        }
                     },
                 )?;
             }
@@ -221,6 +259,12 @@ pub fn stats(out: &Path) -> Result<Stats> {
                     continue;
                 }
                 s.samples += 1;
+                let path = dir.join("baseline.json");
+                if path.is_file() {
+                    let text =
+                        std::fs::read_to_string(&path).map_err(|e| DatasetError::io(&path, e))?;
+                    s.add_baselines(&path, &text)?;
+                }
                 for k in 0..frames {
                     let path = dir.join(frame_file(frames, k, "targets.jsonl"));
                     let text =

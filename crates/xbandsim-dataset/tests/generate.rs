@@ -913,3 +913,111 @@ fn artefact_labels_put_each_artefact_in_its_own_category() {
     let e = DatasetSpec::parse(&clash, Path::new(".")).unwrap_err();
     assert!(e.to_string().contains("dataset.artefact_labels"), "{e}");
 }
+
+/// The classical baseline of a sequence dataset reads the same from sample folders, from tar
+/// shards and from the assembled baseline.jsonl and targets.jsonl; it covers every frame,
+/// tracks each sequence, and the card carries its scores.
+#[test]
+fn the_baseline_reads_the_same_however_the_dataset_is_stored() {
+    use xbandsim_dataset::baseline::BaselineTally;
+    use xbandsim_dataset::stats::stats;
+    let spec =
+        DatasetSpec::parse(&SPEC.replace("frames = 1", "frames = 5"), Path::new(".")).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let lines = |path: &Path| -> Vec<serde_json::Value> {
+        std::fs::read_to_string(path)
+            .unwrap()
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect()
+    };
+    let mut tallies = Vec::new();
+    for (name, format) in [
+        ("dir", Format::Dir),
+        (
+            "tar",
+            Format::WebDataset {
+                samples_per_shard: 2,
+            },
+        ),
+    ] {
+        let out = tmp.path().join(name);
+        let samples_only = Request {
+            format,
+            assemble: false,
+            ..request(5, 4, Shard::ALL, 1)
+        };
+        generate(&spec, &out, &samples_only, &|| {}).unwrap();
+        let before = stats(&out).unwrap().baseline;
+        let whole = Request {
+            format,
+            ..request(5, 4, Shard::ALL, 1)
+        };
+        generate(&spec, &out, &whole, &|| {}).unwrap();
+        let after = stats(&out).unwrap().baseline;
+        assert_eq!(before, after, "{name}");
+        // The assembled tables say the same.
+        let mut assembled = BaselineTally::default();
+        for b in lines(&out.join("baseline.jsonl")) {
+            assembled.add_sample(&b).unwrap();
+        }
+        for row in lines(&out.join("targets.jsonl")) {
+            assembled.add_row(&row);
+        }
+        assert_eq!(assembled, after, "{name}");
+        assert_eq!((after.samples, after.frames), (5, 25), "{name}");
+        let tracking = after.tracking.clone().expect("sequences are tracked");
+        assert_eq!((tracking.sequences, tracking.frames), (5, 25));
+        assert!(tracking.matches > 0, "no track paired with an object");
+        // False plots and cells per range band add up to those per sea state.
+        let total = after.total();
+        assert!(total.cells_tested > 0);
+        assert_eq!(
+            after.per_range.iter().map(|b| b.cells_tested).sum::<u64>(),
+            total.cells_tested
+        );
+        assert_eq!(
+            after.per_range.iter().map(|b| b.false_plots).sum::<u64>(),
+            total.false_plots
+        );
+        let echoes: u64 = after.per_class.values().map(|v| v.echoes).sum();
+        assert_eq!(echoes, tracking.objects, "{name}");
+        let card = std::fs::read_to_string(out.join("README.md")).unwrap();
+        let f = tracking.figures();
+        let row = format!(
+            "| {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {} | {} | {} |",
+            f.mota.unwrap(),
+            f.motp_m.unwrap(),
+            f.hota,
+            f.det_a,
+            f.ass_a,
+            f.loc_a,
+            tracking.misses,
+            tracking.false_positives,
+            tracking.switches
+        );
+        assert!(
+            card.contains("## Baseline: CFAR plots and ARPA tracks") && card.contains(&row),
+            "{name}: {row} not in {card}"
+        );
+        tallies.push(after);
+    }
+    assert_eq!(tallies[0], tallies[1]);
+    // `baseline = false` leaves the files and fields out, and stats say so.
+    let off = DatasetSpec::parse(
+        &SPEC.replace("frames = 1", "frames = 1\nbaseline = false"),
+        Path::new("."),
+    )
+    .unwrap();
+    let out = tmp.path().join("off");
+    generate(&off, &out, &request(4, 4, Shard::ALL, 1), &|| {}).unwrap();
+    assert!(!sample_dir(&out, 0).join("baseline.json").exists());
+    let rows = lines(&out.join("targets.jsonl"));
+    assert!(!rows.is_empty());
+    for row in rows {
+        assert!(row["baseline_detected"].is_null() && row["baseline_track_id"].is_null());
+    }
+    let s = stats(&out).unwrap();
+    assert_eq!(s.baseline.samples, 0);
+    assert!(s.report().contains("baseline: none"));
+}

@@ -594,7 +594,7 @@ fn webdataset_shards_hold_the_same_samples() {
         )
         .unwrap();
     }
-    assert_eq!(members, 5 * 8);
+    assert_eq!(members, 5 * 9);
     let r = xbandsim_dataset::verify::verify(&one, &|| {}).unwrap();
     assert!(r.is_complete(), "{r:?}");
     assert_eq!(r.shards, 3);

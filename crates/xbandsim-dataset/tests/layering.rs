@@ -5,12 +5,13 @@
 use std::path::Path;
 
 /// The modules from the bottom: each may use only those before it.
-const ORDER: [&str; 17] = [
+const ORDER: [&str; 18] = [
     "error",
     "layout",
     "dist",
     "obb",
     "owner",
+    "baseline",
     "coast",
     "spec",
     "labels",

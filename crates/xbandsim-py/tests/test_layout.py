@@ -62,12 +62,13 @@ def test_the_names_are_where_the_generator_writes(made):
                     assert first <= index < end
                     assert _xbandsim.member_name(index, rel) == m.name
                     assert m.name == f"{_xbandsim.sample_key(index)}.{_xbandsim.member_extension(rel)}"
-                    if record["frames_per_sample"] > 1 and rel != "scene.toml":
+                    if record["frames_per_sample"] > 1 and rel not in ("scene.toml", "baseline.json"):
                         frame = _xbandsim.frame_of(rel)
                         assert rel == _xbandsim.frame_file(8, frame, rel.split("/", 1)[1])
     assert _xbandsim.read_record(str(made / "dir"))["shard_samples"] is None
     assert _xbandsim.index_files() == [
-        "annotations.json", "targets.jsonl", "yolo/data.yaml", "yolo_obb/data.yaml", "README.md",
+        "annotations.json", "targets.jsonl", "baseline.jsonl", "yolo/data.yaml",
+        "yolo_obb/data.yaml", "README.md",
     ]
     assert _xbandsim.index_files(2)[-1] == _xbandsim.CARD_FILE == "README.md"
     assert _xbandsim.parse_member_name("README.md") is None
@@ -81,9 +82,10 @@ def test_label_ranges_and_member_checks_are_the_manifests(made, tmp_path):
     manifest = str(folder / _xbandsim.shard_manifest_file(1))
     ranges = _xbandsim.shard_label_ranges(manifest)
     with tarfile.open(folder / _xbandsim.shard_file(1)) as tar:
-        labels = [m for m in tar.getmembers() if m.name.endswith((".coco.json", ".targets.jsonl"))]
+        labels = [m for m in tar.getmembers()
+                  if m.name.endswith((".coco.json", ".targets.jsonl", ".baseline.json"))]
         assert ranges == [(m.name, m.offset_data, m.offset_data + m.size) for m in labels]
-        assert len(ranges) == 16  # 8 frames, two label files each
+        assert len(ranges) == 17  # 8 frames, two label files each, and the sample's baseline
     blob = (folder / _xbandsim.shard_file(1)).read_bytes()
     read = [(name, blob[start:end]) for name, start, end in ranges]
     assert _xbandsim.check_shard_members(manifest, read) is None

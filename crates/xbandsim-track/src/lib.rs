@@ -10,15 +10,18 @@
 //! - [`assign`]: global-nearest-neighbour assignment (the Hungarian method);
 //! - [`tracker`]: plots to measurements (own-ship motion compensated), gating, association,
 //!   M-of-N initiation with a track score, lost and merged tracks, CPA/TCPA;
-//! - [`accuracy`]: tracked-target accuracy against the IMO table after 1 and 3 minutes.
+//! - [`accuracy`]: tracked-target accuracy against the IMO table after 1 and 3 minutes;
+//! - [`score`]: MOTA, MOTP and HOTA against the truth, summed over sequences.
 
 pub mod accuracy;
 pub mod assign;
 pub mod filter;
 pub mod imm;
+pub mod score;
 pub mod tracker;
 
 pub use accuracy::{AccuracySample, AccuracyTally, RowResult, IMO_ACCURACY};
+pub use score::{SequenceScorer, TrackingFigures, TrackingScore};
 pub use tracker::{
     closest_approach, Scan, ScanReport, Track, TrackEnd, TrackReport, TrackStatus, Tracker,
     TrackerSettings,

@@ -146,7 +146,7 @@ def _assemble_at_url(fs: Any, root: str, url: str, spec: str, count: int, seed: 
     the label members each shard's COCO and table rows come from are read by byte range
     (where the generator's layout puts them, from the manifest; each is checked against the
     manifest's sha256, in Rust) into a local mirror of label-only tars, the generator
-    assembles the mirror, and annotations.json, targets.jsonl and README.md (last) are
+    assembles the mirror, and annotations.json, targets.jsonl, baseline.jsonl and README.md (last) are
     uploaded. Returns the samples still missing (then nothing is written)."""
     sizes = _shard_sizes(count, shard_samples)
     shards = len(sizes)

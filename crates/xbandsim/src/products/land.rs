@@ -22,7 +22,7 @@ pub struct LandTruth {
     /// The polygons, in scene order.
     pub polygons: Vec<LandPolygonTruth>,
     /// Each cell's structure (its object id), −1 where the cell is not a structure's seen
-    /// footprint; spokes × bins row-major.
+    /// footprint; spokes × bins row-major, and empty when the scene has no structures.
     pub structure: Vec<i32>,
     /// The structures, in scene order.
     pub structures: Vec<StructureTruth>,

@@ -113,8 +113,10 @@ pub fn plot_sources(plots: &[Plot], grid: &PowerGrid, frame: &Frame) -> Vec<Plot
             if let Some(land) = &frame.land {
                 let on_land = here.spoke_indices(frame.spokes).any(|k| {
                     (here.bin_min..=here.bin_max.min(land.range_bins - 1)).any(|j| {
+                        // A land truth without structures has no structure grid.
                         let cell = k * land.range_bins + j;
-                        land.polygon[cell] >= 0 || land.structure[cell] >= 0
+                        let on = |grid: &[i32]| grid.get(cell).is_some_and(|&v| v >= 0);
+                        on(&land.polygon) || on(&land.structure)
                     })
                 });
                 if on_land {
