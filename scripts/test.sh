@@ -31,6 +31,9 @@ target/release/xbandsim dataset schema > target/dataset-spec.schema.json
 echo "== the baseline tracker scored with py-motmetrics and TrackEval (scripts/score_tracks.py)"
 target/release/xbandsim track scenes/crossing.toml --frames 40 --out target/check-tracks.json
 "$venv/bin/python" scripts/score_tracks.py --check target/check-tracks.json
+echo "== the scenario's NMEA 0183 and AIS read by pynmea2 and pyais (scripts/check_nmea.py)"
+target/release/xbandsim nmea scenes/crossing.toml --duration-s 400 --out target/check.nmea --truth target/check-nmea-truth.jsonl
+"$venv/bin/python" scripts/check_nmea.py target/check.nmea target/check-nmea-truth.jsonl -4.14 50.33
 echo "== the same plots tracked by a Stone Soup peer, scored side by side (scripts/peer_stonesoup.py)"
 "$venv/bin/python" scripts/peer_stonesoup.py --xbandsim target/release/xbandsim --check scenes/crossing.toml
 

@@ -19,6 +19,7 @@ mod bench;
 mod dataset;
 mod detect;
 mod figures;
+mod nmea;
 mod progress;
 mod rcs;
 mod render;
@@ -51,6 +52,10 @@ enum Command {
     /// tracker (IMM of constant-velocity and turn models, M-of-N initiation, global nearest
     /// neighbour), each confirmed track scored against the truth: tracks.json.
     Track(track::TrackArgs),
+    /// Write what the scenario's navigation network carries as an NMEA 0183 log: the own
+    /// ship's GPS fix and heading once a second (GGA, RMC, VTG, HDT) and the AIS reports of
+    /// every object with an `mmsi` (messages 1, 5, 18, 24); the scene needs a [geo] origin.
+    Nmea(nmea::NmeaArgs),
     /// Make a labelled dataset from a dataset spec: every sample's scene drawn from (spec,
     /// seed, index), rendered and written atomically; run again to resume.
     Dataset(dataset::DatasetArgs),
@@ -170,6 +175,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render::run(&args),
         Command::Detect(args) => detect::run(&args),
         Command::Track(args) => track::run(&args),
+        Command::Nmea(args) => nmea::run(&args),
         Command::Schema => {
             let schema = schemars::schema_for!(xbandsim::scene::SceneSpec);
             say!(

@@ -937,3 +937,66 @@ fn a_samples_baseline_is_what_track_gives_on_its_scene() {
     }
     assert!(compared > 0, "no confirmed track to compare");
 }
+
+/// `xbandsim nmea` writes the crossing scene's own-ship and AIS sentences, each with a good
+/// checksum, and refuses bad input naming the field: a scene without `[geo]`, an MMSI out of
+/// range or given twice, `ais_class` without `mmsi`, a bad start time or duration.
+#[test]
+fn nmea_writes_checked_sentences_and_refuses_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("c.nmea");
+    let out = xbandsim()
+        .args([
+            "nmea",
+            "scenes/crossing.toml",
+            "--duration-s",
+            "30",
+            "--out",
+        ])
+        .arg(&log)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&log).unwrap();
+    let lines: Vec<&str> = text.split_terminator("\r\n").collect();
+    // 31 fixes of 4 sentences; class A static (2 fragments) and reports every 10 s or less.
+    assert_eq!(lines.iter().filter(|l| l.starts_with("$GPGGA")).count(), 31);
+    assert!(lines.iter().filter(|l| l.starts_with("!AIVDM")).count() >= 12);
+    for line in &lines {
+        let (body, sum) = line[1..].split_once('*').unwrap();
+        let x = body.bytes().fold(0u8, |c, b| c ^ b);
+        assert_eq!(format!("{x:02X}"), sum, "{line}");
+    }
+    for (args, field) in [
+        (vec!["--set", "geo.origin_lat_deg=95"], "geo.origin_lat_deg"),
+        (vec!["--set", "object[0].mmsi=1000000000"], "mmsi"),
+        (vec!["--set", "object[1].mmsi=235000001"], "mmsi"),
+        (vec!["--set", "object[3].ais_class=\"B\""], "ais_class"),
+        (vec!["--start-utc", "2026-01-01 00:00"], "--start-utc"),
+        (vec!["--duration-s", "0"], "--duration-s"),
+    ] {
+        let out = xbandsim()
+            .args(["nmea", "scenes/crossing.toml", "--out"])
+            .arg(dir.path().join("bad.nmea"))
+            .args(&args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains(field),
+            "{args:?}: {err}"
+        );
+    }
+    let out = xbandsim()
+        .args(["nmea", "scenes/paper.toml", "--out"])
+        .arg(dir.path().join("bad.nmea"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("[geo]"), "{err}");
+    assert!(!dir.path().join("bad.nmea").exists());
+}

@@ -81,7 +81,9 @@ fn complete(args: &str) -> bool {
                     || words.contains(&"--out")
                     || words[0] == "rcs")
         }
-        Some(&"detect") | Some(&"track") => words.get(1).is_some_and(|w| !w.starts_with('-')),
+        Some(&"detect") | Some(&"track") | Some(&"nmea") => {
+            words.get(1).is_some_and(|w| !w.starts_with('-'))
+        }
         Some(&"validate") | Some(&"schema") => true,
         Some(&"figures") | Some(&"make-vessel") => words.contains(&"--out"),
         _ => false,
@@ -136,6 +138,7 @@ fn the_readme_and_docs_commands_run_as_written() {
         "render scenes/crossing.toml --frames 8",
         "detect scenes/sea-state-4-rain.toml",
         "track scenes/crossing.toml",
+        "nmea scenes/crossing.toml --duration-s 400 --out out/crossing.nmea --truth out/crossing-nmea-truth.jsonl",
     ] {
         assert!(
             ran.iter().any(|r| r.starts_with(wanted)),

@@ -37,6 +37,22 @@ impl LocalProjection {
         let az = azi1.to_radians();
         DVec2::new(s12 * az.sin(), s12 * az.cos())
     }
+
+    /// `(lon_deg, lat_deg)` of local metres `xy` (x east, y north): the inverse of
+    /// [`LocalProjection::to_local_m`], the geodesic from the origin at azimuth
+    /// `atan2(x, y)` over the distance `|xy|` (Karney's direct problem). Used to give the
+    /// scene's own ship and targets their positions on the globe (NMEA, AIS).
+    pub fn to_lon_lat_deg(&self, xy: DVec2) -> (f64, f64) {
+        use geographiclib_rs::DirectGeodesic;
+        let azimuth_deg = xy.x.atan2(xy.y).to_degrees();
+        let (lat_deg, lon_deg): (f64, f64) = self.geodesic.direct(
+            self.origin_lat_deg,
+            self.origin_lon_deg,
+            azimuth_deg,
+            xy.length(),
+        );
+        (lon_deg, lat_deg)
+    }
 }
 
 #[cfg(test)]
@@ -59,6 +75,23 @@ mod tests {
             north.x.abs() < 1e-6 && (north.y - 111_420.0).abs() < 30.0,
             "{north}"
         );
+    }
+
+    /// Local metres to lon/lat and back, to a micrometre, over 30 km in every direction.
+    #[test]
+    fn lon_lat_of_local_metres_is_the_inverse() {
+        let p = LocalProjection::new(-4.14, 50.36);
+        for k in 0..24 {
+            let a = (k as f64 * 15.0 + 3.0).to_radians();
+            for r in [0.0, 1.0, 1500.0, 30_000.0] {
+                let xy = DVec2::new(r * a.sin(), r * a.cos());
+                let (lon, lat) = p.to_lon_lat_deg(xy);
+                assert!(
+                    (p.to_local_m(lon, lat) - xy).length() < 1e-6,
+                    "{xy} {lon} {lat}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -322,6 +322,20 @@ impl Scene {
             .enumerate()
             .map(|(i, o)| world::build_object(i, o, base_dir, &mut meshes))
             .collect::<Result<Vec<_>>>()?;
+        for (i, o) in spec.objects.iter().enumerate() {
+            let Some(mmsi) = o.mmsi else { continue };
+            if let Some(first) = spec.objects[..i].iter().position(|p| p.mmsi == Some(mmsi)) {
+                return Err(Error::invalid(
+                    Problem::Conflict,
+                    format!("object \"{}\".mmsi", objects[i].name()),
+                    mmsi,
+                    format!(
+                        "object \"{}\" has the same MMSI: each transponder has its own",
+                        objects[first].name()
+                    ),
+                ));
+            }
+        }
         check_objects_on_water(&objects, &ground)?;
         check_antenna_above_ground(&radar, &ground)?;
         let first_structure = objects.len();

@@ -281,6 +281,23 @@ pub(super) fn build_object(
     }
     let prefix = format!("object \"{name}\"");
     let f = |field: &str| format!("{prefix}.{field}");
+    if let Some(mmsi) = o.mmsi {
+        if mmsi == 0 || mmsi > 999_999_999 {
+            return Err(Error::invalid(
+                Problem::OutOfRange,
+                f("mmsi"),
+                mmsi,
+                "an MMSI is 1 to 999999999 (nine digits)",
+            ));
+        }
+    } else if let Some(class) = o.ais_class {
+        return Err(Error::invalid(
+            Problem::Conflict,
+            f("ais_class"),
+            format!("{class:?}"),
+            "an AIS transponder needs the object's `mmsi`",
+        ));
+    }
     let shape_kind = o.shape.ok_or_else(|| {
         Error::missing(
             f("shape"),

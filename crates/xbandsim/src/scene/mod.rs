@@ -8,9 +8,9 @@ mod spec;
 
 pub use load::{assign_field, locate, LoadedSpec};
 pub use spec::{
-    AntennaPatternName, ArtefactsSpec, BeaconSpec, BuiltStructureSpec, ClutterDistributionName,
-    DisplaySpec, EnvironmentSpec, GeoSpec, InterfererSpec, LandCrs, LandEdgeName, LandSpec,
-    MultipleEchoesSpec, ObjectSpec, OwnShipSpec, ProcessingSpec, PulseModeName, RadarPreset,
-    RadarSpec, RainCellSpec, ReceiverSpec, ScatteringSpec, SceneSpec, ShapeName, StructureSpec,
-    WindowName,
+    AisClass, AntennaPatternName, ArtefactsSpec, BeaconSpec, BuiltStructureSpec,
+    ClutterDistributionName, DisplaySpec, EnvironmentSpec, GeoSpec, InterfererSpec, LandCrs,
+    LandEdgeName, LandSpec, MultipleEchoesSpec, ObjectSpec, OwnShipSpec, ProcessingSpec,
+    PulseModeName, RadarPreset, RadarSpec, RainCellSpec, ReceiverSpec, ScatteringSpec, SceneSpec,
+    ShapeName, StructureSpec, WindowName,
 };

@@ -569,6 +569,24 @@ pub struct ObjectSpec {
     pub motion_period_s: Option<f64>,
     /// Phase of the wave-induced motion at t = 0, degrees (default 0).
     pub motion_phase_deg: Option<f64>,
+    /// Its MMSI (1–999 999 999): the object carries an AIS transponder, and `xbandsim nmea`
+    /// sends its reports (docs/live.md). Unique among the scene's objects.
+    pub mmsi: Option<u32>,
+    /// Its AIS transponder's class: "A" (default; ships under SOLAS) or "B" (small craft).
+    /// Needs `mmsi`.
+    pub ais_class: Option<AisClass>,
+}
+
+/// `[[object]].ais_class`: an AIS transponder's class (ITU-R M.1371).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, JsonSchema)]
+pub enum AisClass {
+    /// Class A: position reports every 2–10 s under way (messages 1–3), static and voyage
+    /// data every 6 minutes (message 5).
+    #[default]
+    A,
+    /// Class B (carrier sense): position reports every 30 s above 2 kn (message 18), static
+    /// data every 6 minutes (message 24, parts A and B).
+    B,
 }
 
 /// `[processing]`.
