@@ -26,11 +26,35 @@ REFERENCE_M = 1.0
 
 
 def checksum_ok(line):
+    """A `$` or `!` sentence of at most 82 characters (with CR LF) whose two upper-case hex
+    digits after `*` are the XOR of the bytes between."""
+    if line[:1] not in ("$", "!") or len(line) + 2 > 82:
+        return False
     body, _, given = line[1:].partition("*")
     value = 0
     for ch in body.encode():
         value ^= ch
-    return given.strip().upper() == f"{value:02X}"
+    return given == f"{value:02X}"
+
+
+def utc_fields(unix_s):
+    """(hhmmss.ss, ddmmyy) of POSIX seconds, the second rounded down to the hundredth."""
+    import datetime
+    whole = math.floor(unix_s)
+    t = datetime.datetime.fromtimestamp(whole, datetime.timezone.utc)
+    hundredths = min(int(math.floor((unix_s - whole + t.second) * 100 + 1e-6)), 5999)
+    return f"{t.hour:02d}{t.minute:02d}{hundredths // 100:02d}.{hundredths % 100:02d}", \
+        t.strftime("%d%m%y")
+
+
+def longest_interval_s(ais_class, speed_kn):
+    """The longest a position report may wait in this state (ITU-R M.1371-5 Tables 1 and 2;
+    class A's when holding course), s."""
+    if ais_class == "B":
+        return 30.0 if speed_kn > 2.0 else 180.0
+    if speed_kn < 0.1:
+        return 180.0
+    return 10.0 if speed_kn <= 14.0 else 6.0 if speed_kn <= 23.0 else 2.0
 
 
 def local_to_lon_lat(x_m, y_m, lon0, lat0):
@@ -62,7 +86,12 @@ def check(log_lines, truth, lon0, lat0):
 
     problems, counts = [], {"sentences": 0, "own_ship": 0, "ais": 0}
     at = 0
+    last_time = -math.inf
+    last_report = {}  # mmsi: (time, longest wait)
     for t in truth:
+        if t["time_s"] < last_time:
+            problems.append(f"t = {t['time_s']} s after t = {last_time} s: the log goes back in time")
+        last_time = t["time_s"]
         group = log_lines[at:at + t["sentences"]]
         at += t["sentences"]
         where = f"t = {t['time_s']} s, {t['source']}"
@@ -88,6 +117,11 @@ def check(log_lines, truth, lon0, lat0):
                 except pynmea2.ParseError as e:
                     problems.append(f"{where}: pynmea2 cannot read {line!r}: {e}")
                     continue
+                time, date = utc_fields(t["unix_s"])
+                if msg.sentence_type in ("GGA", "RMC") and msg.data[0] != time:
+                    problems.append(f"{where}: {msg.sentence_type} time {msg.data[0]}, truth {time}")
+                if msg.sentence_type == "RMC" and msg.datestamp.strftime("%d%m%y") != date:
+                    problems.append(f"{where}: RMC date {msg.datestamp}, truth {date}")
                 if msg.sentence_type in ("GGA", "RMC"):
                     if abs(msg.latitude - t["lat_deg"]) > POSITION_DEG or \
                             abs(msg.longitude - t["lon_deg"]) > POSITION_DEG:
@@ -107,6 +141,11 @@ def check(log_lines, truth, lon0, lat0):
         for line in group:
             pending.append(line.strip().encode())
             fields = line.split(",")
+            first = pending[0].decode().split(",")
+            if fields[1] != first[1] or fields[3] != first[3] or fields[2] != str(len(pending)):
+                problems.append(f"{where}: fragment {line!r} does not follow {first!r}")
+            if fields[1] != fields[2] and not fields[6].startswith("0*"):
+                problems.append(f"{where}: a fragment before the last has fill bits: {line!r}")
             if fields[1] == fields[2]:
                 try:
                     messages.append(decode(*pending))
@@ -121,11 +160,21 @@ def check(log_lines, truth, lon0, lat0):
         for m in messages:
             if m.mmsi != t["mmsi"]:
                 problems.append(f"{where}: MMSI {m.mmsi}, truth {t['mmsi']}")
-            if m.msg_type in (5, 24) and getattr(m, "shipname", None) not in (None, ""):
+            if m.msg_type == 5 or (m.msg_type == 24 and m.partno == 0):
                 name = t["source"].upper()[:20]
-                if m.shipname.strip() != name.strip():
+                if (m.shipname or "").strip() != name.strip():
                     problems.append(f"{where}: name {m.shipname!r}, truth {name!r}")
         report = messages[-1]
+        if report.second != math.floor(t["unix_s"]) % 60:
+            problems.append(f"{where}: AIS second {report.second}, truth {t['unix_s']}")
+        if report.msg_type == 1 and int(report.status) != (1 if speed_kn < 0.1 else 0):
+            problems.append(f"{where}: navigational status {report.status} at {speed_kn:.2f} kn")
+        previous = last_report.get(t["mmsi"])
+        if previous is not None and t["time_s"] - previous[0] > previous[1] + 1e-6:
+            problems.append(f"{where}: {t['time_s'] - previous[0]:.2f} s since the last report, "
+                            f"more than the {previous[1]:.0f} s its state allows")
+        ais_class = "B" if report.msg_type == 18 else "A"
+        last_report[t["mmsi"]] = (t["time_s"], longest_interval_s(ais_class, speed_kn))
         if abs(report.lat - t["lat_deg"]) > POSITION_DEG or abs(report.lon - t["lon_deg"]) > POSITION_DEG:
             problems.append(f"{where}: AIS position {report.lat}, {report.lon}, "
                             f"truth {t['lat_deg']}, {t['lon_deg']}")

@@ -53,7 +53,8 @@ fn parse_utc(text: &str) -> Option<f64> {
         && (0.0..60.0).contains(&mm)
         && (0.0..60.0).contains(&ss)
         && hh.fract() == 0.0
-        && mm.fract() == 0.0;
+        && mm.fract() == 0.0
+        && ss.fract() == 0.0;
     if !ok {
         return None;
     }
@@ -64,7 +65,12 @@ fn parse_utc(text: &str) -> Option<f64> {
     let day_of_year = (153 * m + 2) / 5 + day - 1;
     let day_of_era = year_of_era * 365 + year_of_era / 4 - year_of_era / 100 + day_of_year;
     let days = era * 146_097 + day_of_era - 719_468;
-    Some(days as f64 * 86_400.0 + hh * 3600.0 + mm * 60.0 + ss)
+    let unix_s = days as f64 * 86_400.0 + hh * 3600.0 + mm * 60.0 + ss;
+    // A day past its month's end (2026-02-31) comes back as another date: refused.
+    let back = xbandsim_nmea::sentence::UtcTime::from_unix_s(unix_s);
+    let (year, month) = if m >= 10 { (y + 1, m - 9) } else { (y, m + 3) };
+    (back.year == year && i64::from(back.month) == month && i64::from(back.day) == day)
+        .then_some(unix_s)
 }
 
 /// AIS ship and cargo type of an object class of the target library (ITU-R M.1371 Table
@@ -93,32 +99,55 @@ fn ais_text(text: &str, chars: usize) -> String {
         .collect()
 }
 
-/// A class A ship's reporting interval under way (ITU-R M.1371-5 Table 1), s: by speed,
-/// shorter while changing course; 3 minutes at anchor (below 0.1 kn here).
-fn class_a_interval_s(speed_kn: f64, turning: bool) -> f64 {
+/// The schedule's tick, s: a third of a second, so that every reporting interval is a
+/// whole number of ticks and times add up exactly.
+const TICK_S: f64 = 1.0 / 3.0;
+
+/// A class A ship's reporting interval (ITU-R M.1371-5 Table 1), ticks: by speed, shorter
+/// while changing course; 3 minutes at anchor (below 0.1 kn here).
+fn class_a_interval_ticks(speed_kn: f64, turning: bool) -> u64 {
     match (speed_kn, turning) {
-        (s, _) if s < 0.1 => 180.0,
-        (s, false) if s <= 14.0 => 10.0,
-        (s, true) if s <= 14.0 => 10.0 / 3.0,
-        (s, false) if s <= 23.0 => 6.0,
-        _ => 2.0,
+        (s, _) if s < 0.1 => 540,      // 3 min
+        (s, false) if s <= 14.0 => 30, // 10 s
+        (s, true) if s <= 14.0 => 10,  // 3⅓ s
+        (s, false) if s <= 23.0 => 18, // 6 s
+        _ => 6,                        // 2 s
     }
 }
 
-/// A class B CS unit's reporting interval (ITU-R M.1371-5 Table 2), s.
-fn class_b_interval_s(speed_kn: f64) -> f64 {
+/// A class B CS unit's reporting interval (ITU-R M.1371-5 Table 2), ticks: 30 s above 2 kn,
+/// 3 minutes below.
+fn class_b_interval_ticks(speed_kn: f64) -> u64 {
     if speed_kn <= 2.0 {
-        180.0
+        540
     } else {
-        30.0
+        90
     }
 }
 
-/// Static data goes out every 6 minutes (and at the start).
-const STATIC_INTERVAL_S: f64 = 360.0;
+/// Static data go out at the start and every 6 minutes, ticks.
+const STATIC_INTERVAL_TICKS: u64 = 1080;
 
-/// A turn slower than this, °/min, counts as holding course.
-const TURNING_DEG_PER_MIN: f64 = 1.0;
+/// A ship is changing course while its heading turns 5° in 30 s or faster (10°/min): the
+/// rule of thumb of class A test standards for Table 1's "changing course".
+const TURNING_DEG_PER_MIN: f64 = 10.0;
+
+/// One AIS message to send, framed into sentences once the log is in time order.
+struct Message {
+    id: u8,
+    bits: ais::Bits,
+}
+
+/// One moment of one source: its tick, its place in the log's order at that tick (0 the own
+/// ship, then the transponders in scene order), its NMEA sentences, its AIS messages and
+/// its truth.
+struct Event<'a> {
+    tick: u64,
+    order: usize,
+    sentences: Vec<String>,
+    messages: Vec<Message>,
+    truth: TruthLine<'a>,
+}
 
 #[derive(Serialize)]
 struct TruthLine<'a> {
@@ -173,16 +202,13 @@ pub fn run(a: &NmeaArgs) -> Result<()> {
         .enumerate()
         .filter_map(|(i, o)| o.mmsi.map(|m| (i, m, o.ais_class.unwrap_or_default())))
         .collect();
-    // Events: (time, order, source): the own ship at every whole second, each transponder
-    // at its own times; sorted by time, then by source.
-    let mut lines: Vec<(f64, usize, Vec<String>, Option<TruthLine>)> = Vec::new();
-    let want_truth = a.truth.is_some();
-    let mut k = 0u64;
-    loop {
-        let t = k as f64;
-        if t > a.duration_s {
-            break;
-        }
+    // Events: (tick, order, own-ship sentences or AIS messages, truth): the own ship at
+    // every whole second, each transponder when its interval has passed; in time order, the
+    // own ship first, then the transponders in scene order.
+    let last_tick = (a.duration_s / TICK_S + 1e-9).floor() as u64;
+    let mut events: Vec<Event> = Vec::new();
+    for tick in (0..=last_tick).step_by(3) {
+        let t = tick as f64 * TICK_S;
         let (position, velocity, heading_rad) = match scene.own_ship() {
             Some(s) => (
                 radar_m + s.displacement_m(t),
@@ -192,13 +218,12 @@ pub fn run(a: &NmeaArgs) -> Result<()> {
             None => (radar_m, glam::DVec3::ZERO, 0.0),
         };
         let (lon, lat) = projection.to_lon_lat_deg(position.truncate());
-        let speed_mps = velocity.x.hypot(velocity.y);
         let fix = Fix {
             unix_s: start_unix_s + t,
             lat_deg: lat,
             lon_deg: lon,
             altitude_m: position.z,
-            sog_kn: speed_mps / KNOT_M_PER_S,
+            sog_kn: velocity.x.hypot(velocity.y) / KNOT_M_PER_S,
             cog_deg: course_of(velocity).map(f64::to_degrees),
             heading_deg: heading_rad.to_degrees(),
         };
@@ -206,7 +231,7 @@ pub fn run(a: &NmeaArgs) -> Result<()> {
         if scene.own_ship().is_some() {
             group.push(hdt("HE", &fix));
         }
-        let truth = want_truth.then(|| TruthLine {
+        let truth = TruthLine {
             time_s: t,
             unix_s: fix.unix_s,
             source: "own_ship",
@@ -218,12 +243,15 @@ pub fn run(a: &NmeaArgs) -> Result<()> {
             velocity_mps: [velocity.x, velocity.y],
             heading_deg: fix.heading_deg,
             sentences: group.len(),
+        };
+        events.push(Event {
+            tick,
+            order: 0,
+            sentences: group,
+            messages: Vec::new(),
+            truth,
         });
-        lines.push((t, 0, group, truth));
-        k += 1;
     }
-    let mut sequence = 0u8;
-    let mut channel_b = false;
     for (order, &(i, mmsi, class)) in transponders.iter().enumerate() {
         let o = &scene.objects()[i];
         let bounds = o.local_bounds();
@@ -240,58 +268,65 @@ pub fn run(a: &NmeaArgs) -> Result<()> {
             draught_m: 0.0,
             destination: String::new(),
         };
-        let mut next_static = 0.0;
-        let mut t = 0.0;
-        while t <= a.duration_s {
-            let kin = o.kinematics(t);
+        // Every tick, the interval the object's state asks for now, or the one it had at its
+        // last report if that is shorter: a boat that gets under way is reported at once, not
+        // when its anchored interval runs out, and one that stops still makes the report its
+        // last state promised.
+        let mut last_report: Option<(u64, u64)> = None;
+        let mut next_static = 0u64;
+        for tick in 0..=last_tick {
+            let t = tick as f64 * TICK_S;
+            let mut kin = o.kinematics(t);
+            if tick == 0 {
+                // At t = 0 a track's object is at its first waypoint with no velocity yet:
+                // it moves off along the first leg.
+                kin.velocity_mps = o.kinematics(1e-3).velocity_mps;
+            }
             let heading_deg = kin.heading_rad.to_degrees();
             // Rate of turn from the heading a second either side, °/min.
             let ahead = o.kinematics(t + 1.0).heading_rad.to_degrees();
             let behind = o.kinematics((t - 1.0).max(0.0)).heading_rad.to_degrees();
             let span_s = t + 1.0 - (t - 1.0).max(0.0);
-            let rot = (ahead - behind + 540.0).rem_euclid(360.0) - 180.0;
-            let rot_deg_per_min = rot / span_s * 60.0;
+            let turn = (ahead - behind + 540.0).rem_euclid(360.0) - 180.0;
+            let rot_deg_per_min = turn / span_s * 60.0;
             let speed_kn = kin.speed_mps() / KNOT_M_PER_S;
             let turning = rot_deg_per_min.abs() >= TURNING_DEG_PER_MIN;
+            let interval = match class {
+                AisClass::A => class_a_interval_ticks(speed_kn, turning),
+                AisClass::B => class_b_interval_ticks(speed_kn),
+            };
+            if last_report.is_some_and(|(last, promised)| tick - last < interval.min(promised)) {
+                continue;
+            }
+            last_report = Some((tick, interval));
             let (lon, lat) = projection.to_lon_lat_deg(kin.position_m.truncate());
             let unix_s = start_unix_s + t;
-            let second = (unix_s.rem_euclid(60.0)).floor() as u32;
+            let second = unix_s.rem_euclid(60.0).floor() as u32;
             let cog_deg = course_of(kin.velocity_mps).map(f64::to_degrees);
-            let mut group = Vec::new();
             let mut messages = Vec::new();
-            let channel = |b: &mut bool| {
-                *b = !*b;
-                if *b {
-                    'B'
-                } else {
-                    'A'
+            if tick >= next_static {
+                match class {
+                    AisClass::A => messages.push(Message {
+                        id: 5,
+                        bits: ais::static_and_voyage(&static_data)?,
+                    }),
+                    AisClass::B => {
+                        messages.push(Message {
+                            id: 24,
+                            bits: ais::static_part_a(&static_data)?,
+                        });
+                        messages.push(Message {
+                            id: 24,
+                            bits: ais::static_part_b(&static_data)?,
+                        });
+                    }
                 }
-            };
-            if t >= next_static {
-                let parts = match class {
-                    AisClass::A => vec![(5u8, ais::static_and_voyage(&static_data)?)],
-                    AisClass::B => vec![
-                        (24, ais::static_part_a(&static_data)?),
-                        (24, ais::static_part_b(&static_data)?),
-                    ],
-                };
-                for (id, bits) in parts {
-                    group.extend(ais::sentences(
-                        &bits,
-                        "AI",
-                        false,
-                        channel(&mut channel_b),
-                        sequence,
-                    ));
-                    sequence = (sequence + 1) % 10;
-                    messages.push(id);
-                }
-                next_static += STATIC_INTERVAL_S;
+                next_static = tick + STATIC_INTERVAL_TICKS;
             }
-            let (id, bits, interval_s) = match class {
-                AisClass::A => (
-                    1u8,
-                    ais::class_a_position(&ais::ClassAPosition {
+            messages.push(match class {
+                AisClass::A => Message {
+                    id: 1,
+                    bits: ais::class_a_position(&ais::ClassAPosition {
                         message_type: 1,
                         mmsi,
                         nav_status: if speed_kn < 0.1 { 1 } else { 0 },
@@ -306,11 +341,10 @@ pub fn run(a: &NmeaArgs) -> Result<()> {
                         raim: false,
                         radio: 0,
                     })?,
-                    class_a_interval_s(speed_kn, turning),
-                ),
-                AisClass::B => (
-                    18,
-                    ais::class_b_position(&ais::ClassBPosition {
+                },
+                AisClass::B => Message {
+                    id: 18,
+                    bits: ais::class_b_position(&ais::ClassBPosition {
                         mmsi,
                         sog_kn: Some(speed_kn),
                         high_accuracy: false,
@@ -320,44 +354,57 @@ pub fn run(a: &NmeaArgs) -> Result<()> {
                         heading_deg: Some(heading_deg),
                         second: Some(second),
                     })?,
-                    class_b_interval_s(speed_kn),
-                ),
-            };
-            group.extend(ais::sentences(
-                &bits,
-                "AI",
-                false,
-                channel(&mut channel_b),
-                sequence,
-            ));
-            messages.push(id);
-            let truth = want_truth.then(|| TruthLine {
+                },
+            });
+            let truth = TruthLine {
                 time_s: t,
                 unix_s,
                 source: o.name(),
                 mmsi: Some(mmsi),
-                messages: messages.clone(),
+                messages: messages.iter().map(|m| m.id).collect(),
                 position_m: [kin.position_m.x, kin.position_m.y],
                 lon_deg: lon,
                 lat_deg: lat,
                 velocity_mps: [kin.velocity_mps.x, kin.velocity_mps.y],
                 heading_deg,
-                sentences: group.len(),
+                sentences: 0,
+            };
+            events.push(Event {
+                tick,
+                order: order + 1,
+                sentences: Vec::new(),
+                messages,
+                truth,
             });
-            lines.push((t, order + 1, group, truth));
-            t += interval_s;
         }
     }
-    lines.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
-    let log: String = lines.iter().flat_map(|l| l.2.iter().cloned()).collect();
+    events.sort_by_key(|e| (e.tick, e.order));
+    // Frame the AIS messages in log order: radio channels alternate A, B; a message of
+    // several fragments takes the next sequence number, 0–9.
+    let (mut channel_b, mut sequence) = (false, 0u8);
+    let mut log = String::new();
+    let mut truths = Vec::with_capacity(events.len());
+    for event in events {
+        let (mut group, mut truth) = (event.sentences, event.truth);
+        for m in &event.messages {
+            let channel = if channel_b { 'B' } else { 'A' };
+            channel_b = !channel_b;
+            let framed = ais::sentences(&m.bits, "AI", false, channel, sequence);
+            if framed.len() > 1 {
+                sequence = (sequence + 1) % 10;
+            }
+            group.extend(framed);
+        }
+        truth.sentences = group.len();
+        log.extend(group);
+        truths.push(truth);
+    }
     let truth_text = match &a.truth {
         Some(_) => {
             let mut s = String::new();
-            for (_, _, _, truth) in &lines {
-                if let Some(t) = truth {
-                    s.push_str(&serde_json::to_string(t)?);
-                    s.push('\n');
-                }
+            for t in &truths {
+                s.push_str(&serde_json::to_string(t)?);
+                s.push('\n');
             }
             Some(s)
         }
@@ -395,6 +442,9 @@ mod tests {
             Some(20_794.0 * 86_400.0 + 45_296.0)
         );
         assert_eq!(parse_utc("2026-13-01T00:00:00Z"), None);
+        assert_eq!(parse_utc("2026-02-31T00:00:00Z"), None);
+        assert_eq!(parse_utc("2024-02-29T00:00:00Z"), Some(19_782.0 * 86_400.0));
+        assert_eq!(parse_utc("2026-01-01T00:00:00.5Z"), None);
         assert_eq!(parse_utc("2026-01-01 00:00:00"), None);
     }
 }

@@ -289,8 +289,9 @@ pub struct ClassBPosition {
 }
 
 /// The 168 bits of a class B position report: a CS unit without display or DSC, on the
-/// whole marine band, able to take message 22, autonomous, no RAIM, radio state of a CS
-/// unit (`1100000000000000110`, ITU-R M.1371-5 Table 49).
+/// whole marine band, able to take message 22, autonomous, no RAIM; the radio field is the
+/// communication-state selector `1` and a CS unit's default state `1100000000000000110`
+/// (ITU-R M.1371-5, message 18).
 pub fn class_b_position(m: &ClassBPosition) -> Result<Bits> {
     check_mmsi(m.mmsi)?;
     let mut b = Bits::default();
@@ -313,9 +314,12 @@ pub fn class_b_position(m: &ClassBPosition) -> Result<Bits> {
     b.unsigned(1, 1); // takes message 22
     b.unsigned(0, 1); // autonomous mode
     b.unsigned(0, 1); // no RAIM
-    b.unsigned(0b1_1000_0000_0000_0000_0110, 20); // CS unit's communication state
+    b.unsigned(CLASS_B_CS_RADIO, 20);
     Ok(b)
 }
+
+/// Message 18's radio field for a CS unit: selector `1`, then `1100000000000000110`.
+pub const CLASS_B_CS_RADIO: u64 = 0b1110_0000_0000_0000_0110;
 
 /// A ship's static data as AIS carries it (messages 5 and 24).
 #[derive(Debug, Clone, PartialEq)]
@@ -368,15 +372,15 @@ fn check_static(s: &StaticData) -> Result<()> {
     Ok(())
 }
 
-/// The 424 bits of a class A ship's static and voyage data (message 5): AIS version 0
-/// (ITU-R M.1371-1), a GPS position fix, no ETA, data terminal ready.
+/// The 424 bits of a class A ship's static and voyage data (message 5): AIS version 2
+/// (ITU-R M.1371-5), a GPS position fix, no ETA, data terminal ready.
 pub fn static_and_voyage(s: &StaticData) -> Result<Bits> {
     check_static(s)?;
     let mut b = Bits::default();
     b.unsigned(5, 6);
     b.unsigned(0, 2);
     b.unsigned(u64::from(s.mmsi), 30);
-    b.unsigned(0, 2); // AIS version
+    b.unsigned(2, 2); // AIS version: ITU-R M.1371-5
     b.unsigned(u64::from(s.imo), 30);
     b.text("call_sign", &s.call_sign, 7)?;
     b.text("name", &s.name, 20)?;
@@ -399,7 +403,7 @@ pub fn static_and_voyage(s: &StaticData) -> Result<Bits> {
     Ok(b)
 }
 
-/// The 168 bits of class B static data part A (message 24A): the name.
+/// The 160 bits of class B static data part A (message 24A): the name.
 pub fn static_part_a(s: &StaticData) -> Result<Bits> {
     check_static(s)?;
     let mut b = Bits::default();
@@ -408,7 +412,6 @@ pub fn static_part_a(s: &StaticData) -> Result<Bits> {
     b.unsigned(u64::from(s.mmsi), 30);
     b.unsigned(0, 2); // part A
     b.text("name", &s.name, 20)?;
-    b.unsigned(0, 8); // spare
     Ok(b)
 }
 
@@ -543,8 +546,29 @@ mod tests {
             .len(),
             168
         );
-        assert_eq!(static_part_a(&s).unwrap().len(), 168);
+        assert_eq!(static_part_a(&s).unwrap().len(), 160);
         assert_eq!(static_part_b(&s).unwrap().len(), 168);
+    }
+
+    /// Message 18 ends with the CS unit's radio field, selector 1 then 1100000000000000110.
+    #[test]
+    fn class_b_reports_end_with_the_cs_radio_state() {
+        let bits = class_b_position(&ClassBPosition {
+            mmsi: 235_000_002,
+            sog_kn: Some(5.0),
+            high_accuracy: false,
+            lon_deg: Some(-4.1),
+            lat_deg: Some(50.3),
+            cog_deg: Some(90.0),
+            heading_deg: None,
+            second: Some(1),
+        })
+        .unwrap();
+        let tail: String = bits.0[148..]
+            .iter()
+            .map(|&b| if b { '1' } else { '0' })
+            .collect();
+        assert_eq!(tail, "11100000000000000110");
     }
 
     /// Values outside what the message carries are refused naming the field; unknown ones

@@ -1,5 +1,5 @@
-//! NMEA 0183 sentences (NMEA 0183 v4.11; field layouts as the standard's sentence tables
-//! give them): the framing and checksum, the own ship's GPS fix (RMC, GGA, VTG) and true
+//! NMEA 0183 sentences (the field layouts of NMEA 0183 versions 2.3 to 4.00, as its
+//! sentence tables give them): the framing and checksum, the own ship's GPS fix (RMC, GGA, VTG) and true
 //! heading (HDT), and a radar's tracked target (TTM).
 //!
 //! A sentence is `$` (or `!` for encapsulated data such as AIS), the talker and sentence

@@ -42,10 +42,12 @@ def gga(t, lat_shift_deg=0.0):
 
 
 def ais_report(t, mmsi):
+    second = int(t["unix_s"]) % 60
     from pyais.encode import encode_dict
     speed = math.hypot(*t["velocity_mps"]) / (1852 / 3600)
     course = math.degrees(math.atan2(*t["velocity_mps"])) % 360
-    fields = {"type": 1, "mmsi": mmsi, "lon": t["lon_deg"], "lat": t["lat_deg"],
+    fields = {"type": 1, "mmsi": mmsi, "status": 0, "second": second,
+              "lon": t["lon_deg"], "lat": t["lat_deg"],
               "speed": round(speed, 1), "course": round(course, 1),
               "heading": round(t["heading_deg"])}
     return [s + "\r\n" for s in encode_dict(fields, radio_channel="A", talker_id="AI")]
@@ -70,3 +72,15 @@ def test_a_log_that_matches_its_truth_passes_and_errors_are_caught():
     broken = [lines[0][:-2] + "00"] + lines[1:]
     problems, _ = check_nmea.check(broken, [own, ship], LON0, LAT0)
     assert any("checksum" in p for p in problems), problems
+
+
+def test_a_ship_under_way_reported_too_seldom_is_caught():
+    own = truth("own_ship", 0.0, 0.0, 0.0, 0.0, 0.0)
+    first = truth("ship", 800.0, -600.0, 3.0, 4.0, 36.87, mmsi=235000001, messages=[1])
+    later = dict(truth("ship", 980.0, -360.0, 3.0, 4.0, 36.87, mmsi=235000001, messages=[1]),
+                 time_s=60.0, unix_s=60.0)
+    lines = [gga(own)] + ais_report(first, 235000001) + ais_report(later, 235000001)
+    lines = [line.rstrip("\r\n") for line in lines]
+    problems, _ = check_nmea.check(lines, [own, first, later], LON0, LAT0)
+    # 9.7 kn: a class A ship holding course reports every 10 s, not 60.
+    assert any("60.00 s since the last report" in p for p in problems), problems
