@@ -323,6 +323,15 @@ pub fn run(a: &NmeaArgs) -> Result<()> {
                 }
                 next_static = tick + STATIC_INTERVAL_TICKS;
             }
+            let motion = ais::ReportedMotion {
+                sog_kn: Some(speed_kn),
+                high_accuracy: false,
+                lon_deg: Some(lon),
+                lat_deg: Some(lat),
+                cog_deg,
+                heading_deg: Some(heading_deg),
+                second: Some(second),
+            };
             messages.push(match class {
                 AisClass::A => Message {
                     id: 1,
@@ -331,29 +340,14 @@ pub fn run(a: &NmeaArgs) -> Result<()> {
                         mmsi,
                         nav_status: if speed_kn < 0.1 { 1 } else { 0 },
                         rot_deg_per_min: Some(rot_deg_per_min),
-                        sog_kn: Some(speed_kn),
-                        high_accuracy: false,
-                        lon_deg: Some(lon),
-                        lat_deg: Some(lat),
-                        cog_deg,
-                        heading_deg: Some(heading_deg),
-                        second: Some(second),
+                        motion,
                         raim: false,
                         radio: 0,
                     })?,
                 },
                 AisClass::B => Message {
                     id: 18,
-                    bits: ais::class_b_position(&ais::ClassBPosition {
-                        mmsi,
-                        sog_kn: Some(speed_kn),
-                        high_accuracy: false,
-                        lon_deg: Some(lon),
-                        lat_deg: Some(lat),
-                        cog_deg,
-                        heading_deg: Some(heading_deg),
-                        second: Some(second),
-                    })?,
+                    bits: ais::class_b_position(&ais::ClassBPosition { mmsi, motion })?,
                 },
             });
             let truth = TruthLine {

@@ -322,6 +322,21 @@ impl BaselineTally {
         t
     }
 
+    /// The range bands with anything in them, each with its name.
+    fn range_rows(&self) -> Vec<(String, DetectionCounts)> {
+        (self.per_range.iter().enumerate())
+            .filter(|(_, v)| v.echoes > 0 || v.cells_tested > 0)
+            .map(|(i, v)| (range_band_name(i), *v))
+            .collect()
+    }
+
+    /// The sea states, each with its name.
+    fn sea_state_rows(&self) -> Vec<(String, DetectionCounts)> {
+        (self.per_sea_state.iter())
+            .map(|(state, v)| (sea_state_name(state), *v))
+            .collect()
+    }
+
     /// Adds one targets-table row (its class, range and `baseline_detected`).
     pub fn add_row(&mut self, row: &serde_json::Value) {
         let Some(detected) = row["baseline_detected"].as_bool() else {
@@ -444,22 +459,7 @@ impl BaselineTally {
             let _ = writeln!(s, "  {c:<20} {:>9} {:>8}", v.echoes, v.pd_text());
         }
         s.push_str("\n  range, km             echoes       Pd  false plots  a cell\n");
-        for (i, v) in self.per_range.iter().enumerate() {
-            if v.echoes > 0 || v.cells_tested > 0 {
-                let label = range_band_name(i);
-                let _ = writeln!(
-                    s,
-                    "  {label:<20} {:>9} {:>8} {:>12} {:>8}",
-                    v.echoes,
-                    v.pd_text(),
-                    v.false_plots,
-                    v.pfa_text()
-                );
-            }
-        }
-        s.push_str("\n  sea state             echoes       Pd  false plots  a cell\n");
-        for (state, v) in &self.per_sea_state {
-            let label = sea_state_name(state);
+        let row = |s: &mut String, (label, v): (String, DetectionCounts)| {
             let _ = writeln!(
                 s,
                 "  {label:<20} {:>9} {:>8} {:>12} {:>8}",
@@ -468,6 +468,13 @@ impl BaselineTally {
                 v.false_plots,
                 v.pfa_text()
             );
+        };
+        for r in self.range_rows() {
+            row(&mut s, r);
+        }
+        s.push_str("\n  sea state             echoes       Pd  false plots  a cell\n");
+        for r in self.sea_state_rows() {
+            row(&mut s, r);
         }
         if let Some(t) = &self.tracking {
             let f = t.figures();
@@ -530,32 +537,24 @@ impl BaselineTally {
         c.push_str(
             "\n| range, km | objects with an echo | Pd | false plots | a cell tested |\n|---|---|---|---|---|\n",
         );
-        for (i, v) in self.per_range.iter().enumerate() {
-            if v.echoes > 0 || v.cells_tested > 0 {
-                let _ = writeln!(
-                    c,
-                    "| {} | {} | {} | {} | {} |",
-                    range_band_name(i),
-                    v.echoes,
-                    v.pd_text(),
-                    v.false_plots,
-                    v.pfa_text()
-                );
-            }
-        }
-        c.push_str(
-            "\n| sea state | objects with an echo | Pd | false plots | a cell tested |\n|---|---|---|---|---|\n",
-        );
-        for (state, v) in &self.per_sea_state {
+        let row = |c: &mut String, (label, v): (String, DetectionCounts)| {
             let _ = writeln!(
                 c,
-                "| {} | {} | {} | {} | {} |",
-                sea_state_name(state),
+                "| {label} | {} | {} | {} | {} |",
                 v.echoes,
                 v.pd_text(),
                 v.false_plots,
                 v.pfa_text()
             );
+        };
+        for r in self.range_rows() {
+            row(&mut c, r);
+        }
+        c.push_str(
+            "\n| sea state | objects with an echo | Pd | false plots | a cell tested |\n|---|---|---|---|---|\n",
+        );
+        for r in self.sea_state_rows() {
+            row(&mut c, r);
         }
         if let Some(t) = &self.tracking {
             let f = t.figures();

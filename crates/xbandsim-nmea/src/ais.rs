@@ -197,18 +197,10 @@ fn second_value(second: Option<u32>) -> u64 {
     second.filter(|s| *s < 60).map_or(60, u64::from)
 }
 
-/// A class A position report (messages 1, 2 and 3).
+/// What both classes' position reports say of a vessel's motion, in the same 73 bits
+/// (speed over ground to UTC second).
 #[derive(Debug, Clone, PartialEq)]
-pub struct ClassAPosition {
-    /// 1 (scheduled), 2 (assigned scheduled) or 3 (special, in answer to an interrogation).
-    pub message_type: u8,
-    /// The ship's MMSI.
-    pub mmsi: u32,
-    /// Navigational status, 0–15 (0: under way using engine; 1: at anchor; 5: moored; 15:
-    /// not defined).
-    pub nav_status: u8,
-    /// Rate of turn, °/min (positive to starboard); `None` when unknown.
-    pub rot_deg_per_min: Option<f64>,
+pub struct ReportedMotion {
     /// Speed over ground, knots.
     pub sog_kn: Option<f64>,
     /// Position accuracy better than 10 m (a differential fix).
@@ -223,6 +215,36 @@ pub struct ClassAPosition {
     pub heading_deg: Option<f64>,
     /// The UTC second the position is of.
     pub second: Option<u32>,
+}
+
+impl ReportedMotion {
+    /// Its bits: speed, accuracy, longitude, latitude, course, heading, second.
+    fn encode(&self, b: &mut Bits) -> Result<()> {
+        b.unsigned(sog_value(self.sog_kn), 10);
+        b.unsigned(u64::from(self.high_accuracy), 1);
+        b.signed(lon_value(self.lon_deg)?, 28);
+        b.signed(lat_value(self.lat_deg)?, 27);
+        b.unsigned(cog_value(self.cog_deg), 12);
+        b.unsigned(heading_value(self.heading_deg), 9);
+        b.unsigned(second_value(self.second), 6);
+        Ok(())
+    }
+}
+
+/// A class A position report (messages 1, 2 and 3).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClassAPosition {
+    /// 1 (scheduled), 2 (assigned scheduled) or 3 (special, in answer to an interrogation).
+    pub message_type: u8,
+    /// The ship's MMSI.
+    pub mmsi: u32,
+    /// Navigational status, 0–15 (0: under way using engine; 1: at anchor; 5: moored; 15:
+    /// not defined).
+    pub nav_status: u8,
+    /// Rate of turn, °/min (positive to starboard); `None` when unknown.
+    pub rot_deg_per_min: Option<f64>,
+    /// Where it is and how it moves.
+    pub motion: ReportedMotion,
     /// RAIM in use.
     pub raim: bool,
     /// The radio status (SOTDMA or ITDMA communication state), 19 bits.
@@ -253,13 +275,7 @@ pub fn class_a_position(m: &ClassAPosition) -> Result<Bits> {
     b.unsigned(u64::from(m.mmsi), 30);
     b.unsigned(u64::from(m.nav_status), 4);
     b.signed(rot_value(m.rot_deg_per_min), 8);
-    b.unsigned(sog_value(m.sog_kn), 10);
-    b.unsigned(u64::from(m.high_accuracy), 1);
-    b.signed(lon_value(m.lon_deg)?, 28);
-    b.signed(lat_value(m.lat_deg)?, 27);
-    b.unsigned(cog_value(m.cog_deg), 12);
-    b.unsigned(heading_value(m.heading_deg), 9);
-    b.unsigned(second_value(m.second), 6);
+    m.motion.encode(&mut b)?;
     b.unsigned(0, 2); // special manoeuvre indicator: not available
     b.unsigned(0, 3); // spare
     b.unsigned(u64::from(m.raim), 1);
@@ -272,20 +288,8 @@ pub fn class_a_position(m: &ClassAPosition) -> Result<Bits> {
 pub struct ClassBPosition {
     /// The vessel's MMSI.
     pub mmsi: u32,
-    /// Speed over ground, knots.
-    pub sog_kn: Option<f64>,
-    /// Position accuracy better than 10 m.
-    pub high_accuracy: bool,
-    /// Longitude, degrees east.
-    pub lon_deg: Option<f64>,
-    /// Latitude, degrees north.
-    pub lat_deg: Option<f64>,
-    /// Course over ground, degrees true.
-    pub cog_deg: Option<f64>,
-    /// True heading, degrees.
-    pub heading_deg: Option<f64>,
-    /// The UTC second the position is of.
-    pub second: Option<u32>,
+    /// Where it is and how it moves.
+    pub motion: ReportedMotion,
 }
 
 /// The 168 bits of a class B position report: a CS unit without display or DSC, on the
@@ -299,13 +303,7 @@ pub fn class_b_position(m: &ClassBPosition) -> Result<Bits> {
     b.unsigned(0, 2);
     b.unsigned(u64::from(m.mmsi), 30);
     b.unsigned(0, 8); // reserved for regional use
-    b.unsigned(sog_value(m.sog_kn), 10);
-    b.unsigned(u64::from(m.high_accuracy), 1);
-    b.signed(lon_value(m.lon_deg)?, 28);
-    b.signed(lat_value(m.lat_deg)?, 27);
-    b.unsigned(cog_value(m.cog_deg), 12);
-    b.unsigned(heading_value(m.heading_deg), 9);
-    b.unsigned(second_value(m.second), 6);
+    m.motion.encode(&mut b)?;
     b.unsigned(0, 2); // reserved for regional use
     b.unsigned(1, 1); // CS unit
     b.unsigned(0, 1); // no display
@@ -450,13 +448,15 @@ mod tests {
                     mmsi: 227_006_760,
                     nav_status: 0,
                     rot_deg_per_min: None,
-                    sog_kn: Some(0.0),
-                    high_accuracy: false,
-                    lon_deg: Some(78_828.0 / 600_000.0),
-                    lat_deg: Some(29_685_346.0 / 600_000.0),
-                    cog_deg: Some(36.7),
-                    heading_deg: None,
-                    second: Some(14),
+                    motion: ReportedMotion {
+                        sog_kn: Some(0.0),
+                        high_accuracy: false,
+                        lon_deg: Some(78_828.0 / 600_000.0),
+                        lat_deg: Some(29_685_346.0 / 600_000.0),
+                        cog_deg: Some(36.7),
+                        heading_deg: None,
+                        second: Some(14),
+                    },
                     raim: false,
                     radio: 22_136,
                 },
@@ -468,13 +468,15 @@ mod tests {
                     mmsi: 367_533_950,
                     nav_status: 0,
                     rot_deg_per_min: None,
-                    sog_kn: Some(0.0),
-                    high_accuracy: true,
-                    lon_deg: Some(-73_444_939.0 / 600_000.0),
-                    lat_deg: Some(22_685_051.0 / 600_000.0),
-                    cog_deg: None,
-                    heading_deg: None,
-                    second: Some(34),
+                    motion: ReportedMotion {
+                        sog_kn: Some(0.0),
+                        high_accuracy: true,
+                        lon_deg: Some(-73_444_939.0 / 600_000.0),
+                        lat_deg: Some(22_685_051.0 / 600_000.0),
+                        cog_deg: None,
+                        heading_deg: None,
+                        second: Some(34),
+                    },
                     raim: true,
                     radio: 34_059,
                 },
@@ -534,13 +536,15 @@ mod tests {
         assert_eq!(
             class_b_position(&ClassBPosition {
                 mmsi: 235_000_002,
-                sog_kn: Some(5.0),
-                high_accuracy: false,
-                lon_deg: Some(-4.1),
-                lat_deg: Some(50.3),
-                cog_deg: Some(90.0),
-                heading_deg: None,
-                second: Some(1),
+                motion: ReportedMotion {
+                    sog_kn: Some(5.0),
+                    high_accuracy: false,
+                    lon_deg: Some(-4.1),
+                    lat_deg: Some(50.3),
+                    cog_deg: Some(90.0),
+                    heading_deg: None,
+                    second: Some(1),
+                },
             })
             .unwrap()
             .len(),
@@ -555,13 +559,15 @@ mod tests {
     fn class_b_reports_end_with_the_cs_radio_state() {
         let bits = class_b_position(&ClassBPosition {
             mmsi: 235_000_002,
-            sog_kn: Some(5.0),
-            high_accuracy: false,
-            lon_deg: Some(-4.1),
-            lat_deg: Some(50.3),
-            cog_deg: Some(90.0),
-            heading_deg: None,
-            second: Some(1),
+            motion: ReportedMotion {
+                sog_kn: Some(5.0),
+                high_accuracy: false,
+                lon_deg: Some(-4.1),
+                lat_deg: Some(50.3),
+                cog_deg: Some(90.0),
+                heading_deg: None,
+                second: Some(1),
+            },
         })
         .unwrap();
         let tail: String = bits.0[148..]
@@ -580,13 +586,15 @@ mod tests {
             mmsi: 0,
             nav_status: 0,
             rot_deg_per_min: None,
-            sog_kn: None,
-            high_accuracy: false,
-            lon_deg: None,
-            lat_deg: None,
-            cog_deg: None,
-            heading_deg: None,
-            second: None,
+            motion: ReportedMotion {
+                sog_kn: None,
+                high_accuracy: false,
+                lon_deg: None,
+                lat_deg: None,
+                cog_deg: None,
+                heading_deg: None,
+                second: None,
+            },
             raim: false,
             radio: 0,
         };
@@ -596,7 +604,10 @@ mod tests {
             .starts_with("mmsi: 0"));
         let m = ClassAPosition { mmsi: 1, ..m };
         let bad = ClassAPosition {
-            lat_deg: Some(95.0),
+            motion: ReportedMotion {
+                lat_deg: Some(95.0),
+                ..m.motion.clone()
+            },
             ..m.clone()
         };
         assert!(class_a_position(&bad)
