@@ -34,6 +34,20 @@ target/release/xbandsim track scenes/crossing.toml --frames 40 --out target/chec
 echo "== the scenario's NMEA 0183 and AIS read by pynmea2 and pyais (scripts/check_nmea.py)"
 target/release/xbandsim nmea scenes/crossing.toml --duration-s 400 --out target/check.nmea --truth target/check-nmea-truth.jsonl
 "$venv/bin/python" scripts/check_nmea.py target/check.nmea target/check-nmea-truth.jsonl -4.14 50.33
+echo "== the live radar as chart-plotter software sees it (scripts/check_serve.py)"
+"$venv/bin/python" scripts/check_serve.py target/release/xbandsim scenes/crossing.toml --soak 30
+echo "== the live radar's page in headless Chromium (scripts/check_page.py)"
+# Debian's chromium and chromium-driver, installed with apt-get where this user may; where
+# not, check_page.py says why and skips.
+if ! command -v chromedriver >/dev/null 2>&1 && command -v apt-get >/dev/null 2>&1; then
+  as_root=""
+  if [ "$(id -u)" != 0 ] && command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then as_root="sudo -n"; fi
+  if [ "$(id -u)" = 0 ] || [ -n "$as_root" ]; then
+    { $as_root apt-get update -qq && DEBIAN_FRONTEND=noninteractive $as_root apt-get install -y -qq --no-install-recommends chromium chromium-driver; } >target/apt-chromium.log 2>&1 \
+      || echo "xbandsim: installing chromium and chromium-driver with apt-get failed (target/apt-chromium.log)" >&2
+  fi
+fi
+"$venv/bin/python" scripts/check_page.py target/release/xbandsim scenes/harbour-departure.toml
 echo "== the same plots tracked by a Stone Soup peer, scored side by side (scripts/peer_stonesoup.py)"
 "$venv/bin/python" scripts/peer_stonesoup.py --xbandsim target/release/xbandsim --check scenes/crossing.toml
 

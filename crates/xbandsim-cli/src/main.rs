@@ -23,6 +23,7 @@ mod nmea;
 mod progress;
 mod rcs;
 mod render;
+mod serve;
 mod track;
 mod validate;
 
@@ -56,6 +57,12 @@ enum Command {
     /// ship's GPS fix and heading once a second (GGA, RMC, VTG, HDT) and the AIS reports of
     /// every object with an `mmsi` (messages 1, 5, 18, 24); the scene needs a [geo] origin.
     Nmea(nmea::NmeaArgs),
+    /// Run the scene's scenario as a live radar: a PPI page at /, the mayara radar API (spoke
+    /// stream of protobuf RadarMessages, controls), NMEA 0183 and AIS over UDP and TCP, and
+    /// a recording of what was sent (docs/live.md).
+    Serve(serve::ServeArgs),
+    /// Serve a recording made by `serve --record` again, byte for byte.
+    Replay(serve::ReplayArgs),
     /// Make a labelled dataset from a dataset spec: every sample's scene drawn from (spec,
     /// seed, index), rendered and written atomically; run again to resume.
     Dataset(dataset::DatasetArgs),
@@ -176,6 +183,8 @@ fn main() -> ExitCode {
         Command::Detect(args) => detect::run(&args),
         Command::Track(args) => track::run(&args),
         Command::Nmea(args) => nmea::run(&args),
+        Command::Serve(args) => serve::run(&args),
+        Command::Replay(args) => serve::replay(&args),
         Command::Schema => {
             let schema = schemars::schema_for!(xbandsim::scene::SceneSpec);
             say!(

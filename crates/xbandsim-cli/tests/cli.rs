@@ -1000,3 +1000,65 @@ fn nmea_writes_checked_sentences_and_refuses_bad_input() {
     assert!(!out.status.success() && err.contains("[geo]"), "{err}");
     assert!(!dir.path().join("bad.nmea").exists());
 }
+
+/// `xbandsim serve` and `replay` refuse bad input naming the option or field, before they
+/// listen: a speed out of range, an NMEA feed for a scene without `[geo]`, a duration that
+/// is not positive, a start time that is not one, an address already taken; and a file that
+/// is not a recording.
+#[test]
+fn serve_and_replay_refuse_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let taken_addr = taken.local_addr().unwrap().to_string();
+    for (args, says) in [
+        (vec!["scenes/crossing.toml", "--speed", "0"], "speed 0"),
+        (
+            vec!["scenes/crossing.toml", "--speed", "1000"],
+            "speed 1000",
+        ),
+        (
+            vec!["scenes/paper.toml", "--nmea-udp", "127.0.0.1:10110"],
+            "[geo]",
+        ),
+        (
+            vec!["scenes/crossing.toml", "--duration-s", "-1"],
+            "--duration-s",
+        ),
+        (
+            vec!["scenes/crossing.toml", "--start-utc", "noon"],
+            "--start-utc",
+        ),
+        (
+            vec!["scenes/crossing.toml", "--listen", taken_addr.as_str()],
+            "--listen",
+        ),
+        (
+            vec!["scenes/crossing.toml", "--set", "receiver.video_bits=9"],
+            "video_bits",
+        ),
+    ] {
+        let out = xbandsim()
+            .arg("serve")
+            .args(&args)
+            .args(
+                ["--duration-s", "1"]
+                    .iter()
+                    .filter(|_| !args.contains(&"--duration-s")),
+            )
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains(says),
+            "{args:?}: {err}"
+        );
+    }
+    let not_one = dir.path().join("not.xbsrec");
+    std::fs::write(&not_one, b"hello").unwrap();
+    let out = xbandsim().arg("replay").arg(&not_one).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("not an xbandsim recording"),
+        "{err}"
+    );
+}

@@ -81,7 +81,7 @@ fn complete(args: &str) -> bool {
                     || words.contains(&"--out")
                     || words[0] == "rcs")
         }
-        Some(&"detect") | Some(&"track") | Some(&"nmea") => {
+        Some(&"detect") | Some(&"track") | Some(&"nmea") | Some(&"serve") | Some(&"replay") => {
             words.get(1).is_some_and(|w| !w.starts_with('-'))
         }
         Some(&"validate") | Some(&"schema") => true,
@@ -117,6 +117,12 @@ fn the_readme_and_docs_commands_run_as_written() {
             if ["bench", "validate"].contains(&first) || !complete(&args) || ran.contains(&args) {
                 continue;
             }
+            if ["serve", "replay"].contains(&first) {
+                run_server(stand_in.path(), &args, doc);
+                eprintln!("ran `xbandsim {args}` ({})", doc.display());
+                ran.push(args);
+                continue;
+            }
             let out = Command::new(env!("CARGO_BIN_EXE_xbandsim"))
                 .current_dir(stand_in.path())
                 .args(args.split_whitespace())
@@ -139,12 +145,64 @@ fn the_readme_and_docs_commands_run_as_written() {
         "detect scenes/sea-state-4-rain.toml",
         "track scenes/crossing.toml",
         "nmea scenes/crossing.toml --duration-s 400 --out out/crossing.nmea --truth out/crossing-nmea-truth.jsonl",
+        "serve scenes/harbour-departure.toml",
+        "replay out/harbour.xbsrec",
     ] {
         assert!(
             ran.iter().any(|r| r.starts_with(wanted)),
             "`xbandsim {wanted}` not found among {ran:?}"
         );
     }
+}
+
+/// Runs a server example (`serve`, `replay`) as a person would: starts it, opens its page
+/// once it says where it listens, lets it send for a few seconds, then presses Ctrl-C; it
+/// must stop cleanly (a replay may end by itself first, when its recording does).
+fn run_server(dir: &Path, args: &str, doc: &Path) {
+    use std::io::{BufRead, Read, Write};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_xbandsim"))
+        .current_dir(dir)
+        .args(args.split_whitespace())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::inherit())
+        .spawn()
+        .unwrap();
+    let mut lines = std::io::BufReader::new(child.stdout.take().unwrap()).lines();
+    let mut addr = None;
+    for line in lines.by_ref() {
+        let line = line.unwrap();
+        if let Some(rest) = line.split(" on http://").nth(1) {
+            addr = rest.split('/').next().map(str::to_string);
+        }
+        if line.starts_with("Ctrl-C stops") {
+            break;
+        }
+    }
+    let addr = addr.unwrap_or_else(|| panic!("{}: `xbandsim {args}` did not start", doc.display()));
+    let mut page = String::new();
+    let mut s = std::net::TcpStream::connect(&addr).unwrap();
+    write!(
+        s,
+        "GET / HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n"
+    )
+    .unwrap();
+    s.read_to_string(&mut page).unwrap();
+    assert!(
+        page.starts_with("HTTP/1.1 200") && page.contains("<canvas"),
+        "{}: `xbandsim {args}`'s page: {page}",
+        doc.display()
+    );
+    std::thread::sleep(std::time::Duration::from_secs(4));
+    let _ = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status();
+    let rest: Vec<String> = lines.map_while(|l| l.ok()).collect();
+    let status = child.wait().unwrap();
+    assert!(
+        status.success() && rest.iter().any(|l| l.starts_with("stopped at")),
+        "{}: `xbandsim {args}` did not stop cleanly: {status}, {rest:?}",
+        doc.display()
+    );
 }
 
 /// Every TOML block of the README and docs is a scene file the loader builds as written.

@@ -40,6 +40,44 @@ pub struct UtcTime {
 }
 
 impl UtcTime {
+    /// Seconds after 1970-01-01T00:00:00Z of a UTC time written `YYYY-MM-DDTHH:MM:SSZ`
+    /// (whole seconds; None for anything else, or a date that does not exist).
+    pub fn parse_unix_s(text: &str) -> Option<f64> {
+        let t = text.trim().strip_suffix('Z')?;
+        let (date, time) = t.split_once('T')?;
+        let mut d = date.split('-').map(|x| x.parse::<i64>().ok());
+        let (y, m, day) = (d.next()??, d.next()??, d.next()??);
+        let mut h = time.split(':').map(|x| x.parse::<f64>().ok());
+        let (hh, mm, ss) = (h.next()??, h.next()??, h.next()??);
+        if d.next().is_some() || h.next().is_some() {
+            return None;
+        }
+        let ok = (1..=12).contains(&m)
+            && (1..=31).contains(&day)
+            && (0.0..24.0).contains(&hh)
+            && (0.0..60.0).contains(&mm)
+            && (0.0..60.0).contains(&ss)
+            && hh.fract() == 0.0
+            && mm.fract() == 0.0
+            && ss.fract() == 0.0;
+        if !ok {
+            return None;
+        }
+        // Days from 1970-01-01 of the proleptic Gregorian date (years counted from March).
+        let (y, m) = if m <= 2 { (y - 1, m + 9) } else { (y, m - 3) };
+        let era = y.div_euclid(400);
+        let year_of_era = y.rem_euclid(400);
+        let day_of_year = (153 * m + 2) / 5 + day - 1;
+        let day_of_era = year_of_era * 365 + year_of_era / 4 - year_of_era / 100 + day_of_year;
+        let days = era * 146_097 + day_of_era - 719_468;
+        let unix_s = days as f64 * 86_400.0 + hh * 3600.0 + mm * 60.0 + ss;
+        // A day past its month's end (2026-02-31) comes back as another date: refused.
+        let back = UtcTime::from_unix_s(unix_s);
+        let (year, month) = if m >= 10 { (y + 1, m - 9) } else { (y, m + 3) };
+        (back.year == year && i64::from(back.month) == month && i64::from(back.day) == day)
+            .then_some(unix_s)
+    }
+
     /// The UTC time `unix_s` seconds after 1970-01-01T00:00:00Z (no leap seconds, as POSIX
     /// time counts). The date is the proleptic Gregorian calendar's.
     pub fn from_unix_s(unix_s: f64) -> UtcTime {
@@ -304,6 +342,27 @@ mod tests {
     /// Checksums of sentences published with theirs: the GGA example of the NMEA reference
     /// pages (gpsd's "NMEA Revealed", `$GPGGA,092750.000,5321.6802,N,00630.3372,W,...*76`)
     /// and an RMC from a receiver log (`*6A`).
+    #[test]
+    fn utc_times_read_as_posix_seconds() {
+        assert_eq!(UtcTime::parse_unix_s("1970-01-01T00:00:00Z"), Some(0.0));
+        assert_eq!(
+            UtcTime::parse_unix_s("2000-03-01T00:00:00Z"),
+            Some(11_017.0 * 86_400.0)
+        );
+        assert_eq!(
+            UtcTime::parse_unix_s("2026-12-07T12:34:56Z"),
+            Some(20_794.0 * 86_400.0 + 45_296.0)
+        );
+        assert_eq!(UtcTime::parse_unix_s("2026-13-01T00:00:00Z"), None);
+        assert_eq!(UtcTime::parse_unix_s("2026-02-31T00:00:00Z"), None);
+        assert_eq!(
+            UtcTime::parse_unix_s("2024-02-29T00:00:00Z"),
+            Some(19_782.0 * 86_400.0)
+        );
+        assert_eq!(UtcTime::parse_unix_s("2026-01-01T00:00:00.5Z"), None);
+        assert_eq!(UtcTime::parse_unix_s("2026-01-01 00:00:00"), None);
+    }
+
     #[test]
     fn checksums_match_published_sentences() {
         assert_eq!(

@@ -1,0 +1,441 @@
+//! # xbandsim-serve
+//!
+//! xbandsim as a live radar (docs/live.md): a scene's scenario run in real time (or faster),
+//! revolution after revolution, served to the software a ship's radar feeds —
+//!
+//! - the **spoke stream** of the mayara radar server's v1 API: a REST description of the
+//!   radar and a WebSocket of protobuf `RadarMessage`s ([`proto`], [`radar`], [`server`]);
+//! - the operator's **controls** (range scale, gain, sea, rain, interference rejection) over
+//!   the same API ([`controls`]);
+//! - the own ship's GPS and compass and the AIS of every object with an `mmsi` as **NMEA
+//!   0183**, over UDP and TCP ([`feed`]);
+//! - a **browser PPI** at `/`, shipped in the binary;
+//! - the **scenario** — clock, pause, resume, restart, speed — and the truth of every object
+//!   at any moment ([`clock`], [`live`]);
+//! - **recordings** of what was sent, which `xbandsim replay` sends again byte for byte
+//!   ([`record`]).
+
+pub mod clock;
+pub mod controls;
+pub mod error;
+pub mod feed;
+pub mod live;
+pub mod proto;
+pub mod radar;
+pub mod record;
+pub mod server;
+
+pub use error::{Result, ServeError};
+
+use crate::controls::{range_scales_m, Controls};
+use crate::live::{Live, Wait, CLIENT_SEND_TIMEOUT};
+use crate::radar::RadarSource;
+use crate::record::{RecordKind, Recorder, Recording};
+use serde_json::{json, Value};
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Duration;
+use tokio::io::AsyncWriteExt;
+use tokio::sync::broadcast::error::RecvError;
+use xbandsim::land::projection::LocalProjection;
+use xbandsim::{LoadedSpec, Simulation};
+
+/// The fastest a scenario may run, times the wall.
+pub const MAX_SPEED: f64 = 100.0;
+
+/// How the server runs.
+#[derive(Debug, Clone)]
+pub struct ServeOptions {
+    /// The address of the page and the radar API.
+    pub listen: SocketAddr,
+    /// Times faster than the wall.
+    pub speed: f64,
+    /// Where to send the NMEA feed as UDP datagrams.
+    pub nmea_udp: Option<SocketAddr>,
+    /// Where to serve the NMEA feed over TCP.
+    pub nmea_tcp: Option<SocketAddr>,
+    /// Where to record what is sent.
+    pub record: Option<PathBuf>,
+    /// Stop once scenario time reaches this, s (None: run until stopped).
+    pub duration_s: Option<f64>,
+}
+
+/// What the server did, once stopped.
+#[derive(Debug, Clone)]
+pub struct Summary {
+    /// Scenario time reached, s.
+    pub time_s: f64,
+    /// What it sent.
+    pub counters: live::Counters,
+    /// Records written to the recording (None: no recording).
+    pub recorded: Option<u64>,
+}
+
+/// Where the server listens, once it does.
+#[derive(Debug, Clone, Copy)]
+pub struct Bound {
+    /// The page and API.
+    pub http: SocketAddr,
+    /// The NMEA TCP feed.
+    pub nmea_tcp: Option<SocketAddr>,
+}
+
+/// Checks a speed factor.
+pub fn check_speed(speed: f64) -> Result<()> {
+    if speed.is_finite() && speed > 0.0 && speed <= MAX_SPEED {
+        Ok(())
+    } else {
+        Err(ServeError::setting(
+            "speed",
+            speed,
+            &format!("must be more than 0 and at most {MAX_SPEED} times real time"),
+        ))
+    }
+}
+
+fn check_options(o: &ServeOptions) -> Result<()> {
+    check_speed(o.speed)?;
+    if let Some(d) = o.duration_s {
+        if !(d.is_finite() && d > 0.0) {
+            return Err(ServeError::setting(
+                "--duration-s",
+                d,
+                "must be a positive number of seconds",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The legend: level k of `bits`-bit video to a colour, black through green and yellow to
+/// red, as mayara's `legend.pixels`.
+pub fn legend(bits: u32) -> Value {
+    let levels = 1u32 << bits;
+    let pixels: Vec<Value> = (0..levels)
+        .map(|k| {
+            let x = k as f64 / (levels - 1).max(1) as f64;
+            let (r, g, b) = if k == 0 {
+                (0.0, 0.0, 0.0)
+            } else if x < 0.5 {
+                (0.0, 0.35 + 1.3 * x, 0.0)
+            } else {
+                (2.0 * (x - 0.5) + 0.5, 1.0 - 1.6 * (x - 0.5), 0.0)
+            };
+            let c = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+            json!({"type": "normal", "color": format!("#{:02x}{:02x}{:02x}ff", c(r), c(g), c(b))})
+        })
+        .collect();
+    json!({"pixels": pixels, "lowNormal": 1, "mediumNormal": levels / 2, "strongReturn": levels - 1})
+}
+
+/// The radar's description, as `/v1/api/radars` lists it (without its stream addresses).
+fn describe(name: &str, source: &RadarSource, scales_m: &[f64]) -> Value {
+    json!({
+        "id": "1",
+        "name": name,
+        "brand": "xbandsim",
+        "model": "simulated X-band radar",
+        "spokesPerRevolution": source.spokes(),
+        "maxSpokeLen": source.samples(),
+        "rotationPeriodS": source.period_s(),
+        "bits": source.base.video_bits,
+        "startUnixS": source.start_unix_s,
+        "legend": legend(source.base.video_bits),
+        "controls": Controls::describe(scales_m),
+    })
+}
+
+/// The radar of `spec` (its video chain run here, with the controls), ready to serve.
+pub fn radar_source(spec: &LoadedSpec, seed: u64, start_unix_s: f64) -> Result<RadarSource> {
+    let scene = spec.build()?;
+    let base = scene.receiver().cloned().unwrap_or_default();
+    let projection = feed::geo_origin(spec.spec())
+        .ok()
+        .map(|(lon, lat)| LocalProjection::new(lon, lat));
+    Ok(RadarSource {
+        sim: Simulation::new(scene.with_receiver(None)),
+        base,
+        seed,
+        start_unix_s,
+        projection,
+        mmsi: spec.spec().objects.iter().map(|o| o.mmsi).collect(),
+    })
+}
+
+fn bind_error(what: &str, addr: SocketAddr, source: std::io::Error) -> ServeError {
+    ServeError::Network {
+        what: what.to_string(),
+        addr: addr.to_string(),
+        source,
+    }
+}
+
+/// Serves the scenario of `spec` until Ctrl-C, SIGTERM or `duration_s`; `ready` is told
+/// where it listens once it does.
+pub fn serve(
+    spec: &LoadedSpec,
+    name: &str,
+    seed: u64,
+    start_unix_s: f64,
+    options: &ServeOptions,
+    ready: impl FnOnce(Bound),
+) -> Result<Summary> {
+    check_options(options)?;
+    let source = Arc::new(radar_source(spec, seed, start_unix_s)?);
+    let feed = match feed::NmeaFeed::new(spec.spec(), source.sim.scene(), start_unix_s) {
+        Ok(f) => Some(f),
+        Err(ServeError::NoGeoOrigin)
+            if options.nmea_udp.is_none() && options.nmea_tcp.is_none() =>
+        {
+            None
+        }
+        Err(e) => return Err(e),
+    };
+    let scales = range_scales_m(source.max_range_m());
+    let description = describe(name, &source, &scales);
+    let recorder = match &options.record {
+        Some(path) => Some(Recorder::create(
+            path,
+            &json!({"radar": description, "scene": name, "seed": seed, "speed": options.speed}),
+        )?),
+        None => None,
+    };
+    let controls = Controls::of_settings(&source.base, source.max_range_m());
+    let live = Arc::new(Live::new(options.speed, controls, scales, recorder));
+    let udp = match options.nmea_udp {
+        Some(to) => {
+            let socket =
+                std::net::UdpSocket::bind(if to.is_ipv4() { "0.0.0.0:0" } else { "[::]:0" })
+                    .map_err(|e| bind_error("--nmea-udp", to, e))?;
+            Some((socket, to))
+        }
+        None => None,
+    };
+    let app = Arc::new(server::App {
+        live: live.clone(),
+        source: Some(source.clone()),
+        description,
+    });
+    run(app, options, ready, move |live| {
+        let mut threads = radar::spawn(live.clone(), source.clone());
+        if let Some(f) = feed {
+            threads.push(feed::spawn(live, source, f, udp));
+        }
+        threads
+    })
+}
+
+/// Serves `recording` again: its spoke messages and NMEA groups at their scenario times,
+/// until it ends, Ctrl-C or SIGTERM.
+pub fn replay(
+    recording: Recording,
+    options: &ServeOptions,
+    ready: impl FnOnce(Bound),
+) -> Result<Summary> {
+    check_options(options)?;
+    let description = recording.header["radar"].clone();
+    let max_range = description["controls"][controls::RANGE]["validValues"]
+        .as_array()
+        .and_then(|v| v.last())
+        .and_then(Value::as_f64)
+        .unwrap_or(0.0);
+    let scales = range_scales_m(max_range.max(1.0));
+    let controls = Controls::of_settings(&Default::default(), max_range.max(1.0));
+    let recorder = match &options.record {
+        Some(path) => Some(Recorder::create(path, &recording.header)?),
+        None => None,
+    };
+    let live = Arc::new(Live::new(options.speed, controls, scales, recorder).with_fixed_controls());
+    let udp = match options.nmea_udp {
+        Some(to) => {
+            let socket =
+                std::net::UdpSocket::bind(if to.is_ipv4() { "0.0.0.0:0" } else { "[::]:0" })
+                    .map_err(|e| bind_error("--nmea-udp", to, e))?;
+            Some((socket, to))
+        }
+        None => None,
+    };
+    let app = Arc::new(server::App {
+        live: live.clone(),
+        source: None,
+        description,
+    });
+    let recording = Arc::new(recording);
+    run(app, options, ready, move |live| {
+        let thread = std::thread::Builder::new()
+            .name("xbandsim-replay".into())
+            .spawn(move || {
+                while !live.stopping() {
+                    let generation = live.generation();
+                    let mut ended = true;
+                    for r in &recording.records {
+                        match live.wait_until(r.time_s, generation) {
+                            Wait::Due => {}
+                            Wait::Restarted => {
+                                ended = false;
+                                break;
+                            }
+                            Wait::Stopping => return,
+                        }
+                        match r.kind {
+                            RecordKind::Spokes => live.send_spokes(r.time_s, r.payload.clone()),
+                            RecordKind::Nmea => {
+                                if let Some((socket, to)) = &udp {
+                                    let _ = socket.send_to(&r.payload, to);
+                                }
+                                let lines = r.payload.split(|&b| b == b'\n').count() as u64 - 1;
+                                live.send_nmea(r.time_s, r.payload.clone(), lines);
+                            }
+                        }
+                    }
+                    if ended {
+                        live.stop();
+                    }
+                }
+            })
+            .expect("a thread starts");
+        vec![thread]
+    })
+}
+
+/// Runs the server: binds, starts the stream threads, serves until a stop, then stops the
+/// threads and ends the recording.
+fn run(
+    app: Arc<server::App>,
+    options: &ServeOptions,
+    ready: impl FnOnce(Bound),
+    start: impl FnOnce(Arc<Live>) -> Vec<std::thread::JoinHandle<()>>,
+) -> Result<Summary> {
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .thread_name("xbandsim-http")
+        .enable_all()
+        .build()
+        .map_err(|e| bind_error("the server's runtime on", options.listen, e))?;
+    let live = app.live.clone();
+    let result = runtime.block_on(async {
+        let listener = tokio::net::TcpListener::bind(options.listen)
+            .await
+            .map_err(|e| bind_error("--listen", options.listen, e))?;
+        let http = listener
+            .local_addr()
+            .map_err(|e| bind_error("--listen", options.listen, e))?;
+        let nmea_tcp = match options.nmea_tcp {
+            Some(addr) => {
+                let l = tokio::net::TcpListener::bind(addr)
+                    .await
+                    .map_err(|e| bind_error("--nmea-tcp", addr, e))?;
+                let bound = l
+                    .local_addr()
+                    .map_err(|e| bind_error("--nmea-tcp", addr, e))?;
+                tokio::spawn(nmea_tcp_server(l, live.clone()));
+                Some(bound)
+            }
+            None => None,
+        };
+        let threads = start(live.clone());
+        ready(Bound { http, nmea_tcp });
+        let stop = stop_when(live.clone(), options.duration_s);
+        let served = axum::serve(listener, server::router(app.clone()))
+            .with_graceful_shutdown(stop)
+            .await;
+        live.stop();
+        Ok::<_, ServeError>((threads, served))
+    });
+    let (threads, served) = match result {
+        Ok(x) => x,
+        Err(e) => {
+            live.stop();
+            let _ = live.finish_recording();
+            return Err(e);
+        }
+    };
+    for t in threads {
+        let _ = t.join();
+    }
+    runtime.shutdown_timeout(Duration::from_secs(1));
+    let recorded = live.finish_recording()?;
+    served.map_err(|e| bind_error("serving on", options.listen, e))?;
+    Ok(Summary {
+        time_s: live.time_s(),
+        counters: live.counters(),
+        recorded,
+    })
+}
+
+/// Resolves on Ctrl-C, SIGTERM, at `duration_s` of scenario time, or when a stream thread
+/// stops the server.
+async fn stop_when(live: Arc<Live>, duration_s: Option<f64>) {
+    let mut stopped = live.stop_signal();
+    let mut tick = tokio::time::interval(Duration::from_millis(50));
+    #[cfg(unix)]
+    let mut term = tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()).ok();
+    loop {
+        #[cfg(unix)]
+        let sigterm = async {
+            match term.as_mut() {
+                Some(t) => {
+                    t.recv().await;
+                }
+                None => std::future::pending::<()>().await,
+            }
+        };
+        #[cfg(not(unix))]
+        let sigterm = std::future::pending::<()>();
+        tokio::select! {
+            _ = tokio::signal::ctrl_c() => break,
+            _ = sigterm => break,
+            _ = stopped.changed() => break,
+            _ = tick.tick() => {
+                if live.stopping() || duration_s.is_some_and(|d| live.time_s() >= d) {
+                    break;
+                }
+            }
+        }
+    }
+    live.stop();
+}
+
+/// The NMEA feed over TCP: every connection gets every group from when it connects; one
+/// that falls behind or stalls is closed.
+async fn nmea_tcp_server(listener: tokio::net::TcpListener, live: Arc<Live>) {
+    let mut stop = live.stop_signal();
+    loop {
+        let accepted = tokio::select! {
+            _ = stop.changed() => return,
+            a = listener.accept() => a,
+        };
+        let Ok((mut socket, _)) = accepted else {
+            continue;
+        };
+        let live = live.clone();
+        tokio::spawn(async move {
+            let mut rx = live.nmea.subscribe();
+            let mut stop = live.stop_signal();
+            loop {
+                let m = tokio::select! {
+                    _ = stop.changed() => break,
+                    m = rx.recv() => m,
+                };
+                match m {
+                    Ok(bytes) => {
+                        let sent =
+                            tokio::time::timeout(CLIENT_SEND_TIMEOUT, socket.write_all(&bytes))
+                                .await;
+                        if !matches!(sent, Ok(Ok(()))) {
+                            live.client_dropped();
+                            break;
+                        }
+                    }
+                    Err(RecvError::Lagged(_)) => {
+                        live.client_dropped();
+                        break;
+                    }
+                    Err(RecvError::Closed) => break,
+                }
+            }
+            let _ = socket.shutdown().await;
+        });
+    }
+}
