@@ -7,8 +7,8 @@ revolutions after the first two (the first renders cold):
 
 - the wall time between revolutions at a client, against the budget (period / X);
 - how long the server held its clock back waiting for a revolution (0 when it keeps up);
-- the server's own time for a revolution (render and video chain, from /api/scenario), as a
-  ratio to the budget: the margin left.
+- the server's own time for a revolution (render, video chain, plots and tracker, from
+  /api/scenario), as a ratio to the budget: the margin left.
 
 Needs websockets and protobuf (scripts/requirements-check.txt; target/check-venv has them
 after scripts/test.sh).
@@ -52,7 +52,8 @@ def main():
                     if first.bearing == 0:
                         starts.append(time.perf_counter())
                         s = http(base, "/api/scenario")[1]
-                        works.append(s["counters"]["last_render_s"] + s["counters"]["last_video_s"])
+                        c = s["counters"]
+                        works.append(c["last_render_s"] + c["last_video_s"] + c["last_tracker_s"])
                         held.append(s["held_s"])
 
     async def run():
@@ -71,7 +72,7 @@ def main():
           f"period {period:.2f} s; {a.clients} clients at {a.speed}x real time (budget {budget:.3f} s a revolution)")
     print(f"| revolution at the clients, every | {mean_gap:.3f} s | {mean_gap / budget:.2f}x the budget |")
     print(f"| clock held back over {len(gaps)} revolutions | {held_s:.3f} s | scenario s |")
-    print(f"| server work a revolution (render + video chain) | {mean_work:.3f} s (max {max(work):.3f}) | "
+    print(f"| server work a revolution (render + video chain + plots and tracker) | {mean_work:.3f} s (max {max(work):.3f}) | "
           f"{mean_work / budget:.2f} of the budget, {mean_work / period:.2f} of the period |")
     print(f"| clients dropped | {status['counters']['clients_dropped']} | |")
 

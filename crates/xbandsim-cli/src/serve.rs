@@ -16,7 +16,7 @@ pub struct Listen {
     /// port, printed at the start).
     #[arg(long, default_value = "127.0.0.1:6502", value_name = "ADDR:PORT")]
     pub listen: SocketAddr,
-    /// Run the scenario this many times faster than real time (0 < X ≤ 100).
+    /// Run the scenario this many times faster than real time (0.01 to 100).
     #[arg(long, default_value_t = 1.0, value_name = "X")]
     pub speed: f64,
     /// Send the NMEA 0183 feed to this address as UDP datagrams (one a sentence group).
@@ -130,6 +130,18 @@ pub fn run(a: &ServeArgs) -> Result<()> {
 
 /// Runs `xbandsim replay`.
 pub fn replay(a: &ReplayArgs) -> Result<()> {
+    if let Some(out) = &a.listen.record {
+        let same = match (a.recording.canonicalize(), out.canonicalize()) {
+            (Ok(x), Ok(y)) => x == y,
+            _ => false,
+        };
+        if same {
+            anyhow::bail!(
+                "invalid --record {}: it is the recording being replayed; record to another file",
+                out.display()
+            );
+        }
+    }
     let recording = xbandsim_serve::record::read(&a.recording)?;
     if !recording.complete {
         eprintln!(

@@ -16,25 +16,15 @@ use crate::error::{DatasetError, Result};
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use xbandsim::processing::cfar::{Cfar, CfarKind};
-use xbandsim::processing::plots::{PlotExtractor, PlotScratch, PowerGrid, SidelobeEditor};
+use xbandsim::processing::plots::{PlotExtractor, PlotScratch, PowerGrid};
 use xbandsim::products::plot_truth::{plot_sources, PlotSource};
 use xbandsim::Frame;
 use xbandsim_track::score::HOTA_ALPHAS;
 use xbandsim_track::{Scan, SequenceScorer, Tracker, TrackerSettings, TrackingScore};
 
-/// Guard cells a side of the baseline's CFAR.
-pub const GUARD_CELLS: usize = 4;
-/// Training cells a side of the baseline's CFAR.
-pub const TRAINING_CELLS: usize = 16;
-/// Design false-alarm probability per cell of the baseline's CFAR.
-pub const PFA: f64 = 1e-8;
-/// Smallest plot the baseline keeps, cells.
-pub const MIN_CELLS: usize = 3;
-/// Sidelobe editing margin of the baseline's extractor, dB.
-pub const SIDELOBE_MARGIN_DB: f64 = 6.0;
-/// Distance within which a confirmed track is scored against an object, m.
-pub const TRUTH_GATE_M: f64 = 100.0;
+pub use xbandsim_track::baseline::{
+    GUARD_CELLS, MIN_CELLS, PFA, SIDELOBE_MARGIN_DB, TRAINING_CELLS, TRUTH_GATE_M,
+};
 
 /// The baseline's result for one object of a frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -81,13 +71,7 @@ impl SampleBaseline {
     /// runs when there are two frames or more).
     pub fn new(scene: &xbandsim::Scene, frames: u64, index: u64) -> Result<SampleBaseline> {
         let err = |error| DatasetError::Scene { index, error };
-        let cfar =
-            Cfar::new(CfarKind::CellAveraging, GUARD_CELLS, TRAINING_CELLS, PFA).map_err(err)?;
-        let editor = SidelobeEditor::new(&scene.radar().antenna().azimuth(), SIDELOBE_MARGIN_DB)
-            .map_err(err)?;
-        let extractor = PlotExtractor::new(cfar, MIN_CELLS)
-            .map_err(err)?
-            .with_sidelobe_editing(editor);
+        let extractor = xbandsim_track::baseline::extractor(scene).map_err(err)?;
         let tracking = if frames > 1 {
             let tracker = Tracker::new(TrackerSettings::default()).map_err(err)?;
             let scorer = SequenceScorer::new(TRUTH_GATE_M).expect("the truth gate is positive");

@@ -339,9 +339,8 @@ pub fn ttm(talker: &str, t: &TrackedTarget) -> Result<String> {
 mod tests {
     use super::*;
 
-    /// Checksums of sentences published with theirs: the GGA example of the NMEA reference
-    /// pages (gpsd's "NMEA Revealed", `$GPGGA,092750.000,5321.6802,N,00630.3372,W,...*76`)
-    /// and an RMC from a receiver log (`*6A`).
+    /// UTC times read as POSIX seconds (days from 1970-01-01 by the civil calendar), and
+    /// impossible or malformed ones refused.
     #[test]
     fn utc_times_read_as_posix_seconds() {
         assert_eq!(UtcTime::parse_unix_s("1970-01-01T00:00:00Z"), Some(0.0));
@@ -363,6 +362,9 @@ mod tests {
         assert_eq!(UtcTime::parse_unix_s("2026-01-01 00:00:00"), None);
     }
 
+    /// Checksums of sentences published with theirs: the GGA example of the NMEA reference
+    /// pages (gpsd's "NMEA Revealed", `$GPGGA,092750.000,5321.6802,N,00630.3372,W,...*76`)
+    /// and an RMC from a receiver log (`*6A`).
     #[test]
     fn checksums_match_published_sentences() {
         assert_eq!(

@@ -1,6 +1,9 @@
 //! The scenario clock (docs/live.md, "The scenario clock"): scenario time as a function of
-//! wall time, running `speed` times faster than the wall, which pauses, resumes and restarts.
-//! Pure over the instants it is given, so every transition is tested without waiting.
+//! wall time, running `speed` times faster than the wall, which pauses, resumes and restarts,
+//! and stops at a barrier: the radar sets it at the end of the revolution it holds, so that
+//! time never runs ahead of the spokes (a late revolution holds everything — NMEA feed and
+//! truth included — at its start, instead of time jumping back). Pure over the instants it is
+//! given, so every transition is tested without waiting.
 
 use std::time::{Duration, Instant};
 
@@ -13,8 +16,10 @@ pub struct Clock {
     anchor_wall: Instant,
     /// Scenario time at `anchor_wall`, s.
     anchor_s: f64,
-    /// Scenario seconds the clock was held back for the radar to catch up, in all.
+    /// Scenario seconds the clock was held at barriers, in all.
     held_s: f64,
+    /// Scenario time does not pass this (infinite: no barrier).
+    barrier_s: f64,
 }
 
 impl Clock {
@@ -26,11 +31,18 @@ impl Clock {
             anchor_wall: now,
             anchor_s: 0.0,
             held_s: 0.0,
+            barrier_s: f64::INFINITY,
         }
     }
 
-    /// Scenario time at `now`, s.
-    pub fn time_s(&self, now: Instant) -> f64 {
+    /// The same, held at 0 until a barrier is set past it.
+    pub fn with_barrier_at_start(mut self) -> Clock {
+        self.barrier_s = 0.0;
+        self
+    }
+
+    /// Scenario time at `now` without the barrier, s.
+    fn unbarred_s(&self, now: Instant) -> f64 {
         if self.paused {
             self.anchor_s
         } else {
@@ -40,6 +52,11 @@ impl Clock {
                     .as_secs_f64()
                     * self.speed
         }
+    }
+
+    /// Scenario time at `now`, s.
+    pub fn time_s(&self, now: Instant) -> f64 {
+        self.unbarred_s(now).min(self.barrier_s)
     }
 
     /// How many times faster than the wall it runs.
@@ -52,14 +69,30 @@ impl Clock {
         self.paused
     }
 
-    /// Scenario seconds it was held back in all (the radar behind the clock).
+    /// Scenario seconds it was held at barriers in all (the radar behind the clock).
     pub fn held_s(&self) -> f64 {
         self.held_s
     }
 
+    /// The barrier, s.
+    pub fn barrier_s(&self) -> f64 {
+        self.barrier_s
+    }
+
+    /// Re-anchors at `now`: time goes on from where it is, the seconds it was held counted.
     fn rebase(&mut self, now: Instant) {
-        self.anchor_s = self.time_s(now);
+        let unbarred = self.unbarred_s(now);
+        if unbarred > self.barrier_s {
+            self.held_s += unbarred - self.barrier_s;
+        }
+        self.anchor_s = unbarred.min(self.barrier_s);
         self.anchor_wall = now;
+    }
+
+    /// Moves the barrier to `barrier_s` (time held at the old one goes on from there).
+    pub fn set_barrier(&mut self, barrier_s: f64, now: Instant) {
+        self.rebase(now);
+        self.barrier_s = barrier_s;
     }
 
     /// Stops scenario time at `now`.
@@ -68,10 +101,12 @@ impl Clock {
         self.paused = true;
     }
 
-    /// Lets scenario time run again from where it stopped.
+    /// Lets scenario time run again from where it stopped (nothing, if it runs).
     pub fn resume(&mut self, now: Instant) {
-        self.anchor_wall = now;
-        self.paused = false;
+        if self.paused {
+            self.anchor_wall = now;
+            self.paused = false;
+        }
     }
 
     /// Runs `speed` times the wall from `now` on.
@@ -80,32 +115,31 @@ impl Clock {
         self.speed = speed;
     }
 
-    /// Back to scenario time 0 at `now` (paused or not as before).
+    /// Back to scenario time 0 at `now` (paused or not as before; a clock with a barrier
+    /// held at 0 until the radar moves it).
     pub fn restart(&mut self, now: Instant) {
         self.anchor_s = 0.0;
         self.anchor_wall = now;
         self.held_s = 0.0;
-    }
-
-    /// Holds scenario time at `time_s` if it has run past it: what the radar does when a
-    /// revolution is late, so that no spoke is skipped or sent in a burst.
-    pub fn hold_at(&mut self, time_s: f64, now: Instant) {
-        let t = self.time_s(now);
-        if t > time_s {
-            self.held_s += t - time_s;
-            self.anchor_s = time_s;
-            self.anchor_wall = now;
+        if self.barrier_s.is_finite() {
+            self.barrier_s = 0.0;
         }
     }
 
     /// Wall time from `now` until scenario time reaches `time_s` (zero if it has), or None
-    /// while paused.
+    /// while paused or while the barrier stands before it.
     pub fn wall_until(&self, time_s: f64, now: Instant) -> Option<Duration> {
-        if self.paused {
+        if self.paused || time_s > self.barrier_s {
             return None;
         }
         let ahead_s = (time_s - self.time_s(now)) / self.speed;
-        Some(Duration::from_secs_f64(ahead_s.max(0.0)))
+        // At most a day, and zero for a time that is not a number: always a Duration.
+        let ahead_s = if ahead_s.is_nan() {
+            0.0
+        } else {
+            ahead_s.clamp(0.0, 86_400.0)
+        };
+        Some(Duration::from_secs_f64(ahead_s))
     }
 }
 
@@ -124,17 +158,33 @@ mod tests {
         assert_eq!(c.wall_until(11.0, at(3.0)), None);
         c.resume(at(10.0));
         assert_eq!(c.time_s(at(11.0)), 14.0);
+        // Resuming a running clock changes nothing.
+        c.resume(at(10.5));
+        assert_eq!(c.time_s(at(11.0)), 14.0);
         assert_eq!(c.wall_until(18.0, at(11.0)), Some(Duration::from_secs(1)));
         assert_eq!(c.wall_until(12.0, at(11.0)), Some(Duration::ZERO));
         c.set_speed(1.0, at(11.0));
         assert_eq!(c.time_s(at(13.0)), 16.0);
-        c.hold_at(15.0, at(13.0));
-        assert_eq!(c.time_s(at(13.0)), 15.0);
-        assert_eq!(c.held_s(), 1.0);
-        c.hold_at(20.0, at(14.0));
-        assert_eq!(c.time_s(at(14.0)), 16.0);
-        c.restart(at(14.0));
-        assert_eq!(c.time_s(at(15.0)), 1.0);
+        // A barrier at 17 s: time stops there, and goes on from there when it moves.
+        c.set_barrier(17.0, at(13.0));
+        assert_eq!(c.time_s(at(15.0)), 17.0);
+        assert_eq!(c.wall_until(17.5, at(15.0)), None);
+        assert_eq!(c.wall_until(16.0, at(15.0)), Some(Duration::ZERO));
+        c.set_barrier(30.0, at(16.0));
+        assert_eq!(c.held_s(), 2.0);
+        assert_eq!(c.time_s(at(17.0)), 18.0);
+        c.restart(at(17.0));
+        assert_eq!(c.time_s(at(18.0)), 0.0);
         assert_eq!(c.held_s(), 0.0);
+        c.set_barrier(f64::INFINITY, at(18.0));
+        assert_eq!(c.time_s(at(19.0)), 1.0);
+        c.restart(at(19.0));
+        assert_eq!(c.time_s(at(20.0)), 1.0);
+        // A time beyond any wait, or not a number, still gives a Duration.
+        assert_eq!(
+            c.wall_until(f64::INFINITY, at(15.0)),
+            Some(Duration::from_secs(86_400))
+        );
+        assert_eq!(c.wall_until(f64::NAN, at(15.0)), Some(Duration::ZERO));
     }
 }

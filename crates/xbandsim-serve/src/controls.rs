@@ -36,7 +36,7 @@ pub const GAIN_RANGE_DB: (f64, f64) = (-30.0, 30.0);
 pub const SEA_RANGE_DB: (f64, f64) = (0.0, 50.0);
 
 /// The controls' values.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Controls {
     /// Range scale, m: the video covers 0 to this.
     pub range_m: f64,
@@ -131,8 +131,8 @@ impl Controls {
         };
         Controls {
             range_m: max_range_m.round(),
-            gain_db: v.gain_db as f64,
-            sea_db,
+            gain_db: (v.gain_db as f64).clamp(GAIN_RANGE_DB.0, GAIN_RANGE_DB.1),
+            sea_db: sea_db.clamp(SEA_RANGE_DB.0, SEA_RANGE_DB.1),
             sea_auto,
             rain,
             interference: v.interference_rejection,
@@ -222,26 +222,34 @@ impl Controls {
                 self.gain_db = v;
             }
             SEA => {
+                // Both checked before either is set.
+                let value = match c.value {
+                    Some(_) => {
+                        let v = number(c)?;
+                        let (lo, hi) = SEA_RANGE_DB;
+                        if !(lo..=hi).contains(&v) {
+                            return Err(ServeError::setting(
+                                "control 3 (sea clutter)",
+                                v,
+                                &format!("must be {lo} to {hi} dB"),
+                            ));
+                        }
+                        Some(v)
+                    }
+                    None if c.auto.is_none() => {
+                        return Err(ServeError::setting(
+                            "control 3 (sea clutter)",
+                            "(none)",
+                            "needs a value or auto",
+                        ))
+                    }
+                    None => None,
+                };
                 if let Some(auto) = c.auto {
                     self.sea_auto = auto;
                 }
-                if c.value.is_some() {
-                    let v = number(c)?;
-                    let (lo, hi) = SEA_RANGE_DB;
-                    if !(lo..=hi).contains(&v) {
-                        return Err(ServeError::setting(
-                            "control 3 (sea clutter)",
-                            v,
-                            &format!("must be {lo} to {hi} dB"),
-                        ));
-                    }
+                if let Some(v) = value {
                     self.sea_db = v;
-                } else if c.auto.is_none() {
-                    return Err(ServeError::setting(
-                        "control 3 (sea clutter)",
-                        "(none)",
-                        "needs a value or auto",
-                    ));
                 }
             }
             RAIN => {
@@ -366,6 +374,15 @@ mod tests {
         };
         c.set(&auto, &scales).unwrap();
         assert!(matches!(c.apply(&base).stc, Stc::Auto { .. }));
+        // A refused value leaves auto as it was.
+        let both = ControlValue {
+            id: SEA.into(),
+            value: Some(json!(99)),
+            auto: Some(false),
+            error: None,
+        };
+        assert!(c.set(&both, &scales).is_err());
+        assert!(c.sea_auto && c.sea_db == 20.0);
         for (id, value, names) in [
             (GAIN, json!(31), "control 2 (gain) 31"),
             (RANGE, json!(800), "control 1 (range) 800"),

@@ -109,7 +109,7 @@ pub struct FeedTruth {
 pub struct FeedGroup {
     /// The tick (`tick · TICK_S` is the scenario time).
     pub tick: u64,
-    /// The sentences, without line ends.
+    /// The sentences, each ending CR LF.
     pub lines: Vec<String>,
     /// What they were made from.
     pub truth: FeedTruth,
@@ -378,20 +378,18 @@ impl NmeaFeed {
 }
 
 /// Starts the feed's thread: each tick's groups when scenario time reaches it, to every NMEA
-/// client, the recording and (with `udp`) one datagram a group to that address. `fresh` is
-/// the feed at tick 0; a restart starts from a copy of it.
+/// client, the UDP address and the recording. `fresh` is the feed at tick 0; a restart
+/// starts from a copy of it.
 pub fn spawn(
     live: std::sync::Arc<crate::live::Live>,
     source: std::sync::Arc<crate::radar::RadarSource>,
     fresh: NmeaFeed,
-    udp: Option<(std::net::UdpSocket, std::net::SocketAddr)>,
 ) -> std::thread::JoinHandle<()> {
     use crate::live::Wait;
     std::thread::Builder::new()
         .name("xbandsim-nmea".into())
         .spawn(move || {
             let scene = source.sim.scene();
-            let mut udp_failed = false;
             while !live.stopping() {
                 let generation = live.generation();
                 let mut feed = fresh.clone();
@@ -411,17 +409,12 @@ pub fn spawn(
                     };
                     for g in groups {
                         let text: String = g.lines.concat();
-                        if let Some((socket, to)) = &udp {
-                            if let Err(e) = socket.send_to(text.as_bytes(), to) {
-                                if !udp_failed {
-                                    eprintln!(
-                                        "xbandsim serve: NMEA to udp {to}: {e} (goes on trying)"
-                                    );
-                                    udp_failed = true;
-                                }
-                            }
-                        }
-                        live.send_nmea(t_s, bytes::Bytes::from(text), g.lines.len() as u64);
+                        live.send_nmea(
+                            generation,
+                            t_s,
+                            bytes::Bytes::from(text),
+                            g.lines.len() as u64,
+                        );
                     }
                 }
             }

@@ -44,6 +44,9 @@ use xbandsim::{LoadedSpec, Simulation};
 /// The fastest a scenario may run, times the wall.
 pub const MAX_SPEED: f64 = 100.0;
 
+/// The slowest a scenario may run, times the wall.
+pub const MIN_SPEED: f64 = 0.01;
+
 /// How the server runs.
 #[derive(Debug, Clone)]
 pub struct ServeOptions {
@@ -83,13 +86,13 @@ pub struct Bound {
 
 /// Checks a speed factor.
 pub fn check_speed(speed: f64) -> Result<()> {
-    if speed.is_finite() && speed > 0.0 && speed <= MAX_SPEED {
+    if (MIN_SPEED..=MAX_SPEED).contains(&speed) {
         Ok(())
     } else {
         Err(ServeError::setting(
             "speed",
             speed,
-            &format!("must be more than 0 and at most {MAX_SPEED} times real time"),
+            &format!("must be {MIN_SPEED} to {MAX_SPEED} times real time"),
         ))
     }
 }
@@ -109,7 +112,8 @@ fn check_options(o: &ServeOptions) -> Result<()> {
 }
 
 /// The legend: level k of `bits`-bit video to a colour, black through green and yellow to
-/// red, as mayara's `legend.pixels`.
+/// red, as mayara's `legend.pixels`; then (video of 7 bits or fewer) the Doppler codes,
+/// `2^bits` closing (magenta) and `2^bits + 1` opening (blue).
 pub fn legend(bits: u32) -> Value {
     let levels = 1u32 << bits;
     let pixels: Vec<Value> = (0..levels)
@@ -126,7 +130,15 @@ pub fn legend(bits: u32) -> Value {
             json!({"type": "normal", "color": format!("#{:02x}{:02x}{:02x}ff", c(r), c(g), c(b))})
         })
         .collect();
-    json!({"pixels": pixels, "lowNormal": 1, "mediumNormal": levels / 2, "strongReturn": levels - 1})
+    let mut legend = json!({"pixels": pixels, "lowNormal": 1, "mediumNormal": levels / 2, "strongReturn": levels - 1});
+    if let Some((closing, opening)) = radar::doppler_codes(bits) {
+        let pixels = legend["pixels"].as_array_mut().expect("an array");
+        pixels.push(json!({"type": "dopplerApproaching", "color": "#ff40ffff"}));
+        pixels.push(json!({"type": "dopplerReceding", "color": "#40a0ffff"}));
+        legend["dopplerApproaching"] = json!(closing);
+        legend["dopplerReceding"] = json!(opening);
+    }
+    legend
 }
 
 /// The radar's description, as `/v1/api/radars` lists it (without its stream addresses).
@@ -149,18 +161,41 @@ fn describe(name: &str, source: &RadarSource, scales_m: &[f64]) -> Value {
 /// The radar of `spec` (its video chain run here, with the controls), ready to serve.
 pub fn radar_source(spec: &LoadedSpec, seed: u64, start_unix_s: f64) -> Result<RadarSource> {
     let scene = spec.build()?;
-    let base = scene.receiver().cloned().unwrap_or_default();
+    let base = scene.receiver().copied().unwrap_or_default();
     let projection = feed::geo_origin(spec.spec())
         .ok()
         .map(|(lon, lat)| LocalProjection::new(lon, lat));
+    let sim = Simulation::new(scene.with_receiver(None));
+    let doppler = radar::doppler_codes(base.video_bits).is_some()
+        && sim
+            .check_outputs(xbandsim::engine::Outputs {
+                radial_velocity: true,
+                ..Default::default()
+            })
+            .is_ok();
     Ok(RadarSource {
-        sim: Simulation::new(scene.with_receiver(None)),
+        sim,
         base,
         seed,
         start_unix_s,
         projection,
         mmsi: spec.spec().objects.iter().map(|o| o.mmsi).collect(),
+        arpa: false,
+        doppler,
     })
+}
+
+/// `live` sending its NMEA groups to `--nmea-udp`, if given.
+fn with_udp(live: Live, options: &ServeOptions) -> Result<Live> {
+    match options.nmea_udp {
+        Some(to) => {
+            let any = if to.is_ipv4() { "0.0.0.0:0" } else { "[::]:0" };
+            let socket =
+                std::net::UdpSocket::bind(any).map_err(|e| bind_error("--nmea-udp", to, e))?;
+            Ok(live.with_udp(socket, to))
+        }
+        None => Ok(live),
+    }
 }
 
 fn bind_error(what: &str, addr: SocketAddr, source: std::io::Error) -> ServeError {
@@ -182,7 +217,7 @@ pub fn serve(
     ready: impl FnOnce(Bound),
 ) -> Result<Summary> {
     check_options(options)?;
-    let source = Arc::new(radar_source(spec, seed, start_unix_s)?);
+    let mut source = radar_source(spec, seed, start_unix_s)?;
     let feed = match feed::NmeaFeed::new(spec.spec(), source.sim.scene(), start_unix_s) {
         Ok(f) => Some(f),
         Err(ServeError::NoGeoOrigin)
@@ -192,26 +227,28 @@ pub fn serve(
         }
         Err(e) => return Err(e),
     };
+    source.arpa = feed.is_some();
+    let source = Arc::new(source);
     let scales = range_scales_m(source.max_range_m());
     let description = describe(name, &source, &scales);
     let recorder = match &options.record {
         Some(path) => Some(Recorder::create(
             path,
-            &json!({"radar": description, "scene": name, "seed": seed, "speed": options.speed}),
+            &json!({
+                "radar": description,
+                "scene": name,
+                "seed": seed,
+                "speed": options.speed,
+                "controls": Controls::of_settings(&source.base, source.max_range_m()),
+            }),
         )?),
         None => None,
     };
     let controls = Controls::of_settings(&source.base, source.max_range_m());
-    let live = Arc::new(Live::new(options.speed, controls, scales, recorder));
-    let udp = match options.nmea_udp {
-        Some(to) => {
-            let socket =
-                std::net::UdpSocket::bind(if to.is_ipv4() { "0.0.0.0:0" } else { "[::]:0" })
-                    .map_err(|e| bind_error("--nmea-udp", to, e))?;
-            Some((socket, to))
-        }
-        None => None,
-    };
+    let live = Arc::new(with_udp(
+        Live::new(options.speed, controls, scales, recorder),
+        options,
+    )?);
     let app = Arc::new(server::App {
         live: live.clone(),
         source: Some(source.clone()),
@@ -220,7 +257,7 @@ pub fn serve(
     run(app, options, ready, move |live| {
         let mut threads = radar::spawn(live.clone(), source.clone());
         if let Some(f) = feed {
-            threads.push(feed::spawn(live, source, f, udp));
+            threads.push(feed::spawn(live, source, f));
         }
         threads
     })
@@ -235,27 +272,33 @@ pub fn replay(
 ) -> Result<Summary> {
     check_options(options)?;
     let description = recording.header["radar"].clone();
+    let whole = |key: &str| description[key].as_u64().is_some_and(|v| v > 0);
+    if !(whole("spokesPerRevolution")
+        && whole("maxSpokeLen")
+        && description["legend"].is_object()
+        && description["controls"].is_object())
+    {
+        return Err(ServeError::Recording {
+            path: options.record.clone().unwrap_or_default(),
+            message: "its header has no radar description (radar.spokesPerRevolution, maxSpokeLen, legend, controls)".into(),
+        });
+    }
     let max_range = description["controls"][controls::RANGE]["validValues"]
         .as_array()
         .and_then(|v| v.last())
         .and_then(Value::as_f64)
         .unwrap_or(0.0);
     let scales = range_scales_m(max_range.max(1.0));
-    let controls = Controls::of_settings(&Default::default(), max_range.max(1.0));
+    let controls = serde_json::from_value(recording.header["controls"].clone())
+        .unwrap_or_else(|_| Controls::of_settings(&Default::default(), max_range.max(1.0)));
     let recorder = match &options.record {
-        Some(path) => Some(Recorder::create(path, &recording.header)?),
+        Some(path) => Some(Recorder::create_raw(path, &recording.header_raw)?),
         None => None,
     };
-    let live = Arc::new(Live::new(options.speed, controls, scales, recorder).with_fixed_controls());
-    let udp = match options.nmea_udp {
-        Some(to) => {
-            let socket =
-                std::net::UdpSocket::bind(if to.is_ipv4() { "0.0.0.0:0" } else { "[::]:0" })
-                    .map_err(|e| bind_error("--nmea-udp", to, e))?;
-            Some((socket, to))
-        }
-        None => None,
-    };
+    let live = Arc::new(with_udp(
+        Live::new(options.speed, controls, scales, recorder).for_replay(),
+        options,
+    )?);
     let app = Arc::new(server::App {
         live: live.clone(),
         source: None,
@@ -279,14 +322,19 @@ pub fn replay(
                             Wait::Stopping => return,
                         }
                         match r.kind {
-                            RecordKind::Spokes => live.send_spokes(r.time_s, r.payload.clone()),
-                            RecordKind::Nmea => {
-                                if let Some((socket, to)) = &udp {
-                                    let _ = socket.send_to(&r.payload, to);
-                                }
-                                let lines = r.payload.split(|&b| b == b'\n').count() as u64 - 1;
-                                live.send_nmea(r.time_s, r.payload.clone(), lines);
+                            RecordKind::Spokes => {
+                                live.send_spokes(generation, r.time_s, r.payload.clone())
                             }
+                            RecordKind::Nmea => {
+                                let lines = r.payload.iter().filter(|&&b| b == b'\n').count();
+                                live.send_nmea(
+                                    generation,
+                                    r.time_s,
+                                    r.payload.clone(),
+                                    lines as u64,
+                                );
+                            }
+                            RecordKind::Restart => live.rewind(r.time_s),
                         }
                     }
                     if ended {
@@ -369,6 +417,8 @@ fn run(
 async fn stop_when(live: Arc<Live>, duration_s: Option<f64>) {
     let mut stopped = live.stop_signal();
     let mut tick = tokio::time::interval(Duration::from_millis(50));
+    let ctrl_c = tokio::signal::ctrl_c();
+    tokio::pin!(ctrl_c);
     #[cfg(unix)]
     let mut term = tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()).ok();
     loop {
@@ -384,7 +434,7 @@ async fn stop_when(live: Arc<Live>, duration_s: Option<f64>) {
         #[cfg(not(unix))]
         let sigterm = std::future::pending::<()>();
         tokio::select! {
-            _ = tokio::signal::ctrl_c() => break,
+            _ = &mut ctrl_c => break,
             _ = sigterm => break,
             _ = stopped.changed() => break,
             _ = tick.tick() => {
@@ -407,6 +457,8 @@ async fn nmea_tcp_server(listener: tokio::net::TcpListener, live: Arc<Live>) {
             a = listener.accept() => a,
         };
         let Ok((mut socket, _)) = accepted else {
+            // Out of descriptors, say: wait before trying again.
+            tokio::time::sleep(Duration::from_millis(100)).await;
             continue;
         };
         let live = live.clone();

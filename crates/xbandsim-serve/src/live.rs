@@ -54,6 +54,8 @@ pub struct Counters {
     pub last_render_s: f64,
     /// The last revolution's video chain time, s.
     pub last_video_s: f64,
+    /// The last revolution's plot extraction and tracking time, s (0 without an NMEA feed).
+    pub last_tracker_s: f64,
 }
 
 /// The shared state.
@@ -76,6 +78,11 @@ pub struct Live {
     recorder: Option<Recorder>,
     fixed_controls: bool,
     stop_signal: tokio::sync::watch::Sender<bool>,
+    udp: Option<(std::net::UdpSocket, std::net::SocketAddr)>,
+    udp_failed: AtomicBool,
+    /// Held while a message is checked against the run and sent, and while a restart
+    /// changes the run: a message of the old run never follows the restart's record.
+    order: Mutex<()>,
 }
 
 impl Live {
@@ -88,7 +95,7 @@ impl Live {
         recorder: Option<Recorder>,
     ) -> Live {
         Live {
-            clock: Mutex::new(Clock::new(speed, Instant::now())),
+            clock: Mutex::new(Clock::new(speed, Instant::now()).with_barrier_at_start()),
             generation: AtomicU64::new(0),
             stopping: AtomicBool::new(false),
             controls: Mutex::new(controls),
@@ -101,12 +108,26 @@ impl Live {
             recorder,
             fixed_controls: false,
             stop_signal: tokio::sync::watch::channel(false).0,
+            udp: None,
+            udp_failed: AtomicBool::new(false),
+            order: Mutex::new(()),
         }
     }
 
-    /// The same, with controls that cannot be set (a replay: its video was recorded).
-    pub fn with_fixed_controls(mut self) -> Live {
+    /// The same, sending every NMEA group from `socket` to `to` as a datagram.
+    pub fn with_udp(mut self, socket: std::net::UdpSocket, to: std::net::SocketAddr) -> Live {
+        self.udp = Some((socket, to));
+        self
+    }
+
+    /// The same, with controls that cannot be set and a clock without a barrier (a replay:
+    /// its video was recorded, and every record is at hand).
+    pub fn for_replay(mut self) -> Live {
         self.fixed_controls = true;
+        self.clock
+            .get_mut()
+            .unwrap_or_else(|e| e.into_inner())
+            .set_barrier(f64::INFINITY, Instant::now());
         self
     }
 
@@ -149,17 +170,43 @@ impl Live {
         self.clock().set_speed(speed, Instant::now());
     }
 
-    /// Back to scenario time 0: the radar and the feeds start the scenario again.
+    /// Back to scenario time 0: the radar and the feeds start the scenario again (a
+    /// restart record marks it in the recording).
     pub fn restart(&self) {
-        let mut clock = self.clock();
-        clock.restart(Instant::now());
+        let _order = self.order.lock().unwrap_or_else(|e| e.into_inner());
         self.generation.fetch_add(1, Ordering::SeqCst);
+        let mut clock = self.clock();
+        let now = Instant::now();
+        self.record_restart(clock.time_s(now));
+        clock.restart(now);
         *self.counters.lock().unwrap_or_else(|e| e.into_inner()) = Counters::default();
     }
 
-    /// Holds scenario time at `time_s` if it ran past it (the radar is late).
-    pub fn hold_at(&self, time_s: f64) {
-        self.clock().hold_at(time_s, Instant::now());
+    /// The clock alone back to 0, the run going on: a replay at a restart recorded at
+    /// `time_s` (recorded again with that time).
+    pub fn rewind(&self, time_s: f64) {
+        let _order = self.order.lock().unwrap_or_else(|e| e.into_inner());
+        self.record_restart(time_s);
+        self.clock().restart(Instant::now());
+    }
+
+    fn record_restart(&self, time_s: f64) {
+        if let Some(r) = &self.recorder {
+            r.write(Record {
+                kind: RecordKind::Restart,
+                time_s,
+                payload: Bytes::new(),
+            });
+        }
+    }
+
+    /// Lets scenario time of run `generation` run up to `time_s` and no further (the radar's
+    /// revolution in hand ends there); nothing once that run has been restarted.
+    pub fn set_barrier(&self, generation: u64, time_s: f64) {
+        let _order = self.order.lock().unwrap_or_else(|e| e.into_inner());
+        if generation == self.generation() {
+            self.clock().set_barrier(time_s, Instant::now());
+        }
     }
 
     /// Asks every thread to stop.
@@ -183,7 +230,9 @@ impl Live {
             if self.generation() != generation {
                 return Wait::Restarted;
             }
-            match self.clock().wall_until(time_s, Instant::now()) {
+            // The clock's lock is let go before any sleep.
+            let until = self.clock().wall_until(time_s, Instant::now());
+            match until {
                 Some(d) if d.is_zero() => return Wait::Due,
                 Some(d) => std::thread::sleep(d.min(POLL)),
                 None => std::thread::sleep(POLL),
@@ -227,8 +276,13 @@ impl Live {
         Ok(set)
     }
 
-    /// Sends a spoke message to every client and the recording.
-    pub fn send_spokes(&self, time_s: f64, message: Bytes) {
+    /// Sends a spoke message of run `generation` to every client and the recording (nothing
+    /// once that run has been restarted).
+    pub fn send_spokes(&self, generation: u64, time_s: f64, message: Bytes) {
+        let _order = self.order.lock().unwrap_or_else(|e| e.into_inner());
+        if generation != self.generation() {
+            return;
+        }
         if let Some(r) = &self.recorder {
             r.write(Record {
                 kind: RecordKind::Spokes,
@@ -243,9 +297,21 @@ impl Live {
             .spoke_messages += 1;
     }
 
-    /// Sends a group of NMEA sentences (`lines`, each ending CR LF) to every client and the
-    /// recording.
-    pub fn send_nmea(&self, time_s: f64, lines: Bytes, sentences: u64) {
+    /// Sends a group of NMEA sentences (`lines`, each ending CR LF) of run `generation` to
+    /// every client, the UDP address (one datagram) and the recording (nothing once that run
+    /// has been restarted).
+    pub fn send_nmea(&self, generation: u64, time_s: f64, lines: Bytes, sentences: u64) {
+        let _order = self.order.lock().unwrap_or_else(|e| e.into_inner());
+        if generation != self.generation() {
+            return;
+        }
+        if let Some((socket, to)) = &self.udp {
+            if let Err(e) = socket.send_to(&lines, to) {
+                if !self.udp_failed.swap(true, Ordering::SeqCst) {
+                    eprintln!("xbandsim serve: NMEA to udp {to}: {e} (goes on trying)");
+                }
+            }
+        }
         if let Some(r) = &self.recorder {
             r.write(Record {
                 kind: RecordKind::Nmea,

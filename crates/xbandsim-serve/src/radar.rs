@@ -1,8 +1,11 @@
-//! The radar (docs/live.md, "The spoke stream"): revolution after revolution of the scene,
-//! rendered one ahead on one thread, and sent on another as the antenna sweeps: the
-//! calibrated record through the video chain with the controls as they are at the
-//! revolution's start (docs/physics.md §12), then its video spokes in `RadarMessage`s, each
-//! sent when scenario time reaches the last spoke it holds.
+//! The radar (docs/live.md, "The radar API"): revolution after revolution of the scene,
+//! rendered one ahead on one thread — the calibrated record, then the video chain with the
+//! controls as they are when the render is done (docs/physics.md §12) — and sent on another
+//! as the antenna sweeps: its video spokes in `RadarMessage`s, each sent when scenario time
+//! reaches the last spoke it holds. With an NMEA feed, each
+//! revolution's calibrated record also goes through the baseline plot extractor and ARPA
+//! tracker at `xbandsim track`'s defaults (docs/tracking.md), and a `$RATTM` sentence for
+//! every confirmed track follows the revolution's last spoke.
 
 use crate::controls::Controls;
 use crate::live::{Live, Wait, POLL};
@@ -16,8 +19,11 @@ use std::time::Instant;
 use xbandsim::engine::{Request, Simulation};
 use xbandsim::land::projection::LocalProjection;
 use xbandsim::model::receiver::VideoSettings;
+use xbandsim::processing::plots::{PlotExtractor, PlotScratch, PowerGrid};
 use xbandsim::receiver::video_chain::{self, EchoHistory, PolarRecord, Video};
 use xbandsim::Frame;
+use xbandsim_nmea::sentence::{ttm, TrackedTarget};
+use xbandsim_track::{Scan, Tracker, TrackerSettings};
 
 /// The radar's number in the API.
 pub const RADAR_NUMBER: u32 = 1;
@@ -40,6 +46,11 @@ pub struct RadarSource {
     pub projection: Option<LocalProjection>,
     /// Each object's MMSI, in scene order (None: no transponder).
     pub mmsi: Vec<Option<u32>>,
+    /// Whether the radar tracks its plots and sends TTM sentences (with an NMEA feed).
+    pub arpa: bool,
+    /// Whether its spokes carry the Doppler codes (a pulse-mode scene, video of 7 bits or
+    /// fewer).
+    pub doppler: bool,
 }
 
 impl RadarSource {
@@ -81,11 +92,121 @@ impl RadarSource {
     }
 }
 
+/// The legend's Doppler codes for `bits`-bit video: closing (`2^bits`) and opening
+/// (`2^bits + 1`); None for 8-bit video, which leaves no byte values for them.
+pub fn doppler_codes(bits: u32) -> Option<(u8, u8)> {
+    (bits <= 7).then(|| ((1u32 << bits) as u8, ((1u32 << bits) + 1) as u8))
+}
+
+/// Marks `video`'s shown samples (level 1 or more) whose cell of the record closes or opens
+/// at 3 kn or faster with the Doppler codes, as a target analyser colours them: each sample
+/// read at the record's spoke nearest its own and the bin at its centre, against the video's
+/// threshold.
+pub fn mark_doppler(
+    video: &mut Video,
+    rv: &xbandsim::products::RadialVelocity,
+    range_bin_m: f64,
+    codes: (u8, u8),
+) {
+    let (n, samples) = (video.spokes, video.samples);
+    let threshold_db = video.threshold_db as f64;
+    for s in 0..n {
+        let spoke = (s * rv.spokes + n / 2) / n % rv.spokes;
+        for j in 0..samples {
+            let k = s * samples + j;
+            if video.levels[k] == 0 {
+                continue;
+            }
+            let bin = (((j as f64 + 0.5) * video.sample_m / range_bin_m).round() as usize)
+                .min(rv.range_bins - 1);
+            let i = spoke * rv.range_bins + bin;
+            if rv.approaching(i, threshold_db) {
+                video.levels[k] = codes.0;
+            } else if rv.receding(i, threshold_db) {
+                video.levels[k] = codes.1;
+            }
+        }
+    }
+}
+
 /// A rendered revolution on its way to the sender.
 struct Rendered {
     generation: u64,
-    frame: Frame,
+    /// When the revolution starts, s.
+    start_time_s: f64,
+    /// Its video, Doppler codes marked.
+    video: Video,
+    /// The range its spokes cover, m.
+    range_m: f64,
     render_s: f64,
+    video_s: f64,
+    tracker_s: f64,
+    /// The TTM sentences of the tracks confirmed after this revolution.
+    ttm: Vec<String>,
+}
+
+/// The radar's ARPA: the baseline extractor and a tracker.
+struct Arpa {
+    extractor: PlotExtractor,
+    scratch: PlotScratch,
+    tracker: Tracker,
+}
+
+impl Arpa {
+    fn new(source: &RadarSource) -> xbandsim::Result<Arpa> {
+        Ok(Arpa {
+            extractor: xbandsim_track::baseline::extractor(source.sim.scene())?,
+            scratch: PlotScratch::default(),
+            tracker: Tracker::new(TrackerSettings::default())?,
+        })
+    }
+
+    /// Tracks `frame`'s plots; the TTM sentence of each confirmed track, its distance and
+    /// bearing from the antenna at the track's time.
+    fn ttm(&mut self, source: &RadarSource, frame: &Frame) -> Vec<String> {
+        let grid = PowerGrid::from_record_db(
+            &frame.polar_db,
+            frame.spokes,
+            frame.range_bins,
+            frame.range_bin_m,
+        );
+        let plots = self.extractor.extract(&grid, &mut self.scratch);
+        let (antenna, velocity) = match frame.own_ship {
+            Some(s) => (s.antenna_position_m, [s.velocity_mps.x, s.velocity_mps.y]),
+            None => (source.sim.scene().radar().position_m(), [0.0, 0.0]),
+        };
+        let scan = Scan {
+            start_time_s: frame.start_time_s,
+            period_s: source.period_s(),
+            antenna_position_m: antenna.to_array(),
+            antenna_velocity_mps: velocity,
+            plots: &plots,
+        };
+        let report = self.tracker.step(&scan);
+        report
+            .confirmed()
+            .filter_map(|t| {
+                let own = source.antenna_m(t.time_s);
+                let (east, north) = (t.position_m[0] - own.x, t.position_m[1] - own.y);
+                ttm(
+                    "RA",
+                    &TrackedTarget {
+                        number: t.id % 100,
+                        distance_m: east.hypot(north),
+                        bearing_deg: east.atan2(north).to_degrees().rem_euclid(360.0),
+                        speed_kn: t.speed_kn,
+                        course_deg: t.course_deg,
+                        cpa_m: t.cpa_m,
+                        tcpa_s: t.tcpa_s,
+                        name: String::new(),
+                        status: 'T',
+                        unix_s: source.start_unix_s + t.time_s,
+                    },
+                )
+                .ok()
+            })
+            .collect()
+    }
 }
 
 /// The spokes of revolution `video` starting at `start_time_s`, spoke numbers `from..to`,
@@ -163,12 +284,26 @@ pub fn spawn(live: Arc<Live>, source: Arc<RadarSource>) -> Vec<JoinHandle<()>> {
 fn render_loop(live: &Live, source: &RadarSource, tx: SyncSender<Rendered>) {
     while !live.stopping() {
         let generation = live.generation();
+        let mut history = EchoHistory::default();
+        let mut arpa = match source.arpa.then(|| Arpa::new(source)).transpose() {
+            Ok(a) => a,
+            Err(e) => {
+                eprintln!("xbandsim serve: the radar's tracker: {e}");
+                live.stop();
+                return;
+            }
+        };
         for k in 0.. {
             if live.stopping() || live.generation() != generation {
                 break;
             }
             let t0 = Instant::now();
-            let frame = match source.sim.run(&Request::new(source.seed).frame(k)) {
+            let outputs = xbandsim::engine::Outputs {
+                radial_velocity: source.doppler,
+                ..Default::default()
+            };
+            let request = Request::new(source.seed).frame(k).outputs(outputs);
+            let frame = match source.sim.run(&request) {
                 Ok(f) => f,
                 Err(e) => {
                     eprintln!("xbandsim serve: revolution {k} failed: {e}");
@@ -176,10 +311,30 @@ fn render_loop(live: &Live, source: &RadarSource, tx: SyncSender<Rendered>) {
                     return;
                 }
             };
+            let render_s = t0.elapsed().as_secs_f64();
+            // The video with the controls as they are now, a revolution ahead of its
+            // sending: the sender has nothing left to do but cut it into messages.
+            let t1 = Instant::now();
+            let controls = live.controls();
+            let mut video = video_of(source, &frame, &controls, &mut history);
+            if let (Some(rv), Some(codes)) = (&frame.radial_velocity, doppler_codes(video.bits)) {
+                mark_doppler(&mut video, rv, frame.range_bin_m, codes);
+            }
+            let video_s = t1.elapsed().as_secs_f64();
+            let t2 = Instant::now();
+            let ttm = arpa
+                .as_mut()
+                .map_or_else(Vec::new, |a| a.ttm(source, &frame));
+            let tracker_s = t2.elapsed().as_secs_f64();
             let mut item = Rendered {
                 generation,
-                frame,
-                render_s: t0.elapsed().as_secs_f64(),
+                start_time_s: frame.start_time_s,
+                video,
+                range_m: controls.range_m.min(source.max_range_m()),
+                render_s,
+                video_s,
+                tracker_s,
+                ttm,
             };
             loop {
                 match tx.try_send(item) {
@@ -199,8 +354,6 @@ fn render_loop(live: &Live, source: &RadarSource, tx: SyncSender<Rendered>) {
 }
 
 fn send_loop(live: &Live, source: &RadarSource, rx: Receiver<Rendered>) {
-    let mut history = EchoHistory::default();
-    let mut history_generation = live.generation();
     let n = source.spokes();
     let per_message = n.div_ceil(MESSAGES_PER_REVOLUTION).max(1);
     let period_s = source.period_s();
@@ -214,21 +367,11 @@ fn send_loop(live: &Live, source: &RadarSource, rx: Receiver<Rendered>) {
         if r.generation != live.generation() {
             continue;
         }
-        if r.generation != history_generation {
-            history = EchoHistory::default();
-            history_generation = r.generation;
-        }
-        let start_s = r.frame.start_time_s;
-        // A revolution later than a message's worth of sweep holds the scenario clock at
-        // its start: no spoke is skipped or sent in a burst.
-        if live.time_s() > start_s + period_s / MESSAGES_PER_REVOLUTION as f64 {
-            live.hold_at(start_s);
-        }
-        let controls = live.controls();
-        let t0 = Instant::now();
-        let video = video_of(source, &r.frame, &controls, &mut history);
-        let video_s = t0.elapsed().as_secs_f64();
-        let range_m = controls.range_m.min(source.max_range_m());
+        let start_s = r.start_time_s;
+        // Scenario time may run to this revolution's end: it waits there for the next one,
+        // so no spoke is skipped or sent in a burst, and nothing else runs ahead.
+        live.set_barrier(r.generation, start_s + period_s);
+        let mut last_due_s = start_s;
         for from in (0..n).step_by(per_message) {
             let to = (from + per_message).min(n);
             let due_s = start_s + (to - 1) as f64 / n as f64 * period_s;
@@ -237,14 +380,77 @@ fn send_loop(live: &Live, source: &RadarSource, rx: Receiver<Rendered>) {
                 Wait::Restarted => break,
                 Wait::Stopping => return,
             }
-            let m = spoke_message(source, &video, range_m, start_s, from, to);
-            live.send_spokes(due_s, Bytes::from(m.encode_to_vec()));
+            let m = spoke_message(source, &r.video, r.range_m, start_s, from, to);
+            live.send_spokes(r.generation, due_s, Bytes::from(m.encode_to_vec()));
+            last_due_s = due_s;
+        }
+        if !r.ttm.is_empty() {
+            let text = Bytes::from(r.ttm.concat());
+            live.send_nmea(r.generation, last_due_s, text, r.ttm.len() as u64);
         }
         if r.generation == live.generation() {
             let mut c = live.counters.lock().unwrap_or_else(|e| e.into_inner());
             c.revolutions += 1;
             c.last_render_s = r.render_s;
-            c.last_video_s = video_s;
+            c.last_video_s = r.video_s;
+            c.last_tracker_s = r.tracker_s;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use xbandsim::products::RadialVelocity;
+
+    /// A record of 4 spokes × 10 bins of 10 m: a closing echo in spoke 1, bins 4–5, an
+    /// opening one in spoke 3, bin 9, a slow one in spoke 0; video of 8 spokes × 5 samples of
+    /// 20 m, every sample shown. Each video sample takes its code from the cell nearest it:
+    /// video spoke s reads record spoke `(4s + 4)/8 mod 4` (1 for s = 1, 2; 3 for s = 5, 6),
+    /// sample j the bin at its centre `(j + ½)·20 m` (bin 5 for j = 2, bin 9 for j = 4).
+    #[test]
+    fn doppler_codes_mark_closing_and_opening_echoes() {
+        let (spokes, bins) = (4, 10);
+        let mut velocity = vec![0f32; spokes * bins];
+        velocity[14] = -5.0;
+        velocity[15] = -5.0;
+        velocity[39] = 4.0;
+        velocity[2] = -1.0;
+        let rv = RadialVelocity {
+            spokes,
+            range_bins: bins,
+            velocity_mps: velocity,
+            estimated: vec![true; spokes * bins],
+            power_db: vec![20.0; spokes * bins],
+            unambiguous_mps: 10.0,
+        };
+        let mut video = Video {
+            spokes: 8,
+            samples: 5,
+            bits: 4,
+            sample_m: 20.0,
+            threshold_db: 6.0,
+            level_step_db: 2.0,
+            levels: vec![3; 40],
+        };
+        video.levels[0] = 0;
+        let codes = doppler_codes(4).unwrap();
+        assert_eq!(codes, (16, 17));
+        assert_eq!(doppler_codes(8), None);
+        mark_doppler(&mut video, &rv, 10.0, codes);
+        let marked: Vec<(usize, u8)> = video
+            .levels
+            .iter()
+            .enumerate()
+            .filter(|(_, &l)| l >= 16)
+            .map(|(k, &l)| (k, l))
+            .collect();
+        assert_eq!(marked, vec![(7, 16), (12, 16), (29, 17), (34, 17)]);
+        // Below the threshold nothing is marked.
+        let mut dim = video.clone();
+        dim.threshold_db = 30.0;
+        dim.levels = vec![3; 40];
+        mark_doppler(&mut dim, &rv, 10.0, codes);
+        assert!(dim.levels.iter().all(|&l| l == 3));
     }
 }

@@ -1,10 +1,11 @@
-//! Recordings (docs/formats.md, "Live recording"): the spoke stream and the NMEA lines as
+//! Recordings (docs/formats.md, "Live recordings"): the spoke stream and the NMEA lines as
 //! the live radar sent them, each with its scenario time, so that `xbandsim replay` sends
 //! them again byte for byte. The file: the magic `XBSREC01`, a u32 length and that many bytes
 //! of JSON header (the radar's description and the run's settings), then records — kind
-//! (u8: 1 a spoke message, 2 a group of NMEA sentences), scenario time (f64, s), length
-//! (u32) and payload — and, once the server has stopped cleanly, an end record: kind 255 and
-//! the count of records (u64). All numbers little-endian.
+//! (u8: 1 a spoke message, 2 a group of NMEA sentences, 3 a restart of the scenario, whose
+//! clock starts again from 0), scenario time (f64, s), length (u32) and payload — and, once
+//! the server has stopped cleanly, an end record: kind 255 and the count of records (u64).
+//! All numbers little-endian.
 
 use crate::error::{Result, ServeError};
 use bytes::Bytes;
@@ -32,6 +33,8 @@ pub enum RecordKind {
     Spokes = 1,
     /// A group of NMEA 0183 sentences, each ending CR LF.
     Nmea = 2,
+    /// The scenario restarted at this time: the next records' times count from 0 again.
+    Restart = 3,
 }
 
 /// One record.
@@ -62,13 +65,21 @@ fn io_error(path: &Path, what: &str, e: std::io::Error) -> ServeError {
 impl Recorder {
     /// Starts a recording at `path` (replaced if it exists) with `header`.
     pub fn create(path: &Path, header: &Value) -> Result<Recorder> {
+        Recorder::create_raw(
+            path,
+            &serde_json::to_vec(header).expect("a JSON value serialises"),
+        )
+    }
+
+    /// Starts a recording at `path` with the header's bytes as they are (a replay's
+    /// recording keeps its original's).
+    pub fn create_raw(path: &Path, header: &[u8]) -> Result<Recorder> {
         let file = File::create(path).map_err(|e| io_error(path, "creating it", e))?;
         let mut out = BufWriter::new(file);
-        let header = serde_json::to_vec(header).expect("a JSON value serialises");
         let written = out
             .write_all(MAGIC)
             .and_then(|_| out.write_all(&(header.len() as u32).to_le_bytes()))
-            .and_then(|_| out.write_all(&header))
+            .and_then(|_| out.write_all(header))
             .and_then(|_| out.flush());
         written.map_err(|e| io_error(path, "writing its header", e))?;
         let (sender, receiver) = sync_channel::<Record>(QUEUE_RECORDS);
@@ -135,6 +146,8 @@ impl Recorder {
 pub struct Recording {
     /// Its header.
     pub header: Value,
+    /// The header's bytes, as written.
+    pub header_raw: Vec<u8>,
     /// Its records, in the order they were sent.
     pub records: Vec<Record>,
     /// Whether it has its end record (the server stopped cleanly).
@@ -143,7 +156,7 @@ pub struct Recording {
 
 /// Reads the recording at `path`.
 pub fn read(path: &Path) -> Result<Recording> {
-    let bytes = std::fs::read(path).map_err(|e| io_error(path, "reading it", e))?;
+    let bytes = Bytes::from(std::fs::read(path).map_err(|e| io_error(path, "reading it", e))?);
     let bad = |message: String| ServeError::Recording {
         path: path.to_path_buf(),
         message,
@@ -184,28 +197,36 @@ pub fn read(path: &Path) -> Result<Recording> {
         };
         let time_s = f64::from_le_bytes(head[..8].try_into().expect("8 bytes"));
         let len = u32::from_le_bytes(head[8..].try_into().expect("4 bytes")) as usize;
-        let Some(payload) = bytes.get(at + 13..at + 13 + len) else {
+        if at + 13 + len > bytes.len() {
             break;
-        };
+        }
         let kind = match kind {
             1 => RecordKind::Spokes,
             2 => RecordKind::Nmea,
+            3 => RecordKind::Restart,
             k => {
                 return Err(bad(format!(
-                    "record {} at byte {at} has kind {k} (1 spokes, 2 NMEA, 255 end)",
+                    "record {} at byte {at} has kind {k} (1 spokes, 2 NMEA, 3 restart, 255 end)",
                     records.len()
                 )))
             }
         };
+        if !(time_s.is_finite() && time_s >= 0.0) {
+            return Err(bad(format!(
+                "record {} at byte {at} has time {time_s} s: must be a finite time of 0 or more",
+                records.len()
+            )));
+        }
         records.push(Record {
             kind,
             time_s,
-            payload: Bytes::copy_from_slice(payload),
+            payload: bytes.slice(at + 13..at + 13 + len),
         });
         at += 13 + len;
     }
     Ok(Recording {
         header,
+        header_raw: body.to_vec(),
         records,
         complete,
     })
@@ -231,21 +252,32 @@ mod tests {
                 time_s: 1.0,
                 payload: Bytes::from_static(b"$GPVTG,,T,,M,0.0,N,0.0,K,A*0D\r\n"),
             },
+            Record {
+                kind: RecordKind::Restart,
+                time_s: 1.5,
+                payload: Bytes::new(),
+            },
+            Record {
+                kind: RecordKind::Spokes,
+                time_s: 0.0,
+                payload: Bytes::from_static(&[8, 1]),
+            },
         ];
         for x in &records {
             r.write(x.clone());
         }
-        assert_eq!(r.finish().unwrap(), 2);
+        assert_eq!(r.finish().unwrap(), 4);
         let back = read(&path).unwrap();
         assert!(back.complete);
         assert_eq!(back.records, records);
         assert_eq!(back.header["spokes"], 2048);
+        assert_eq!(back.header_raw, br#"{"spokes":2048}"#);
         // Cut short (no end record): the whole records read, marked incomplete.
         let bytes = std::fs::read(&path).unwrap();
-        std::fs::write(&path, &bytes[..bytes.len() - 12]).unwrap();
+        std::fs::write(&path, &bytes[..bytes.len() - 10]).unwrap();
         let cut = read(&path).unwrap();
         assert!(!cut.complete);
-        assert_eq!(cut.records, records[..1]);
+        assert_eq!(cut.records, records[..3]);
         std::fs::write(&path, b"PK\x03\x04 not one").unwrap();
         let e = read(&path).unwrap_err().to_string();
         assert!(e.contains("not an xbandsim recording"), "{e}");

@@ -9,6 +9,7 @@
 use crate::controls::ControlValue;
 use crate::live::{Live, CLIENT_SEND_TIMEOUT};
 use crate::radar::RadarSource;
+use axum::extract::ws::rejection::WebSocketUpgradeRejection;
 use axum::extract::ws::{CloseFrame, Message, WebSocket, WebSocketUpgrade};
 use axum::extract::{Path, State};
 use axum::http::{header, HeaderMap, StatusCode};
@@ -53,6 +54,12 @@ pub fn router(app: Shared) -> Router {
         .route("/v1/api/radars/{id}/controls/{control}", put(set_control))
         .route("/api/scenario", get(scenario).post(change_scenario))
         .route("/api/truth", get(truth))
+        .method_not_allowed_fallback(|| async {
+            refuse(
+                StatusCode::METHOD_NOT_ALLOWED,
+                "this address does not take that method (docs/live.md, \"The radar API\")",
+            )
+        })
         .fallback(|| async {
             refuse(
                 StatusCode::NOT_FOUND,
@@ -96,15 +103,40 @@ fn known_radar(id: &str) -> Result<(), Response> {
     }
 }
 
+/// Client messages are small JSON control values: anything over this is refused.
+const MAX_CLIENT_MESSAGE_BYTES: usize = 64 * 1024;
+
+/// The upgrade, or a 400 saying the address is a WebSocket's.
+fn upgrade(
+    ws: Result<WebSocketUpgrade, WebSocketUpgradeRejection>,
+) -> Result<WebSocketUpgrade, Response> {
+    ws.map(|w| {
+        w.max_message_size(MAX_CLIENT_MESSAGE_BYTES)
+            .max_frame_size(MAX_CLIENT_MESSAGE_BYTES)
+    })
+    .map_err(|e| {
+        refuse(
+            StatusCode::BAD_REQUEST,
+            format!(
+                "this address is a WebSocket: connect with a WebSocket client ({})",
+                e.body_text()
+            ),
+        )
+    })
+}
+
 async fn stream(
     State(app): State<Shared>,
     Path(id): Path<String>,
-    ws: WebSocketUpgrade,
+    ws: Result<WebSocketUpgrade, WebSocketUpgradeRejection>,
 ) -> Response {
     if let Err(r) = known_radar(&id) {
         return r;
     }
-    ws.on_upgrade(move |socket| spoke_client(socket, app))
+    match upgrade(ws) {
+        Ok(ws) => ws.on_upgrade(move |socket| spoke_client(socket, app)),
+        Err(r) => r,
+    }
 }
 
 async fn spoke_client(mut socket: WebSocket, app: Shared) {
@@ -114,7 +146,17 @@ async fn spoke_client(mut socket: WebSocket, app: Shared) {
     live.spoke_clients.fetch_add(1, Ordering::SeqCst);
     loop {
         tokio::select! {
-            _ = stop.changed() => break,
+            _ = stop.changed() => {
+                // What the radar sent before it stopped still goes out.
+                while let Ok(bytes) = rx.try_recv() {
+                    let sent = tokio::time::timeout(CLIENT_SEND_TIMEOUT, socket.send(Message::Binary(bytes))).await;
+                    if !matches!(sent, Ok(Ok(()))) {
+                        break;
+                    }
+                }
+                let _ = tokio::time::timeout(CLIENT_SEND_TIMEOUT, socket.send(Message::Close(None))).await;
+                break;
+            }
             m = rx.recv() => match m {
                 Ok(bytes) => {
                     let sent = tokio::time::timeout(CLIENT_SEND_TIMEOUT, socket.send(Message::Binary(bytes))).await;
@@ -146,12 +188,15 @@ async fn spoke_client(mut socket: WebSocket, app: Shared) {
 async fn control_stream(
     State(app): State<Shared>,
     Path(id): Path<String>,
-    ws: WebSocketUpgrade,
+    ws: Result<WebSocketUpgrade, WebSocketUpgradeRejection>,
 ) -> Response {
     if let Err(r) = known_radar(&id) {
         return r;
     }
-    ws.on_upgrade(move |socket| control_client(socket, app))
+    match upgrade(ws) {
+        Ok(ws) => ws.on_upgrade(move |socket| control_client(socket, app)),
+        Err(r) => r,
+    }
 }
 
 async fn control_client(mut socket: WebSocket, app: Shared) {

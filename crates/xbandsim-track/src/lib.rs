@@ -15,6 +15,7 @@
 
 pub mod accuracy;
 pub mod assign;
+pub mod baseline;
 pub mod filter;
 pub mod imm;
 pub mod score;

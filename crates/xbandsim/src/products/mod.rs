@@ -117,6 +117,15 @@ impl RadialVelocity {
             && self.power_db[i] as f64 >= threshold_db
             && self.velocity_mps[i] as f64 <= -labels::RADIAL_CLASS_THRESHOLD_MPS
     }
+
+    /// Whether cell `i` holds an echo at least `threshold_db` over the noise opening at
+    /// [`labels::RADIAL_CLASS_THRESHOLD_MPS`] or faster: what a target analyser colours as
+    /// receding.
+    pub fn receding(&self, i: usize, threshold_db: f64) -> bool {
+        self.estimated[i]
+            && self.power_db[i] as f64 >= threshold_db
+            && self.velocity_mps[i] as f64 >= labels::RADIAL_CLASS_THRESHOLD_MPS
+    }
 }
 
 /// One rendered revolution.
