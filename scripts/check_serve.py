@@ -262,7 +262,8 @@ def check_spokes(radar, spokes, truths, start_unix_s):
             for k in range(b - spread, b + spread + 1):
                 s = by_bearing[k % n]
                 lo, hi = int(dist / sample_m - half), int(dist / sample_m + half) + 1
-                level = max([level] + list(s.data[max(lo, 0):min(hi, len(s.data))]))
+                # Video levels only: a Doppler code (2^bits and above) is no level.
+                level = max([level] + [v for v in s.data[max(lo, 0):min(hi, len(s.data))] if v < 2 ** radar["bits"]])
             hits += level >= 8
             levels.append(level)
         # The echo fades with the ship's roll and the sea's multipath: it must be there in
@@ -332,10 +333,11 @@ def check_ttm(lines, truths, start_unix_s):
     its time, and nine in ten within 100 m (the baseline's truth gate; a track lags a boat
     that turns at a waypoint)."""
     check(len(lines) >= 3 and all(checksum_ok(l) for l in lines), f"{len(lines)} TTM sentences of the radar's tracks, checksums right")
-    off, numbers = [], set()
+    off, numbers, per_time = [], set(), {}
     for l in lines:
         m = pynmea2.parse(l)
         numbers.add(int(m.data[0]))
+        per_time.setdefault(m.data[13], []).append(int(m.data[0]))
         d_m = float(m.data[1]) * 1852.0
         b = math.radians(float(m.data[2]))
         hh, mm, ss = int(m.data[13][:2]), int(m.data[13][2:4]), float(m.data[13][4:])
@@ -351,6 +353,8 @@ def check_ttm(lines, truths, start_unix_s):
         )
         if abs(dt) > 1.0 or best > 100.0:
             off.append((l, round(best), round(dt, 2)))
+    clash = {t: k for t, k in per_time.items() if len(k) != len(set(k)) or not all(1 <= x <= 99 for x in k)}
+    check(not clash, f"TTM target numbers 1-99, none twice at one time ({len(per_time)} times; clashes: {list(clash.items())[:3]})")
     far = [o for o in off if o[1] > 200 or abs(o[2]) > 1.0]
     check(not far and len(off) <= 0.1 * len(lines),
           f"every TTM within 200 m of an object at its time, {len(lines) - len(off)} of {len(lines)} within 100 m ({len(numbers)} targets; off: {off[:3]})")
@@ -525,6 +529,10 @@ def main():
     check(k >= 0 and received == sent[k:k + len(received)] and k + len(received) == len(sent),
           f"a client of the replay gets the recorded spoke messages, in order, to the end ({len(received)} of {len(sent)})")
     check_rate(got, radar["rotationPeriodS"] / 8.0, "the replay")
+    times = [t for kind, t, _ in read_recording(rec) if kind == 1]
+    want_s = (times[-1] - times[0]) / 8.0
+    took_s = got[-1][0] - got[0][0] if got else 0.0
+    check(abs(took_s / want_s - 1) < 0.1, f"the replay takes {took_s:.2f} s of wall time for {times[-1] - times[0]:.1f} s recorded at 8x ({want_s:.2f} s)")
 
     # A restart is recorded, and replayed in its place without a burst.
     rec3, rec4 = os.path.join(work, "restart.xbsrec"), os.path.join(work, "restart-replay.xbsrec")

@@ -272,6 +272,7 @@ pub fn replay(
 ) -> Result<Summary> {
     check_options(options)?;
     let description = recording.header["radar"].clone();
+    let recording_path = recording.path.clone();
     let whole = |key: &str| description[key].as_u64().is_some_and(|v| v > 0);
     if !(whole("spokesPerRevolution")
         && whole("maxSpokeLen")
@@ -279,7 +280,7 @@ pub fn replay(
         && description["controls"].is_object())
     {
         return Err(ServeError::Recording {
-            path: options.record.clone().unwrap_or_default(),
+            path: recording_path,
             message: "its header has no radar description (radar.spokesPerRevolution, maxSpokeLen, legend, controls)".into(),
         });
     }
@@ -334,7 +335,7 @@ pub fn replay(
                                     lines as u64,
                                 );
                             }
-                            RecordKind::Restart => live.rewind(r.time_s),
+                            RecordKind::Restart => live.rewind(generation, r.time_s),
                         }
                     }
                     if ended {
@@ -384,14 +385,31 @@ fn run(
         };
         let threads = start(live.clone());
         ready(Bound { http, nmea_tcp });
-        let stop = stop_when(live.clone(), options.duration_s);
+        // The shutdown: a stop, then the stream threads finished, then the clients told the
+        // streams have ended (each sends what it still holds, then closes), then the server.
+        let shutdown = {
+            let live = live.clone();
+            let duration_s = options.duration_s;
+            async move {
+                stop_when(live.clone(), duration_s).await;
+                live.stop();
+                let _ = tokio::task::spawn_blocking(move || {
+                    for t in threads {
+                        let _ = t.join();
+                    }
+                })
+                .await;
+                live.end_streams();
+            }
+        };
         let served = axum::serve(listener, server::router(app.clone()))
-            .with_graceful_shutdown(stop)
+            .with_graceful_shutdown(shutdown)
             .await;
         live.stop();
-        Ok::<_, ServeError>((threads, served))
+        live.end_streams();
+        Ok::<_, ServeError>(served)
     });
-    let (threads, served) = match result {
+    let served = match result {
         Ok(x) => x,
         Err(e) => {
             live.stop();
@@ -399,9 +417,15 @@ fn run(
             return Err(e);
         }
     };
-    for t in threads {
-        let _ = t.join();
-    }
+    // Clients draining what they hold get a moment, at most the time one send may take.
+    runtime.block_on(async {
+        let deadline = tokio::time::Instant::now() + live::CLIENT_SEND_TIMEOUT;
+        while live.spoke_clients.load(std::sync::atomic::Ordering::SeqCst) > 0
+            && tokio::time::Instant::now() < deadline
+        {
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
+    });
     runtime.shutdown_timeout(Duration::from_secs(1));
     let recorded = live.finish_recording()?;
     served.map_err(|e| bind_error("serving on", options.listen, e))?;
@@ -464,10 +488,19 @@ async fn nmea_tcp_server(listener: tokio::net::TcpListener, live: Arc<Live>) {
         let live = live.clone();
         tokio::spawn(async move {
             let mut rx = live.nmea.subscribe();
-            let mut stop = live.stop_signal();
+            let mut ended = live.ended_signal();
             loop {
                 let m = tokio::select! {
-                    _ = stop.changed() => break,
+                    _ = ended.changed() => {
+                        // What was sent before the streams ended still goes out.
+                        while let Ok(bytes) = rx.try_recv() {
+                            let sent = tokio::time::timeout(CLIENT_SEND_TIMEOUT, socket.write_all(&bytes)).await;
+                            if !matches!(sent, Ok(Ok(()))) {
+                                break;
+                            }
+                        }
+                        break;
+                    }
                     m = rx.recv() => m,
                 };
                 match m {

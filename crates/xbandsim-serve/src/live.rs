@@ -78,6 +78,7 @@ pub struct Live {
     recorder: Option<Recorder>,
     fixed_controls: bool,
     stop_signal: tokio::sync::watch::Sender<bool>,
+    ended_signal: tokio::sync::watch::Sender<bool>,
     udp: Option<(std::net::UdpSocket, std::net::SocketAddr)>,
     udp_failed: AtomicBool,
     /// Held while a message is checked against the run and sent, and while a restart
@@ -108,6 +109,7 @@ impl Live {
             recorder,
             fixed_controls: false,
             stop_signal: tokio::sync::watch::channel(false).0,
+            ended_signal: tokio::sync::watch::channel(false).0,
             udp: None,
             udp_failed: AtomicBool::new(false),
             order: Mutex::new(()),
@@ -134,6 +136,17 @@ impl Live {
     /// A receiver that changes to true when the server stops.
     pub fn stop_signal(&self) -> tokio::sync::watch::Receiver<bool> {
         self.stop_signal.subscribe()
+    }
+
+    /// A receiver that changes to true once the stream threads have finished: nothing more
+    /// will be sent.
+    pub fn ended_signal(&self) -> tokio::sync::watch::Receiver<bool> {
+        self.ended_signal.subscribe()
+    }
+
+    /// Tells the clients nothing more will be sent.
+    pub fn end_streams(&self) {
+        self.ended_signal.send_replace(true);
     }
 
     fn clock(&self) -> std::sync::MutexGuard<'_, Clock> {
@@ -175,17 +188,20 @@ impl Live {
     pub fn restart(&self) {
         let _order = self.order.lock().unwrap_or_else(|e| e.into_inner());
         self.generation.fetch_add(1, Ordering::SeqCst);
-        let mut clock = self.clock();
-        let now = Instant::now();
-        self.record_restart(clock.time_s(now));
-        clock.restart(now);
+        // Recorded outside the clock's lock: a recorder that waits on the disk holds up no
+        // reader of the clock (nothing is sent meanwhile: `order` is held).
+        self.record_restart(self.time_s());
+        self.clock().restart(Instant::now());
         *self.counters.lock().unwrap_or_else(|e| e.into_inner()) = Counters::default();
     }
 
-    /// The clock alone back to 0, the run going on: a replay at a restart recorded at
-    /// `time_s` (recorded again with that time).
-    pub fn rewind(&self, time_s: f64) {
+    /// The clock alone back to 0, run `generation` going on: a replay at a restart recorded
+    /// at `time_s` (recorded again with that time); nothing once that run has been restarted.
+    pub fn rewind(&self, generation: u64, time_s: f64) {
         let _order = self.order.lock().unwrap_or_else(|e| e.into_inner());
+        if generation != self.generation() {
+            return;
+        }
         self.record_restart(time_s);
         self.clock().restart(Instant::now());
     }

@@ -1,8 +1,8 @@
 //! The radar (docs/live.md, "The radar API"): revolution after revolution of the scene,
-//! rendered one ahead on one thread — the calibrated record, then the video chain with the
-//! controls as they are when the render is done (docs/physics.md §12) — and sent on another
-//! as the antenna sweeps: its video spokes in `RadarMessage`s, each sent when scenario time
-//! reaches the last spoke it holds. With an NMEA feed, each
+//! rendered ahead on one thread, and sent on another as the antenna sweeps: at the
+//! revolution's start (scenario time held there meanwhile) the calibrated record goes through
+//! the video chain with the controls as they are then (docs/physics.md §12), and its video
+//! spokes go out in `RadarMessage`s, each when scenario time reaches the last spoke it holds. With an NMEA feed, each
 //! revolution's calibrated record also goes through the baseline plot extractor and ARPA
 //! tracker at `xbandsim track`'s defaults (docs/tracking.md), and a `$RATTM` sentence for
 //! every confirmed track follows the revolution's last spoke.
@@ -98,10 +98,15 @@ pub fn doppler_codes(bits: u32) -> Option<(u8, u8)> {
     (bits <= 7).then(|| ((1u32 << bits) as u8, ((1u32 << bits) + 1) as u8))
 }
 
+/// Power over the noise a cell needs for its Doppler code, dB: a fixed level, whatever the
+/// gain, so that noise shown at a high gain keeps its level (the pulse-pair estimate of a
+/// noise cell is random).
+pub const DOPPLER_THRESHOLD_DB: f64 = 10.0;
+
 /// Marks `video`'s shown samples (level 1 or more) whose cell of the record closes or opens
-/// at 3 kn or faster with the Doppler codes, as a target analyser colours them: each sample
-/// read at the record's spoke nearest its own and the bin at its centre, against the video's
-/// threshold.
+/// at 3 kn or faster with power [`DOPPLER_THRESHOLD_DB`] over the noise with the Doppler
+/// codes, as a target analyser colours them: each sample read at the record's spoke nearest
+/// its own and the bin at its centre.
 pub fn mark_doppler(
     video: &mut Video,
     rv: &xbandsim::products::RadialVelocity,
@@ -109,7 +114,7 @@ pub fn mark_doppler(
     codes: (u8, u8),
 ) {
     let (n, samples) = (video.spokes, video.samples);
-    let threshold_db = video.threshold_db as f64;
+    let threshold_db = DOPPLER_THRESHOLD_DB;
     for s in 0..n {
         let spoke = (s * rv.spokes + n / 2) / n % rv.spokes;
         for j in 0..samples {
@@ -132,24 +137,47 @@ pub fn mark_doppler(
 /// A rendered revolution on its way to the sender.
 struct Rendered {
     generation: u64,
-    /// When the revolution starts, s.
-    start_time_s: f64,
-    /// Its video, Doppler codes marked.
-    video: Video,
-    /// The range its spokes cover, m.
-    range_m: f64,
+    frame: Frame,
     render_s: f64,
-    video_s: f64,
     tracker_s: f64,
     /// The TTM sentences of the tracks confirmed after this revolution.
     ttm: Vec<String>,
 }
 
-/// The radar's ARPA: the baseline extractor and a tracker.
+/// The radar's ARPA: the baseline extractor, a tracker, and the TTM target number (1–99)
+/// each confirmed track holds while it lives.
 struct Arpa {
     extractor: PlotExtractor,
     scratch: PlotScratch,
     tracker: Tracker,
+    numbers: TargetNumbers,
+}
+
+/// TTM target numbers 1–99, each held by one live track: the lowest free number to a newly
+/// confirmed track, freed when its track ends.
+#[derive(Debug, Default)]
+pub struct TargetNumbers {
+    held: std::collections::BTreeMap<u32, u32>,
+}
+
+impl TargetNumbers {
+    /// The numbers of `confirmed` tracks (None for one that finds all 99 taken), after
+    /// freeing those of tracks not in `live`.
+    pub fn assign(&mut self, live: &[u32], confirmed: &[u32]) -> Vec<Option<u32>> {
+        self.held.retain(|id, _| live.contains(id));
+        confirmed
+            .iter()
+            .map(|&id| {
+                if let Some(&k) = self.held.get(&id) {
+                    return Some(k);
+                }
+                let taken: std::collections::BTreeSet<u32> = self.held.values().copied().collect();
+                let free = (1..=99).find(|k| !taken.contains(k))?;
+                self.held.insert(id, free);
+                Some(free)
+            })
+            .collect()
+    }
 }
 
 impl Arpa {
@@ -158,6 +186,7 @@ impl Arpa {
             extractor: xbandsim_track::baseline::extractor(source.sim.scene())?,
             scratch: PlotScratch::default(),
             tracker: Tracker::new(TrackerSettings::default())?,
+            numbers: TargetNumbers::default(),
         })
     }
 
@@ -183,15 +212,21 @@ impl Arpa {
             plots: &plots,
         };
         let report = self.tracker.step(&scan);
-        report
-            .confirmed()
-            .filter_map(|t| {
+        let live: Vec<u32> = report.tracks.iter().map(|t| t.id).collect();
+        let confirmed: Vec<&xbandsim_track::TrackReport> = report.confirmed().collect();
+        let ids: Vec<u32> = confirmed.iter().map(|t| t.id).collect();
+        let numbers = self.numbers.assign(&live, &ids);
+        confirmed
+            .into_iter()
+            .zip(numbers)
+            .filter_map(|(t, number)| {
+                let number = number?;
                 let own = source.antenna_m(t.time_s);
                 let (east, north) = (t.position_m[0] - own.x, t.position_m[1] - own.y);
                 ttm(
                     "RA",
                     &TrackedTarget {
-                        number: t.id % 100,
+                        number,
                         distance_m: east.hypot(north),
                         bearing_deg: east.atan2(north).to_degrees().rem_euclid(360.0),
                         speed_kn: t.speed_kn,
@@ -284,7 +319,6 @@ pub fn spawn(live: Arc<Live>, source: Arc<RadarSource>) -> Vec<JoinHandle<()>> {
 fn render_loop(live: &Live, source: &RadarSource, tx: SyncSender<Rendered>) {
     while !live.stopping() {
         let generation = live.generation();
-        let mut history = EchoHistory::default();
         let mut arpa = match source.arpa.then(|| Arpa::new(source)).transpose() {
             Ok(a) => a,
             Err(e) => {
@@ -312,27 +346,15 @@ fn render_loop(live: &Live, source: &RadarSource, tx: SyncSender<Rendered>) {
                 }
             };
             let render_s = t0.elapsed().as_secs_f64();
-            // The video with the controls as they are now, a revolution ahead of its
-            // sending: the sender has nothing left to do but cut it into messages.
             let t1 = Instant::now();
-            let controls = live.controls();
-            let mut video = video_of(source, &frame, &controls, &mut history);
-            if let (Some(rv), Some(codes)) = (&frame.radial_velocity, doppler_codes(video.bits)) {
-                mark_doppler(&mut video, rv, frame.range_bin_m, codes);
-            }
-            let video_s = t1.elapsed().as_secs_f64();
-            let t2 = Instant::now();
             let ttm = arpa
                 .as_mut()
                 .map_or_else(Vec::new, |a| a.ttm(source, &frame));
-            let tracker_s = t2.elapsed().as_secs_f64();
+            let tracker_s = t1.elapsed().as_secs_f64();
             let mut item = Rendered {
                 generation,
-                start_time_s: frame.start_time_s,
-                video,
-                range_m: controls.range_m.min(source.max_range_m()),
+                frame,
                 render_s,
-                video_s,
                 tracker_s,
                 ttm,
             };
@@ -357,6 +379,8 @@ fn send_loop(live: &Live, source: &RadarSource, rx: Receiver<Rendered>) {
     let n = source.spokes();
     let per_message = n.div_ceil(MESSAGES_PER_REVOLUTION).max(1);
     let period_s = source.period_s();
+    let mut history = EchoHistory::default();
+    let mut history_generation = live.generation();
     loop {
         let r = match rx.recv_timeout(POLL) {
             Ok(r) => r,
@@ -367,7 +391,21 @@ fn send_loop(live: &Live, source: &RadarSource, rx: Receiver<Rendered>) {
         if r.generation != live.generation() {
             continue;
         }
-        let start_s = r.start_time_s;
+        if r.generation != history_generation {
+            history = EchoHistory::default();
+            history_generation = r.generation;
+        }
+        let start_s = r.frame.start_time_s;
+        // The video with the controls as they are now, while scenario time waits at this
+        // revolution's start (the last barrier).
+        let t0 = Instant::now();
+        let controls = live.controls();
+        let mut video = video_of(source, &r.frame, &controls, &mut history);
+        if let (Some(rv), Some(codes)) = (&r.frame.radial_velocity, doppler_codes(video.bits)) {
+            mark_doppler(&mut video, rv, r.frame.range_bin_m, codes);
+        }
+        let video_s = t0.elapsed().as_secs_f64();
+        let range_m = controls.range_m.min(source.max_range_m());
         // Scenario time may run to this revolution's end: it waits there for the next one,
         // so no spoke is skipped or sent in a burst, and nothing else runs ahead.
         live.set_barrier(r.generation, start_s + period_s);
@@ -380,7 +418,7 @@ fn send_loop(live: &Live, source: &RadarSource, rx: Receiver<Rendered>) {
                 Wait::Restarted => break,
                 Wait::Stopping => return,
             }
-            let m = spoke_message(source, &r.video, r.range_m, start_s, from, to);
+            let m = spoke_message(source, &video, range_m, start_s, from, to);
             live.send_spokes(r.generation, due_s, Bytes::from(m.encode_to_vec()));
             last_due_s = due_s;
         }
@@ -392,7 +430,7 @@ fn send_loop(live: &Live, source: &RadarSource, rx: Receiver<Rendered>) {
             let mut c = live.counters.lock().unwrap_or_else(|e| e.into_inner());
             c.revolutions += 1;
             c.last_render_s = r.render_s;
-            c.last_video_s = r.video_s;
+            c.last_video_s = video_s;
             c.last_tracker_s = r.tracker_s;
         }
     }
@@ -402,6 +440,24 @@ fn send_loop(live: &Live, source: &RadarSource, rx: Receiver<Rendered>) {
 mod tests {
     use super::*;
     use xbandsim::products::RadialVelocity;
+
+    /// Numbers go to confirmed tracks lowest first, stay with them, and are freed when their
+    /// track ends; a 100th track gets none.
+    #[test]
+    fn target_numbers_are_unique_and_reused() {
+        let mut n = TargetNumbers::default();
+        assert_eq!(n.assign(&[7, 9, 12], &[9, 12]), vec![Some(1), Some(2)]);
+        assert_eq!(n.assign(&[9, 12, 205], &[205, 12]), vec![Some(3), Some(2)]);
+        // Track 9 ends: its number goes to the next one confirmed.
+        assert_eq!(
+            n.assign(&[12, 205, 309], &[309, 205]),
+            vec![Some(1), Some(3)]
+        );
+        let many: Vec<u32> = (1000..1100).collect();
+        let got = n.assign(&many, &many);
+        assert_eq!(got.iter().filter(|k| k.is_some()).count(), 99);
+        assert_eq!(got[99], None);
+    }
 
     /// A record of 4 spokes × 10 bins of 10 m: a closing echo in spoke 1, bins 4–5, an
     /// opening one in spoke 3, bin 9, a slow one in spoke 0; video of 8 spokes × 5 samples of
@@ -446,11 +502,14 @@ mod tests {
             .map(|(k, &l)| (k, l))
             .collect();
         assert_eq!(marked, vec![(7, 16), (12, 16), (29, 17), (34, 17)]);
-        // Below the threshold nothing is marked.
+        // Cells below 10 dB over the noise are not marked, whatever the video shows.
         let mut dim = video.clone();
-        dim.threshold_db = 30.0;
         dim.levels = vec![3; 40];
-        mark_doppler(&mut dim, &rv, 10.0, codes);
+        let faint = RadialVelocity {
+            power_db: vec![9.0; spokes * bins],
+            ..rv.clone()
+        };
+        mark_doppler(&mut dim, &faint, 10.0, codes);
         assert!(dim.levels.iter().all(|&l| l == 3));
     }
 }

@@ -144,6 +144,8 @@ impl Recorder {
 /// A recording read back.
 #[derive(Debug, Clone)]
 pub struct Recording {
+    /// The file it was read from.
+    pub path: PathBuf,
     /// Its header.
     pub header: Value,
     /// The header's bytes, as written.
@@ -225,6 +227,7 @@ pub fn read(path: &Path) -> Result<Recording> {
         at += 13 + len;
     }
     Ok(Recording {
+        path: path.to_path_buf(),
         header,
         header_raw: body.to_vec(),
         records,

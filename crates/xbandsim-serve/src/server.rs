@@ -142,11 +142,11 @@ async fn stream(
 async fn spoke_client(mut socket: WebSocket, app: Shared) {
     let live = &app.live;
     let mut rx = live.spokes.subscribe();
-    let mut stop = live.stop_signal();
+    let mut ended = live.ended_signal();
     live.spoke_clients.fetch_add(1, Ordering::SeqCst);
     loop {
         tokio::select! {
-            _ = stop.changed() => {
+            _ = ended.changed() => {
                 // What the radar sent before it stopped still goes out.
                 while let Ok(bytes) = rx.try_recv() {
                     let sent = tokio::time::timeout(CLIENT_SEND_TIMEOUT, socket.send(Message::Binary(bytes))).await;
