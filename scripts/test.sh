@@ -36,6 +36,14 @@ target/release/xbandsim nmea scenes/crossing.toml --duration-s 400 --out target/
 "$venv/bin/python" scripts/check_nmea.py target/check.nmea target/check-nmea-truth.jsonl -4.14 50.33
 echo "== the live radar as chart-plotter software sees it (scripts/check_serve.py)"
 "$venv/bin/python" scripts/check_serve.py target/release/xbandsim scenes/crossing.toml --soak 30
+echo "== the spoke stream decoded by protobufjs, as mayara's web client decodes it (scripts/check_protobufjs.js)"
+# Node.js and npm from the machine; protobufjs and ws from the npm registry into target/.
+if command -v node >/dev/null 2>&1 && command -v npm >/dev/null 2>&1; then
+  npm install --prefix target/check-node --no-save --no-audit --no-fund --silent protobufjs@7.6.6 ws@8.23.1
+  node scripts/check_protobufjs.js target/release/xbandsim scenes/crossing.toml
+else
+  echo "skipped: Node.js and npm are not installed (Debian: apt-get install nodejs npm)"
+fi
 echo "== the live radar's page in headless Chromium (scripts/check_page.py)"
 # Debian's chromium and chromium-driver, installed with apt-get where this user may; where
 # not, check_page.py says why and skips.
