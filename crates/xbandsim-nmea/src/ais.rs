@@ -401,14 +401,21 @@ pub fn static_and_voyage(s: &StaticData) -> Result<Bits> {
     Ok(b)
 }
 
-/// The 160 bits of class B static data part A (message 24A): the name.
-pub fn static_part_a(s: &StaticData) -> Result<Bits> {
+/// The first 40 bits of message 24, either part: type, repeat indicator, MMSI, part number
+/// (0 for A, 1 for B).
+fn static_data_report(s: &StaticData, part: u64) -> Result<Bits> {
     check_static(s)?;
     let mut b = Bits::default();
     b.unsigned(24, 6);
     b.unsigned(0, 2);
     b.unsigned(u64::from(s.mmsi), 30);
-    b.unsigned(0, 2); // part A
+    b.unsigned(part, 2);
+    Ok(b)
+}
+
+/// The 160 bits of class B static data part A (message 24A): the name.
+pub fn static_part_a(s: &StaticData) -> Result<Bits> {
+    let mut b = static_data_report(s, 0)?;
     b.text("name", &s.name, 20)?;
     Ok(b)
 }
@@ -416,12 +423,7 @@ pub fn static_part_a(s: &StaticData) -> Result<Bits> {
 /// The 168 bits of class B static data part B (message 24B): type, vendor (`XBS`, unit
 /// model 1, serial 0), call sign and dimensions.
 pub fn static_part_b(s: &StaticData) -> Result<Bits> {
-    check_static(s)?;
-    let mut b = Bits::default();
-    b.unsigned(24, 6);
-    b.unsigned(0, 2);
-    b.unsigned(u64::from(s.mmsi), 30);
-    b.unsigned(1, 2); // part B
+    let mut b = static_data_report(s, 1)?;
     b.unsigned(u64::from(s.ship_type), 8);
     b.text("vendor", "XBS", 3)?;
     b.unsigned(1, 4); // unit model code

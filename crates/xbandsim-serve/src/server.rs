@@ -106,10 +106,13 @@ fn known_radar(id: &str) -> Result<(), Response> {
 /// Client messages are small JSON control values: anything over this is refused.
 const MAX_CLIENT_MESSAGE_BYTES: usize = 64 * 1024;
 
-/// The upgrade, or a 400 saying the address is a WebSocket's.
+/// The upgrade of a request for radar `id`'s stream, or the 4xx saying why not (no such
+/// radar, or not a WebSocket request).
 fn upgrade(
+    id: &str,
     ws: Result<WebSocketUpgrade, WebSocketUpgradeRejection>,
 ) -> Result<WebSocketUpgrade, Response> {
+    known_radar(id)?;
     ws.map(|w| {
         w.max_message_size(MAX_CLIENT_MESSAGE_BYTES)
             .max_frame_size(MAX_CLIENT_MESSAGE_BYTES)
@@ -130,10 +133,7 @@ async fn stream(
     Path(id): Path<String>,
     ws: Result<WebSocketUpgrade, WebSocketUpgradeRejection>,
 ) -> Response {
-    if let Err(r) = known_radar(&id) {
-        return r;
-    }
-    match upgrade(ws) {
+    match upgrade(&id, ws) {
         Ok(ws) => ws.on_upgrade(move |socket| spoke_client(socket, app)),
         Err(r) => r,
     }
@@ -190,10 +190,7 @@ async fn control_stream(
     Path(id): Path<String>,
     ws: Result<WebSocketUpgrade, WebSocketUpgradeRejection>,
 ) -> Response {
-    if let Err(r) = known_radar(&id) {
-        return r;
-    }
-    match upgrade(ws) {
+    match upgrade(&id, ws) {
         Ok(ws) => ws.on_upgrade(move |socket| control_client(socket, app)),
         Err(r) => r,
     }
