@@ -348,14 +348,10 @@ impl TargetClass {
     /// docs/targets.md gives the values and sources.
     pub fn reference_rcs(self, object: &ObjectSpec) -> Option<ReferenceRcs> {
         const IMO: &str = "IMO MSC.192(79) Table 2";
-        let ship = |draught_per_length: f64, cb: f64| -> Option<ReferenceRcs> {
-            let (l, b) = (object.length_m?, object.beam_m?);
+        let ship = || -> Option<ReferenceRcs> {
             Some(ReferenceRcs::Median {
-                m2: skolnik_ship_median_m2(
-                    displacement_kt(l, b, draught_per_length * l, cb),
-                    REFERENCE_FREQ_HZ,
-                ),
-                source: "Skolnik, Introduction to Radar Systems, 3rd ed., 2.7",
+                m2: skolnik_ship_median_m2(self.ship_displacement_kt(object)?, REFERENCE_FREQ_HZ),
+                source: SKOLNIK,
             })
         };
         let median = |m2: f64, source: &'static str| Some(ReferenceRcs::Median { m2, source });
@@ -379,13 +375,35 @@ impl TargetClass {
             }
             TargetClass::Kayak => median(0.5, "kayaks 0.1-1 m^2"),
             TargetClass::Rib | TargetClass::SailingYacht => median(2.5, IMO),
-            TargetClass::FishingVessel => ship(0.11, 0.55),
-            TargetClass::PilotBoat => ship(0.08, 0.45),
-            TargetClass::Ferry => ship(0.045, 0.6),
-            TargetClass::CargoShip => ship(0.06, 0.7),
-            TargetClass::Tanker => ship(0.06, 0.8),
+            TargetClass::FishingVessel
+            | TargetClass::PilotBoat
+            | TargetClass::Ferry
+            | TargetClass::CargoShip
+            | TargetClass::Tanker => ship(),
             TargetClass::CornerReflector => None,
         }
+    }
+
+    /// The full-load displacement of a ship of this class the object `object_spec` made,
+    /// kilotons, from its length and beam with the class's draught over length and block
+    /// coefficient (docs/targets.md, "RCS at X band"); None for the classes Skolnik's ship
+    /// references do not cover and for an object without a length and beam.
+    pub fn ship_displacement_kt(self, object: &ObjectSpec) -> Option<f64> {
+        let (draught_per_length, block_coefficient) = match self {
+            TargetClass::FishingVessel => (0.11, 0.55),
+            TargetClass::PilotBoat => (0.08, 0.45),
+            TargetClass::Ferry => (0.045, 0.6),
+            TargetClass::CargoShip => (0.06, 0.7),
+            TargetClass::Tanker => (0.06, 0.8),
+            _ => return None,
+        };
+        let (l, b) = (object.length_m?, object.beam_m?);
+        Some(displacement_kt(
+            l,
+            b,
+            draught_per_length * l,
+            block_coefficient,
+        ))
     }
 
     /// Whether the class's reference was measured over the sea, so that the RCS to compare
@@ -455,11 +473,29 @@ pub fn displacement_kt(length_m: f64, beam_m: f64, draught_m: f64, block_coeffic
     1.025 * block_coefficient * length_m * beam_m * draught_m / 1000.0
 }
 
-/// Skolnik's empirical median RCS of a ship of displacement `displacement_kt` at
-/// `freq_hz`, `σ = 52·√f_MHz·D_kt^{3/2}` m² (Skolnik, *Introduction to Radar Systems*,
-/// 3rd ed., 2001, §2.7: ships measured at sea at grazing incidence).
+/// Where the ship references come from.
+const SKOLNIK: &str = "Skolnik, Introduction to Radar Systems, 2nd ed., pp. 44-45, Eq. (2.38)";
+
+/// The highest elevation, degrees, at which a ship is compared with Skolnik's grazing-incidence
+/// median ([`skolnik_ship_median_m2`]); above it, with his higher-angle rule
+/// ([`skolnik_ship_above_grazing_m2`]).
+pub const SHIP_GRAZING_MAX_ELEVATION_DEG: f64 = 1.0;
+
+/// Skolnik's empirical median RCS of a ship of full-load displacement `displacement_kt` at
+/// grazing incidence at `freq_hz`, `σ = 52·√f_MHz·D_kt^{3/2}` m² (Skolnik, *Introduction to
+/// Radar Systems*, 2nd ed., 1980, pp. 44–45, Eq. (2.38): fitted to naval ships of 2 000 to
+/// 17 000 tons measured at X, S and L band; "it does not apply to elevation angles other
+/// than grazing incidence").
 pub fn skolnik_ship_median_m2(displacement_kt: f64, freq_hz: f64) -> f64 {
     52.0 * (freq_hz / 1e6).sqrt() * displacement_kt.powf(1.5)
+}
+
+/// Skolnik's rough figure for a ship seen above grazing incidence, where its RCS "might be
+/// considerably less ..., perhaps by an order of magnitude": the displacement in tons taken
+/// as the RCS in square metres (Skolnik, *Introduction to Radar Systems*, 2nd ed., 1980,
+/// pp. 44–45 and Table 2.2, "Ship at higher grazing angles"), m².
+pub fn skolnik_ship_above_grazing_m2(displacement_kt: f64) -> f64 {
+    1000.0 * displacement_kt
 }
 
 impl std::fmt::Display for TargetClass {

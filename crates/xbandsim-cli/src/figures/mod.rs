@@ -749,8 +749,9 @@ fn fig6(out: &Path, harbour_scene: &Path, sea_scene: &Path, seed: u64) -> Result
 /// draws, HH, 9.41 GHz, λ/2 ray tubes up to 32 768 per aspect (as
 /// `targets::class_rcs_matches_published_references`): the RCS over the azimuth of the
 /// radar from the bow at 1° elevation in free space and over the sea (radar 15 m up, the
-/// default sea), the median over 0.5°–3° of the kind the reference is compared with
-/// ([`TargetClass::reference_is_over_sea`]), and the class's published reference
+/// default sea), the median the reference is compared with (a ship's over the sea at 0.5° and
+/// 1°, [`TargetClass::reference_is_over_sea`]; the others' in free space over 0.5°–3°), and
+/// the class's published reference
 /// ([`TargetClass::reference_rcs`]) with ±6 dB about it; the corner reflector's line is its
 /// closed form on its axis. docs/targets.md gives the sources.
 fn target_rcs(out: &Path) -> Result<()> {
@@ -808,9 +809,17 @@ fn target_rcs(out: &Path) -> Result<()> {
         };
         let free = to_db(target.sweep_m2(&aspects, &settings));
         let on_sea = to_db(target.over_sea_sweep_m2(&aspects, RADAR_HEIGHT_M, &sea, &settings));
+        // A ship's reference holds at grazing incidence over the sea; the others' over
+        // 0.5-3 deg in free space.
         let over_sea = class.reference_is_over_sea();
         let mut sorted = if over_sea {
-            on_sea.clone()
+            let grazing = xbandsim::targets::SHIP_GRAZING_MAX_ELEVATION_DEG;
+            on_sea
+                .chunks(azimuths_deg.len())
+                .zip(elevations_deg)
+                .filter(|(_, el)| *el <= grazing)
+                .flat_map(|(v, _)| v.iter().copied())
+                .collect()
         } else {
             free.clone()
         };
@@ -863,7 +872,7 @@ fn target_rcs(out: &Path) -> Result<()> {
         |root| {
             root.fill(&WHITE).map_err(plot_err)?;
             root.draw(&Text::new(
-                "RCS (dBsm) at 1 deg elevation, free space (blue) and over the sea, radar 15 m up (orange); red: median over 0.5-3 deg of the kind the reference was measured as; green: the reference, shaded +-6 dB or its band",
+                "RCS (dBsm) at 1 deg elevation, free space (blue) and over the sea, radar 15 m up (orange); red: the median the reference is compared with (ships: over the sea at 0.5-1 deg; others: free space at 0.5-3 deg); green: the reference, shaded +-6 dB or its band",
                 (10, 10),
                 (FONT, 14),
             ))

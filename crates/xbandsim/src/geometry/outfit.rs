@@ -232,6 +232,13 @@ impl HullForm {
     }
 }
 
+/// Spacing of hatch-coaming stays, m (assumed: stays stand at every second or third frame of
+/// 0.8–0.9 m).
+const COAMING_STAY_SPACING_M: f64 = 2.0;
+
+/// Depth of a tanker's above-deck web frames and girders, m (assumed).
+const DECK_FRAME_DEPTH_M: f64 = 1.2;
+
 /// Collects triangles, cylinders and rods.
 struct Builder {
     parts: OutfitParts,
@@ -336,6 +343,93 @@ impl Builder {
         }
     }
 
+    /// Coaming stays: triangular brackets standing on the deck against the walls of a
+    /// hatch coaming (centred on the ship, `width` across, from y0 to y1, its foot at `z0`,
+    /// `height` tall), about every [`COAMING_STAY_SPACING_M`] along its sides and, with
+    /// `ends`, its ends. Each is a vertical plate reaching `depth` out over the deck and 0.85
+    /// of the way up the wall; with the wall it makes two upright corners opening outboard,
+    /// which return toward a radar over a wide spread of azimuth.
+    #[allow(clippy::too_many_arguments)]
+    fn coaming_stays(
+        &mut self,
+        width: f64,
+        y0: f64,
+        y1: f64,
+        z0: f64,
+        height: f64,
+        depth: f64,
+        ends: bool,
+    ) {
+        let spacing = COAMING_STAY_SPACING_M;
+        let hw = 0.5 * width;
+        let top = DVec3::Z * (0.85 * height);
+        let along = |a: f64, b: f64| {
+            let n = (((b - a) / spacing).round() as usize).max(1);
+            (1..n).map(move |i| a + (b - a) * i as f64 / n as f64)
+        };
+        let m = &mut self.parts.mesh;
+        let mut tri = |a: DVec3, out: DVec3| {
+            let base = m.vertices_m.len() as u32;
+            m.vertices_m.extend([a, a + out, a + top]);
+            m.triangles.push([base, base + 1, base + 2]);
+        };
+        for y in along(y0, y1) {
+            for side in [-1.0, 1.0] {
+                tri(DVec3::new(side * hw, y, z0), DVec3::X * (side * depth));
+            }
+        }
+        for x in along(-hw, hw).filter(|_| ends) {
+            tri(DVec3::new(x, y0, z0), DVec3::Y * -depth);
+            tri(DVec3::new(x, y1, z0), DVec3::Y * depth);
+        }
+    }
+
+    /// Open bridge wings at the floor `z` of the top tier, each side from the wall of the
+    /// tier below (`below_width` across) out to the ship's side, from y0 to y1 fore and
+    /// aft: a deck 0.6 m deep (its top, underside and after edge) with a bulwark 1.2 m high
+    /// along its front and its outboard end.
+    fn bridge_wings(&mut self, z: f64, below_width: f64, y0: f64, y1: f64) {
+        const BULWARK_M: f64 = 1.2;
+        const DEPTH_M: f64 = 0.6;
+        let span = self.hull.beam_m;
+        if span <= below_width {
+            return;
+        }
+        for side in [-1.0, 1.0] {
+            let (xa, xb) = (side * 0.5 * below_width, side * 0.5 * span);
+            let (across, along) = (DVec3::X * (xb - xa), DVec3::Y * (y1 - y0));
+            let height = DVec3::Z * (BULWARK_M + DEPTH_M);
+            self.quad(DVec3::new(xa, y0, z), across, along);
+            self.quad(DVec3::new(xa, y0, z - DEPTH_M), across, along);
+            self.quad(DVec3::new(xa, y0, z - DEPTH_M), across, DVec3::Z * DEPTH_M);
+            self.quad(DVec3::new(xa, y1, z - DEPTH_M), across, height);
+            self.quad(DVec3::new(xb, y0, z - DEPTH_M), along, height);
+        }
+    }
+
+    /// An enclosed lifeboat (7.5 × 2.4 × 2.6 m) in its davits each side of a house from
+    /// y0 to y1, `width` across and `tiers` tiers of `tier_h`, alongside its second tier:
+    /// two davit posts on the house side and their arms over the boat. The boat hangs in
+    /// its davits up to 0.6 m outboard of the deck edge; none where the deck beside the
+    /// house is narrower than 2 m, or the house too low for the bridge wings to clear the
+    /// davits (under four tiers).
+    fn house_lifeboats(&mut self, y0: f64, y1: f64, width: f64, tiers: usize, tier_h: f64) {
+        let z = self.hull.deck_z_over_m(y0, y1) + tier_h;
+        let y = y0 + 0.4 * (y1 - y0);
+        if tiers < 4 || self.hull.deck_half_width_m(y) - 0.5 * width < 2.0 {
+            return;
+        }
+        for side in [-1.0, 1.0] {
+            let (wall, x) = (side * 0.5 * width, side * (0.5 * width + 1.4));
+            self.block(DVec3::new(x, y, z), DVec3::new(2.4, 7.5, 2.6));
+            for dy in [-2.8, 2.8] {
+                let head = DVec3::new(wall, y + dy, z + 4.0);
+                self.rod(DVec3::new(wall, y + dy, z - 1.0), head, 0.15);
+                self.rod(head, DVec3::new(x, y + dy, z + 3.4), 0.12);
+            }
+        }
+    }
+
     /// A mast from `at` up to z1 of radius r, with a yard `yard_span` across (none at 0)
     /// six tenths of the way up.
     fn mast(&mut self, at: DVec3, z1: f64, r: f64, yard_span: f64) {
@@ -384,12 +478,9 @@ impl Builder {
                 self.rail(&pts, 1.0, 1.5, 0.025);
             }
             if top_tier && wings {
-                let span = self.hull.beam_m;
-                let depth = (0.6 * (front - y0)).min(4.0);
-                self.block(
-                    DVec3::new(0.0, front - 0.5 * depth, z + 0.4 * tier_h),
-                    DVec3::new(span, depth, 0.6 * tier_h),
-                );
+                // (The wing's inner end meets the tier below, whose roof it stands on.)
+                let below = if t > 0 { w + 2.0 * setback } else { w };
+                self.bridge_wings(z, below, front - (0.6 * (front - y0)).min(4.0), front);
             }
             z += tier_h;
             w = (w - 2.0 * setback).max(0.3 * width);
@@ -463,6 +554,8 @@ pub fn build_outfit(outfit: Outfit, sizes: &OutfitSizes, seed: u64) -> OutfitPar
             );
             let mast_z = mast_top(top + 0.04 * l);
             k.mast(DVec3::new(0.0, 0.5 * (y0 + y1), top), mast_z, 0.25, 0.6 * b);
+            // An enclosed lifeboat in davits each side of the house.
+            k.house_lifeboats(y0, y1, 0.8 * b, tiers, h / tiers as f64);
             // Forecastle: a raised deck whose after face stands across the ship, bulwarks
             // round it, mooring winches on it and aft on the poop.
             let fwd = y(0.4);
@@ -867,6 +960,8 @@ fn container_bays(k: &mut Builder, d: &mut Draws, y0: f64, y1: f64, bridge_z: f6
         let fit = (((2.0 * half * 0.92) / ROW_M).floor() as usize).max(1);
         let z0 = k.hull.deck_z_over_m(ya, yb);
         let coaming = k.on_deck(0.0, ya, yb, fit as f64 * ROW_M, 1.6) - z0;
+        // (Stays on the sides only: the bays' 1.2 m gaps hold the lashing bridges.)
+        k.coaming_stays(fit as f64 * ROW_M, ya, yb, z0, coaming, 0.6, false);
         let max_tiers = (((bridge_z - z0 - coaming) / TIER_M).floor() as usize).clamp(1, 8);
         // Stacks in three groups of rows (port, centre, starboard), each group's height
         // drawn (an empty group one time in ten), so that the stacks step up and down
@@ -948,6 +1043,7 @@ fn bulk_holds(k: &mut Builder, d: &mut Draws, y0: f64, y1: f64) {
         let yc = y0 + pitch * (i as f64 + 0.5);
         let (ya, yb) = (yc - 0.5 * hatch, yc + 0.5 * hatch);
         let top = k.on_deck(0.0, ya, yb, 0.6 * b, 2.0);
+        k.coaming_stays(0.6 * b, ya, yb, top - 2.0, 2.0, 0.8, true);
         k.block(
             DVec3::new(0.0, yc, top),
             DVec3::new(0.6 * b + 0.6, hatch + 0.6, 0.8),
@@ -971,8 +1067,50 @@ fn bulk_holds(k: &mut Builder, d: &mut Draws, y0: f64, y1: f64) {
     }
 }
 
-/// Tanker deck: pipes along the deck on supports, a raised catwalk on the centreline, the
-/// manifold amidships with its hose cranes.
+/// Above-deck framing of a tanker's cargo deck from y0 to y1 (stern to bow), as product and
+/// chemical tankers carry it to leave their tanks smooth inside: transverse web frames every
+/// 4 m across the deck (a gap on the centre line for the catwalk's posts) and four
+/// longitudinal girders, all 1.2 m deep (assumed).
+fn above_deck_frames(k: &mut Builder, y0: f64, y1: f64) {
+    let b = k.hull.beam_m;
+    let depth = DVec3::Z * DECK_FRAME_DEPTH_M;
+    // Everything stays 0.3 m inside the deck edge, where the bow narrows the deck too.
+    let reach = |k: &Builder, y: f64| k.hull.deck_half_width_m(y) - 0.3;
+    let webs = (((y1 - y0) / 4.0).ceil() as usize).max(1);
+    for i in 0..=webs {
+        let y = y0 + (y1 - y0) * i as f64 / webs as f64;
+        let (z, outer) = (k.hull.deck_z_m(y), reach(k, y).min(0.43 * b));
+        if outer <= 0.05 * b {
+            continue;
+        }
+        for side in [-1.0, 1.0] {
+            k.quad(
+                DVec3::new(side * 0.05 * b, y, z),
+                DVec3::X * (side * (outer - 0.05 * b)),
+                depth,
+            );
+        }
+    }
+    let pieces = (((y1 - y0) / 8.0).ceil() as usize).max(1);
+    for x in [-0.43 * b, -0.25 * b, 0.25 * b, 0.43 * b] {
+        for i in 0..pieces {
+            let ya = y0 + (y1 - y0) * i as f64 / pieces as f64;
+            let yb = y0 + (y1 - y0) * (i + 1) as f64 / pieces as f64;
+            if x.abs() > reach(k, ya).min(reach(k, yb)) {
+                continue;
+            }
+            let (za, zb) = (k.hull.deck_z_m(ya), k.hull.deck_z_m(yb));
+            k.quad(
+                DVec3::new(x, ya, za),
+                DVec3::new(0.0, yb - ya, zb - za),
+                depth,
+            );
+        }
+    }
+}
+
+/// Tanker deck: above-deck framing, pipes along the deck carried on the web frames, a raised
+/// catwalk on the centreline, the manifold amidships with its hose cranes.
 fn tanker_deck(k: &mut Builder, d: &mut Draws, y0: f64, y1: f64) {
     let b = k.hull.beam_m;
     let pipes = d.int(6, 10);
@@ -980,7 +1118,9 @@ fn tanker_deck(k: &mut Builder, d: &mut Draws, y0: f64, y1: f64) {
     for p in 0..pipes {
         let x = -0.3 * b + 0.6 * b * p as f64 / (pipes - 1) as f64;
         let r = d.between(0.12, 0.35);
-        let lift = 0.8 + r;
+        // On the web frames; a pipe in their centre-line gap on supports of its own.
+        let lift = DECK_FRAME_DEPTH_M + r;
+        let supported = x.abs() < 0.05 * b;
         let n = (((y1 - y0) / 8.0).ceil() as usize).max(1);
         for i in 0..n {
             let (ya, yb) = (
@@ -992,13 +1132,16 @@ fn tanker_deck(k: &mut Builder, d: &mut Draws, y0: f64, y1: f64) {
                 DVec3::new(x, yb, z(k, yb) + lift),
                 r,
             );
-            k.rod(
-                DVec3::new(x, ya, z(k, ya)),
-                DVec3::new(x, ya, z(k, ya) + lift - r),
-                0.06,
-            );
+            if supported {
+                k.rod(
+                    DVec3::new(x, ya, z(k, ya)),
+                    DVec3::new(x, ya, z(k, ya) + lift - r),
+                    0.06,
+                );
+            }
         }
     }
+    above_deck_frames(k, y0, y1);
     // Catwalk at 2.5 m on posts.
     let n = (((y1 - y0) / 6.0).ceil() as usize).max(1);
     for i in 0..n {
