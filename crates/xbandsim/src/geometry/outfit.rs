@@ -416,7 +416,11 @@ impl Builder {
     fn house_lifeboats(&mut self, y0: f64, y1: f64, width: f64, tiers: usize, tier_h: f64) {
         let z = self.hull.deck_z_over_m(y0, y1) + tier_h;
         let y = y0 + 0.4 * (y1 - y0);
-        if tiers < 4 || self.hull.deck_half_width_m(y) - 0.5 * width < 2.0 {
+        let deck_m = [-3.75, 0.0, 3.75]
+            .map(|dy| self.hull.deck_half_width_m(y + dy))
+            .into_iter()
+            .fold(f64::INFINITY, f64::min);
+        if tiers < 4 || deck_m - 0.5 * width < 2.0 {
             return;
         }
         for side in [-1.0, 1.0] {
@@ -1262,6 +1266,86 @@ mod tests {
             build_outfit(Outfit::ContainerShip, &sz, 1),
             build_outfit(Outfit::ContainerShip, &sz, 2)
         );
+    }
+
+    /// The upright corners stand where they belong, at every size the cargo outfits are
+    /// built for: each coaming stay is a vertical plate standing on the deck against the
+    /// coaming's wall and reaching outboard; a tanker's web frames and girders stay inside
+    /// the deck edge; lifeboats hang at most 0.6 m outboard of the deck edge, below the
+    /// bridge wings' undersides, and only on houses of four tiers or more.
+    #[test]
+    fn upright_corners_stand_where_they_belong() {
+        let builder = |length_m: f64, outfit: Outfit| Builder {
+            parts: OutfitParts::default(),
+            hull: HullForm {
+                length_m,
+                beam_m: sizes(length_m, outfit).beam_m,
+                freeboard_m: sizes(length_m, outfit).freeboard_m,
+                sheer_bow: 0.35,
+                sheer_stern: 0.1,
+                flare_mid: 1.0,
+            },
+        };
+        // Stays: (wall point, outboard foot, top) with the wall's outward normal.
+        let mut k = builder(190.0, Outfit::BulkCarrier);
+        k.coaming_stays(17.0, -10.0, 10.0, 12.0, 2.0, 0.8, true);
+        let v = &k.parts.mesh.vertices_m;
+        assert_eq!(k.parts.mesh.triangles.len(), 2 * 9 + 2 * 8);
+        for t in &k.parts.mesh.triangles {
+            let (wall, foot, top) = (v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]);
+            let on_side = (wall.x.abs() - 8.5).abs() < 1e-9 && wall.y.abs() < 10.0;
+            let on_end = (wall.y.abs() - 10.0).abs() < 1e-9 && wall.x.abs() < 8.5;
+            assert!(on_side != on_end, "{wall}");
+            assert_eq!((wall.z, foot.z), (12.0, 12.0));
+            assert!((top - wall - DVec3::Z * 1.7).length() < 1e-9);
+            let out = foot - wall;
+            assert!((out.length() - 0.8).abs() < 1e-9);
+            assert!(
+                out.dot(DVec3::new(wall.x, wall.y, 0.0)) > 0.0,
+                "{wall} {out}"
+            );
+        }
+        let mut k = builder(190.0, Outfit::ContainerShip);
+        k.coaming_stays(17.0, -10.0, 10.0, 12.0, 1.6, 0.6, false);
+        assert_eq!(k.parts.mesh.triangles.len(), 2 * 9);
+        for outfit in [Outfit::ContainerShip, Outfit::BulkCarrier, Outfit::Tanker] {
+            let (lo, hi) = outfit.length_range_m();
+            for length in [lo, 100.0, 190.0, 330.0, hi] {
+                let sz = sizes(length, outfit);
+                // Frames inside the deck edge, on the deck.
+                let mut k = builder(length, outfit);
+                above_deck_frames(&mut k, -0.3 * length, 0.38 * length);
+                for p in &k.parts.mesh.vertices_m {
+                    let edge = k.hull.deck_half_width_m(p.y);
+                    assert!(
+                        p.x.abs() <= edge - 0.3 + 1e-9,
+                        "{length}: {p} beyond {edge}"
+                    );
+                    assert!(p.z >= k.hull.deck_z_m(p.y) - 1e-9);
+                }
+                // Lifeboats beside the house, clear of its wings.
+                let tiers = ((sz.house_height_m / 2.8).round() as usize).clamp(3, 9);
+                let tier_h = sz.house_height_m / tiers as f64;
+                let (y0, y1) = (-0.44 * length, -0.44 * length + (0.12 * length).max(10.0));
+                let width = 0.8 * sz.beam_m;
+                let mut k = builder(length, outfit);
+                k.house_lifeboats(y0, y1, width, tiers, tier_h);
+                if tiers < 4 {
+                    assert!(k.parts.mesh.triangles.is_empty(), "{length}");
+                }
+                let wing_underside =
+                    k.hull.deck_z_over_m(y0, y1) + (tiers - 1) as f64 * tier_h - 0.6;
+                let parts = k.parts.rods.iter().flat_map(|r| [r.a_m, r.b_m]);
+                for p in k.parts.mesh.vertices_m.iter().copied().chain(parts) {
+                    assert!(p.x.abs() >= 0.5 * width - 1e-9, "{length}: {p}");
+                    assert!(
+                        p.x.abs() <= k.hull.deck_half_width_m(p.y) + 0.6,
+                        "{length}: {p}"
+                    );
+                    assert!(p.z < wing_underside, "{length}: {p} above {wing_underside}");
+                }
+            }
+        }
     }
 
     /// The hull's stations: the curved ends in steps of at most max(0.5 m, L/200), from the
