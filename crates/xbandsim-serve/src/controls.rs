@@ -89,6 +89,19 @@ pub fn range_scales_m(max_range_m: f64) -> Vec<f64> {
     v
 }
 
+/// The control's number, refused (naming the control as `name`) outside `lo..=hi` dB.
+fn decibels_within(c: &ControlValue, name: &str, (lo, hi): (f64, f64)) -> Result<f64> {
+    let v = number(c)?;
+    if !(lo..=hi).contains(&v) {
+        return Err(ServeError::setting(
+            name,
+            v,
+            &format!("must be {lo} to {hi} dB"),
+        ));
+    }
+    Ok(v)
+}
+
 fn number(c: &ControlValue) -> Result<f64> {
     let bad = || {
         ServeError::setting(
@@ -210,32 +223,16 @@ impl Controls {
                 self.range_m = v.round();
             }
             GAIN => {
-                let v = number(c)?;
-                let (lo, hi) = GAIN_RANGE_DB;
-                if !(lo..=hi).contains(&v) {
-                    return Err(ServeError::setting(
-                        "control 2 (gain)",
-                        v,
-                        &format!("must be {lo} to {hi} dB"),
-                    ));
-                }
-                self.gain_db = v;
+                self.gain_db = decibels_within(c, "control 2 (gain)", GAIN_RANGE_DB)?;
             }
             SEA => {
                 // Both checked before either is set.
                 let value = match c.value {
-                    Some(_) => {
-                        let v = number(c)?;
-                        let (lo, hi) = SEA_RANGE_DB;
-                        if !(lo..=hi).contains(&v) {
-                            return Err(ServeError::setting(
-                                "control 3 (sea clutter)",
-                                v,
-                                &format!("must be {lo} to {hi} dB"),
-                            ));
-                        }
-                        Some(v)
-                    }
+                    Some(_) => Some(decibels_within(
+                        c,
+                        "control 3 (sea clutter)",
+                        SEA_RANGE_DB,
+                    )?),
                     None if c.auto.is_none() => {
                         return Err(ServeError::setting(
                             "control 3 (sea clutter)",
